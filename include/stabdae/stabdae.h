@@ -1,0 +1,163 @@
+/* stabdae: fixed-step integration of constrained mechanical systems without constraint drift.
+ *
+ * Implements Di Franco, Scarciotti, Astolfi, "Discretization schemes for constraint
+ * stabilization in nonlinear differential-algebraic systems". A DAE xdot = f + g lambda,
+ * 0 = h (eq. 1) written in coordinates (xi, mu) (eq. 2-3) is replaced by the stabilized
+ * system (eq. 5)
+ *
+ *     xi_i' = k_i xi_i,   k_i = -(delta^2/2) ||q_i(xi, mu)||^2 - epsilon        (eq. 6)
+ *     mu'   = q0(mu) + Q(xi, mu) xi,  Q = [q_1 ... q_p]
+ *
+ * and discretized with a fixed step T by scheme 11 (explicit) or scheme 15 (semi-implicit),
+ * with a map phi_T(mu, mu+) -> q0 (eq. 13) for the constrained motion.
+ *
+ * Conventions: every call returns an sdae_status (0 success, negative error, positive
+ * information); matrices are row-major flat arrays; callbacks return 0 on success, > 0 for a
+ * recoverable failure and < 0 for a fatal one. The library keeps no global state, never
+ * prints, never aborts, and sdae_step never allocates.
+ */
+#ifndef STABDAE_STABDAE_H
+#define STABDAE_STABDAE_H
+
+#include <stddef.h>
+
+#include <stabdae/export.h>
+#include <stabdae/model.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SDAE_VERSION_MAJOR 0
+#define SDAE_VERSION_MINOR 1
+#define SDAE_VERSION_PATCH 0
+
+/* Highest relative degree of one constraint the baselines (none, Baumgarte) accept. */
+#define SDAE_MAX_REL_DEGREE 4
+
+typedef enum sdae_status {
+  SDAE_OK = 0,
+  SDAE_STOPPED = 1,             /* sdae_integrate: the observer asked to stop */
+  SDAE_ERR_NULL = -1,           /* a required pointer is NULL */
+  SDAE_ERR_DIM = -2,            /* a dimension is zero or inconsistent */
+  SDAE_ERR_STEP = -3,           /* T <= 0 or not finite */
+  SDAE_ERR_PARAM = -4,          /* delta, epsilon, a tolerance or a gain out of range */
+  SDAE_ERR_OPTION = -5,         /* unknown scheme or stabilizer */
+  SDAE_ERR_STATE = -6,          /* xi or mu holds NaN or Inf on entry */
+  SDAE_ERR_CALLBACK_FATAL = -7, /* a user callback returned < 0 */
+  SDAE_ERR_CALLBACK_RECOVERABLE = -8, /* a user callback returned > 0 */
+  SDAE_ERR_NONFINITE = -9,      /* a callback wrote NaN/Inf, or the new state is not finite */
+  SDAE_ERR_SINGULAR = -10,      /* the Newton matrix I - T dphi/dmu+ is singular */
+  SDAE_ERR_NEWTON = -11,        /* Newton did not converge within the iteration cap */
+  SDAE_ERR_MAP = -12,           /* the map needs callbacks the options do not give */
+  SDAE_ERR_BUFFER = -13,        /* the caller's memory block is too small */
+  SDAE_ERR_NOMEM = -14,         /* allocation failed (sdae_stepper_alloc only) */
+  SDAE_ERR_REL_DEGREE = -15,    /* the baselines need rel_degree, summing to n_xi */
+  SDAE_ERR_OVERFLOW = -16       /* the workspace size does not fit in size_t */
+} sdae_status;
+
+/* ---- options ------------------------------------------------------------------------------ */
+
+typedef enum sdae_scheme {
+  SDAE_SCHEME_EXPLICIT = 11,     /* eq. 11: xi+ = (I + T K) xi */
+  SDAE_SCHEME_SEMI_IMPLICIT = 15 /* eq. 15: xi+ = (I - T K)^-1 xi */
+} sdae_scheme;
+
+typedef enum sdae_stabilizer {
+  SDAE_STAB_PAPER = 0,    /* eq. 6: xi_i' = k_i xi_i */
+  SDAE_STAB_NONE = 1,     /* index reduction: xi_j' = xi_{j+1}, last = 0 (drifts) */
+  SDAE_STAB_BAUMGARTE = 2 /* as none, last = -sum_j alpha_j xi_j */
+} sdae_stabilizer;
+
+/* A map phi_T(mu, mu+) for the constrained motion: a static table, see map.h in src/. */
+typedef struct sdae_map_type sdae_map_type;
+
+SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* phi = q0(mu), explicit */
+SDAE_API extern const sdae_map_type *const sdae_map_midpoint; /* phi = q0((mu + mu+)/2) */
+SDAE_API extern const sdae_map_type *const sdae_map_dgrad;    /* phi = S(mid) gradbar H */
+SDAE_API extern const sdae_map_type *const sdae_map_user;     /* phi = options.user_phi */
+
+SDAE_API const char *sdae_map_name(const sdae_map_type *map);
+
+typedef struct sdae_options {
+  sdae_scheme scheme;         /* default SDAE_SCHEME_SEMI_IMPLICIT */
+  double delta, epsilon;      /* eq. 6, both > 0; default 1, 1 */
+  const sdae_map_type *map;   /* default sdae_map_euler */
+
+  /* sdae_map_dgrad: q0 = S(mu) grad H(mu); Gonzalez's midpoint discrete gradient */
+  int (*H)(double t, const double *mu, double *out, void *params);      /* 1 value */
+  int (*grad_H)(double t, const double *mu, double *out, void *params); /* n_mu values */
+  int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
+
+  /* sdae_map_user: phi(T, mu, mu+) and optionally d phi / d mu+ (n_mu x n_mu) */
+  int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
+                  void *params);
+  int (*user_phi_jac)(double t, double T, const double *mu, const double *mu_next,
+                      double *out, void *params);
+
+  /* Newton on R(mu+) = mu+ - mu - T (phi_T + Q xi): stop when the update is at most
+   * newton_tol * (1 + ||mu+||_inf); at most newton_max_iter iterations */
+  double newton_tol;           /* default 1e-14 */
+  unsigned newton_max_iter;    /* default 20 */
+
+  sdae_stabilizer stabilizer;  /* default SDAE_STAB_PAPER */
+  /* Baumgarte: L_f^{r} h_c = -sum_{j<r} baumgarte_alpha[j] L_f^j h_c for every constraint;
+   * the default {1, 2} makes a relative-degree-2 constraint critically damped at rate 1 */
+  double baumgarte_alpha[SDAE_MAX_REL_DEGREE];
+} sdae_options;
+
+SDAE_API void sdae_options_default(sdae_options *o);
+
+/* ---- stepper ------------------------------------------------------------------------------ */
+
+typedef struct sdae_stepper sdae_stepper;
+
+typedef struct sdae_stats {
+  unsigned long steps;           /* successful steps */
+  unsigned newton_iters_last;    /* Newton iterations of the last step (0: explicit) */
+  unsigned long newton_iters_total;
+  double newton_residual_last;   /* ||R||_inf at the last Newton iterate evaluated */
+  unsigned long phi_evals;       /* evaluations of phi_T */
+} sdae_stats;
+
+/* Bytes sdae_stepper_init needs; 0 when the model or options are invalid or overflow. */
+SDAE_API size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o);
+/* Builds a stepper inside the caller's block mem[0..len) (aligned for double); no malloc.
+ * The model and options are copied. */
+SDAE_API int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model *m,
+                               const sdae_options *o);
+SDAE_API int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o);
+SDAE_API void sdae_stepper_free(sdae_stepper *s); /* NULL and init'ed steppers are fine */
+
+/* One step of scheme 11 or 15 from time t: xi, mu are updated in place. On error they are left
+ * exactly as they were. */
+SDAE_API int sdae_step(sdae_stepper *s, double t, double T, double *xi, double *mu);
+
+/* The gains k_i of eq. 6 at (xi, mu): n_xi values. */
+SDAE_API int sdae_stepper_gains(sdae_stepper *s, double t, const double *xi, const double *mu,
+                                double *k);
+
+SDAE_API const sdae_stats *sdae_stepper_stats(const sdae_stepper *s);
+SDAE_API void sdae_stepper_reset_stats(sdae_stepper *s);
+
+/* ---- integrate ---------------------------------------------------------------------------- */
+
+/* Called with the state after step `step` (0: the initial state); non-zero stops the run. */
+typedef int (*sdae_observer)(size_t step, double t, const double *xi, const double *mu,
+                             void *data);
+
+/* nsteps fixed steps of size T from t0. The observer (may be NULL) sees step 0, every
+ * `every`-th step and the last one. On failure xi, mu hold the state after the last good step
+ * and *steps_done (may be NULL) says how many were taken. Returns SDAE_STOPPED when the
+ * observer stopped the run. */
+SDAE_API int sdae_integrate(sdae_stepper *s, double t0, double T, size_t nsteps, size_t every,
+                            double *xi, double *mu, sdae_observer obs, void *data,
+                            size_t *steps_done);
+
+SDAE_API const char *sdae_strerror(int status);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STABDAE_STABDAE_H */
