@@ -1,0 +1,80 @@
+/* Internal declarations shared by the modules of the library; not installed.
+ * Data flows one way: model -> map -> newton -> stabilizer/stepper -> integrate. */
+#ifndef STABDAE_INTERNAL_H
+#define STABDAE_INTERNAL_H
+
+#include <stabdae/stabdae.h>
+
+/* ---- maps: one static table per map type, one file per map (map_*.c) ---- */
+
+struct sdae_map_type {
+  const char *name;
+  int implicit; /* phi depends on mu+: Newton is needed */
+  /* SDAE_OK when the options give every callback the map needs, SDAE_ERR_MAP otherwise */
+  int (*check)(const sdae_model *m, const sdae_options *o);
+  /* doubles of scratch the map needs for a model with n_mu components */
+  size_t (*scratch)(size_t n_mu);
+  /* phi_T(mu, mu+): n_mu values */
+  int (*phi)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
+             double *out);
+  /* d phi_T / d mu+ (n_mu x n_mu), or NULL; used only when jac_given says so */
+  int (*jac)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
+             double *out);
+  int (*jac_given)(const sdae_model *m, const sdae_options *o);
+};
+
+/* ---- the stepper: one block, the struct followed by its work arrays ---- */
+
+struct sdae_stepper {
+  sdae_model model;
+  sdae_options opt;
+  void *block;     /* what sdae_stepper_alloc malloc'ed, NULL for a caller's block */
+  int analytic_jac; /* the map's Jacobian is available */
+  sdae_stats stats;
+
+  double *Q;      /* n_mu x n_xi (dense models only) */
+  double *Qxi;    /* n_mu: Q(xi, mu) xi */
+  double *qnorm2; /* n_xi: ||q_i||^2 */
+  double *k;      /* n_xi: the gains (eq. 6) */
+  double *xi_new, *mu_new; /* n_xi, n_mu: the step's result before it is accepted */
+  double *phi;    /* n_mu */
+  double *map_work; /* the map's scratch */
+
+  /* Newton (implicit maps only) */
+  double *R, *dy, *fd_y, *fd_plus, *fd_minus; /* n_mu each */
+  double *J;      /* n_mu x n_mu: dphi/dmu+, then I - T dphi/dmu+ */
+  double *LU;     /* n_mu x (3 n_mu - 2): J in band format, then its LU factors */
+  unsigned *piv;  /* n_mu */
+
+  /* baselines (none, Baumgarte): one r x r block at a time */
+  double *blk, *blk_LU;   /* SDAE_MAX_REL_DEGREE^2 and SDAE_MAX_REL_DEGREE (3 MAX - 2) */
+  unsigned *blk_piv;      /* SDAE_MAX_REL_DEGREE */
+};
+
+/* model.c: callbacks with their status and their outputs checked */
+int sdae__status_of_callback(int rc);
+int sdae__all_finite(const double *v, size_t n);
+int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out);
+int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out);
+/* Q(xi, mu) xi into s->Qxi and ||q_i||^2 into s->qnorm2 */
+int sdae__eval_Q(sdae_stepper *s, double t, const double *xi, const double *mu);
+/* calls a user callback of the (t, mu, out) form through the model's params, then checks it */
+int sdae__call_checked(int (*cb)(double, const double *, double *, void *), sdae_stepper *s,
+                       double t, const double *mu, double *out, size_t n_out);
+
+/* lu.c: solves A x = b for a band matrix (lb = ub = n - 1: dense) with GSL's banded LU; AB is
+ * n x sdae__lu_band_cols(lb, ub), filled by sdae__lu_pack, overwritten by the factors */
+size_t sdae__lu_band_cols(size_t lb, size_t ub);
+void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB);
+int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, const double *b,
+                   double *x);
+
+/* newton.c: solves R(y) = y - mu - T (phi_T(mu, y) + Qxi) = 0 for y, starting from y */
+int sdae__newton(sdae_stepper *s, double t, double T, const double *mu, double *y);
+
+/* stabilizer.c: the xi update of the chosen stabilizer and scheme, into s->xi_new */
+int sdae__stabilizer_check(const sdae_model *m, const sdae_options *o);
+void sdae__gains(const sdae_stepper *s, double *k);
+int sdae__xi_update(sdae_stepper *s, double T, const double *xi);
+
+#endif /* STABDAE_INTERNAL_H */

@@ -1,0 +1,32 @@
+/* Human-readable text for every status. */
+#include <stabdae/stabdae.h>
+
+const char *sdae_strerror(int status) {
+  switch ((sdae_status)status) {
+  case SDAE_OK: return "success";
+  case SDAE_STOPPED: return "stopped by the observer";
+  case SDAE_ERR_NULL: return "a required pointer is NULL";
+  case SDAE_ERR_DIM: return "a dimension is zero or inconsistent";
+  case SDAE_ERR_STEP: return "the step size T must be finite and > 0";
+  case SDAE_ERR_PARAM:
+    return "a parameter is out of range (delta, epsilon, Newton tolerance and iteration cap, "
+           "Baumgarte gains, time)";
+  case SDAE_ERR_OPTION: return "unknown scheme or stabilizer";
+  case SDAE_ERR_STATE: return "xi or mu holds NaN or Inf";
+  case SDAE_ERR_CALLBACK_FATAL: return "a model callback failed (returned < 0)";
+  case SDAE_ERR_CALLBACK_RECOVERABLE:
+    return "a model callback reported a recoverable failure (returned > 0); the step may be "
+           "retried, e.g. with a smaller T";
+  case SDAE_ERR_NONFINITE: return "a callback wrote NaN or Inf, or the new state is not finite";
+  case SDAE_ERR_SINGULAR: return "the Newton matrix I - T dphi/dmu+ is singular";
+  case SDAE_ERR_NEWTON: return "Newton did not converge within the iteration cap";
+  case SDAE_ERR_MAP: return "the map needs callbacks that the options do not give";
+  case SDAE_ERR_BUFFER: return "the memory block is smaller than sdae_stepper_size";
+  case SDAE_ERR_NOMEM: return "out of memory";
+  case SDAE_ERR_REL_DEGREE:
+    return "the baselines need rel_degree: n_constraints values in 1..SDAE_MAX_REL_DEGREE "
+           "summing to n_xi";
+  case SDAE_ERR_OVERFLOW: return "the workspace size overflows size_t";
+  }
+  return "unknown status";
+}

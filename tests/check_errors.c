@@ -1,0 +1,248 @@
+/* Every bad input gets its named status, and a failed step leaves xi and mu exactly as they
+ * were. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "testmodels.h"
+
+static sdae_model model;
+static sdae_options opt;
+static quartic params = {1.0, 0.0, 0};
+
+static void reset(void) {
+  params = (quartic){1.0, 0.0, 0};
+  model = quartic_model(&params);
+  opt = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
+}
+
+/* alloc, init and size must agree on every invalid configuration */
+static void expect_config(int want) {
+  sdae_stepper *s = (sdae_stepper *)&params; /* any non-NULL value: must stay untouched */
+  sdae_stepper *before = s;
+  static max_align_t mem[512];
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), want);
+  ck_assert_ptr_eq(s, before);
+  ck_assert_int_eq(sdae_stepper_init(&s, mem, sizeof mem, &model, &opt), want);
+  ck_assert_ptr_eq(s, before);
+  ck_assert_uint_eq(sdae_stepper_size(&model, &opt), 0);
+  reset();
+}
+
+START_TEST(bad_model) {
+  reset();
+  ck_assert_int_eq(sdae_stepper_alloc(NULL, &model, &opt), SDAE_ERR_NULL);
+  ck_assert_uint_eq(sdae_stepper_size(NULL, &opt), 0);
+  ck_assert_uint_eq(sdae_stepper_size(&model, NULL), 0);
+  model.n_xi = 0, expect_config(SDAE_ERR_DIM);
+  model.n_mu = 0, expect_config(SDAE_ERR_DIM);
+  model.q0 = NULL, expect_config(SDAE_ERR_NULL);
+  model.Q = NULL, expect_config(SDAE_ERR_NULL);
+}
+END_TEST
+
+START_TEST(bad_options) {
+  const double bad[4] = {0.0, -1.0, NAN, INFINITY};
+  reset();
+  for (int i = 0; i < 4; i++) {
+    opt.delta = bad[i], expect_config(SDAE_ERR_PARAM);
+    opt.epsilon = bad[i], expect_config(SDAE_ERR_PARAM);
+    opt.newton_tol = bad[i], expect_config(SDAE_ERR_PARAM);
+  }
+  opt.newton_max_iter = 0, expect_config(SDAE_ERR_PARAM);
+  opt.scheme = (sdae_scheme)12, expect_config(SDAE_ERR_OPTION);
+  opt.stabilizer = (sdae_stabilizer)7, expect_config(SDAE_ERR_OPTION);
+  opt.stabilizer = SDAE_STAB_BAUMGARTE, opt.baumgarte_alpha[1] = NAN;
+  expect_config(SDAE_ERR_PARAM);
+}
+END_TEST
+
+START_TEST(map_without_callbacks) {
+  reset();
+  opt.map = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dgrad, opt.H = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dgrad, opt.grad_H = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dgrad, opt.S = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_user, expect_config(SDAE_ERR_MAP); /* no user_phi */
+  ck_assert_str_eq(sdae_map_name(sdae_map_dgrad), "dgrad");
+}
+END_TEST
+
+START_TEST(baselines_need_rel_degree) {
+  static const unsigned three[1] = {3}, zero[1] = {0}, five[2] = {5, 1};
+  const sdae_stabilizer st[2] = {SDAE_STAB_NONE, SDAE_STAB_BAUMGARTE};
+  reset();
+  for (int i = 0; i < 2; i++) {
+    opt.stabilizer = st[i], model.rel_degree = NULL, expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.rel_degree = three, expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.rel_degree = zero, expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.n_constraints = 2, model.rel_degree = five;
+    expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.n_constraints = 0, expect_config(SDAE_ERR_REL_DEGREE);
+  }
+}
+END_TEST
+
+/* The caller's block: too small by one byte is refused; exactly the size works, even at an
+ * address that is not aligned for double. */
+START_TEST(caller_buffer) {
+  reset();
+  size_t need = sdae_stepper_size(&model, &opt);
+  char *mem = malloc(need + 1);
+  sdae_stepper *s = NULL;
+  double xi[2] = {0.1, 0.2}, mu[2] = {0.3, 0.4};
+  ck_assert_uint_gt(need, 0);
+  ck_assert_int_eq(sdae_stepper_init(&s, mem + 1, need - 1, &model, &opt), SDAE_ERR_BUFFER);
+  ck_assert_ptr_null(s);
+  ck_assert_int_eq(sdae_stepper_init(&s, NULL, need, &model, &opt), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_init(NULL, mem, need, &model, &opt), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_init(&s, mem + 1, need, &model, &opt), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.01, xi, mu), SDAE_OK);
+  sdae_stepper_free(s); /* a no-op for the caller's memory */
+  sdae_stepper_free(NULL);
+  free(mem);
+}
+END_TEST
+
+/* ---- failing steps: the state must be bit-for-bit what it was ---- */
+
+typedef enum { OK, Q0_FATAL, Q0_RECOVER, Q0_NAN, Q_FATAL, Q_INF, H_NAN, PHI_NAN } fault;
+static fault inject;
+
+static int faulty_q0(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  out[0] = inject == Q0_NAN ? NAN : mu[1];
+  out[1] = -mu[0];
+  return inject == Q0_FATAL ? -1 : inject == Q0_RECOVER ? 1 : 0;
+}
+
+static int faulty_Q(double t, const double *xi, const double *mu, double *out, void *p) {
+  (void)t, (void)xi, (void)mu, (void)p;
+  out[0] = inject == Q_INF ? INFINITY : -1.0, out[1] = 1.0, out[2] = 1.0, out[3] = 1.0;
+  return inject == Q_FATAL ? -3 : 0;
+}
+
+static int faulty_H(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  out[0] = inject == H_NAN ? NAN : 0.5 * (mu[0] * mu[0] + mu[1] * mu[1]);
+  return 0;
+}
+
+static int faulty_phi(double t, double T, const double *mu, const double *y, double *out,
+                      void *p) {
+  (void)t, (void)T, (void)y, (void)p;
+  out[0] = mu[1], out[1] = inject == PHI_NAN ? NAN : -mu[0];
+  return 0;
+}
+
+static void expect_step(const sdae_map_type *map, fault f, double t, double T, double xi0,
+                        double mu0, int want) {
+  sdae_stepper *s;
+  double xi[2] = {xi0, 0.25}, mu[2] = {mu0, -0.5};
+  double xi_copy[2], mu_copy[2];
+  reset();
+  model.q0 = faulty_q0, model.Q = faulty_Q;
+  opt.map = map, opt.H = faulty_H, opt.user_phi = faulty_phi;
+  memcpy(xi_copy, xi, sizeof xi), memcpy(mu_copy, mu, sizeof mu);
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  inject = f;
+  ck_assert_int_eq(sdae_step(s, t, T, xi, mu), want);
+  inject = OK;
+  ck_assert_int_eq(memcmp(xi, xi_copy, sizeof xi), 0);
+  ck_assert_int_eq(memcmp(mu, mu_copy, sizeof mu), 0);
+  sdae_stepper_free(s);
+}
+
+START_TEST(bad_step_arguments) {
+  const double badT[4] = {0.0, -1.0, NAN, INFINITY};
+  double xi[2] = {0, 0}, mu[2] = {0, 0};
+  sdae_stepper *s;
+  reset();
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  ck_assert_int_eq(sdae_step(NULL, 0.0, 0.1, xi, mu), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.1, NULL, mu), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.1, xi, NULL), SDAE_ERR_NULL);
+  sdae_stepper_free(s);
+  for (int i = 0; i < 4; i++) expect_step(sdae_map_euler, OK, 0.0, badT[i], 0.1, 0.2, SDAE_ERR_STEP);
+  expect_step(sdae_map_euler, OK, NAN, 0.1, 0.1, 0.2, SDAE_ERR_PARAM);
+  expect_step(sdae_map_euler, OK, 0.0, 0.1, NAN, 0.2, SDAE_ERR_STATE);
+  expect_step(sdae_map_euler, OK, 0.0, 0.1, 0.1, -INFINITY, SDAE_ERR_STATE);
+}
+END_TEST
+
+START_TEST(callback_failures) {
+  const sdae_map_type *maps[3] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad};
+  for (int i = 0; i < 3; i++) {
+    int dg = maps[i] == sdae_map_dgrad; /* dgrad calls S grad H, not q0 */
+    expect_step(maps[i], Q_FATAL, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_CALLBACK_FATAL);
+    expect_step(maps[i], Q_INF, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_NONFINITE);
+    if (dg) continue;
+    expect_step(maps[i], Q0_FATAL, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_CALLBACK_FATAL);
+    expect_step(maps[i], Q0_RECOVER, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_CALLBACK_RECOVERABLE);
+    expect_step(maps[i], Q0_NAN, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_NONFINITE);
+  }
+  expect_step(sdae_map_user, PHI_NAN, 0.0, 0.1, 0.1, 0.2, SDAE_ERR_NONFINITE);
+}
+END_TEST
+
+/* The H callback writing NaN is caught inside the discrete gradient's difference quotient. */
+static int unit_grad(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  out[0] = mu[0], out[1] = mu[1];
+  return 0;
+}
+
+static int skew(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)mu, (void)p;
+  out[0] = 0.0, out[1] = 1.0, out[2] = -1.0, out[3] = 0.0;
+  return 0;
+}
+
+START_TEST(energy_callback_nan) {
+  sdae_stepper *s;
+  double xi[2] = {0.1, 0.25}, mu[2] = {0.2, -0.5};
+  reset();
+  model.q0 = faulty_q0, model.Q = faulty_Q;
+  opt.map = sdae_map_dgrad, opt.H = faulty_H, opt.grad_H = unit_grad, opt.S = skew;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  inject = H_NAN;
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.1, xi, mu), SDAE_ERR_NONFINITE);
+  inject = OK;
+  ck_assert_double_eq(xi[0], 0.1);
+  ck_assert_double_eq(mu[1], -0.5);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+/* Finite callbacks, but a state that overflows: the new state is refused. */
+START_TEST(overflowing_state) {
+  expect_step(sdae_map_euler, OK, 0.0, 1e300, 0.1, 1e300, SDAE_ERR_NONFINITE);
+}
+END_TEST
+
+START_TEST(strerror_names_every_status) {
+  for (int st = SDAE_ERR_OVERFLOW; st <= SDAE_STOPPED; st++) {
+    const char *msg = sdae_strerror(st);
+    ck_assert_ptr_nonnull(msg);
+    ck_assert_str_ne(msg, "unknown status");
+    for (int other = SDAE_ERR_OVERFLOW; other < st; other++)
+      ck_assert_str_ne(msg, sdae_strerror(other));
+  }
+  ck_assert_str_eq(sdae_strerror(-999), "unknown status");
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("errors");
+  ADD_CASE(s, bad_model);
+  ADD_CASE(s, bad_options);
+  ADD_CASE(s, map_without_callbacks);
+  ADD_CASE(s, baselines_need_rel_degree);
+  ADD_CASE(s, caller_buffer);
+  ADD_CASE(s, bad_step_arguments);
+  ADD_CASE(s, callback_failures);
+  ADD_CASE(s, energy_callback_nan);
+  ADD_CASE(s, overflowing_state);
+  ADD_CASE(s, strerror_names_every_status);
+  return run_suite(s);
+}

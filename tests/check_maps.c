@@ -1,0 +1,158 @@
+/* The mu-maps: order on the manifold against the exact solution x = A cn(A t | 1/2) of
+ * x'' = -x^3, exact energy conservation of the discrete gradient, its dissipation with
+ * S = J - R, and its small-increment branch. */
+#include <math.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "../src/internal.h"
+#include "testmodels.h"
+
+/* Error ratio when T halves: 2^order. */
+static double halving_ratio(const sdae_options *o) {
+  double e1 = quartic_error(o, 1.0, 2.0, 0.02), e2 = quartic_error(o, 1.0, 2.0, 0.01);
+  return e1 / e2;
+}
+
+START_TEST(order_euler_is_1) {
+  sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
+  double r = halving_ratio(&o);
+  ck_assert_double_gt(r, 1.8);
+  ck_assert_double_lt(r, 2.2);
+}
+END_TEST
+
+START_TEST(order_midpoint_is_2) {
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  double r = halving_ratio(&o);
+  ck_assert_double_gt(r, 3.8);
+  ck_assert_double_lt(r, 4.2);
+}
+END_TEST
+
+START_TEST(order_dgrad_is_2) {
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_EXPLICIT);
+  double r = halving_ratio(&o);
+  ck_assert_double_gt(r, 3.8);
+  ck_assert_double_lt(r, 4.2);
+}
+END_TEST
+
+/* The paper's Section IV map for k = 1, d = 0 is the coordinate discrete gradient of H:
+ * symmetric, so order 2. */
+static int paper_phi(double t, double T, const double *mu, const double *y, double *out,
+                     void *params) {
+  (void)t, (void)T, (void)params;
+  out[0] = 0.5 * (y[1] + mu[1]);
+  out[1] = -(y[0] * y[0] * y[0] + mu[0] * mu[0] * mu[0] + (y[0] + mu[0]) * y[0] * mu[0]) / 4.0;
+  return 0;
+}
+
+START_TEST(order_user_paper_map_is_2) {
+  sdae_options o = quartic_options(sdae_map_user, SDAE_SCHEME_SEMI_IMPLICIT);
+  o.user_phi = paper_phi;
+  double r = halving_ratio(&o);
+  ck_assert_double_gt(r, 3.8);
+  ck_assert_double_lt(r, 4.2);
+}
+END_TEST
+
+static double H_of(quartic *p, const double *mu) {
+  double h;
+  quartic_H(0.0, mu, &h, p);
+  return h;
+}
+
+/* S skew: H(mu+) - H(mu) = T gradbar^T S gradbar = 0 up to rounding, over 1e5 steps. */
+START_TEST(dgrad_conserves_H) {
+  quartic p = {1.0, 0.0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double xi[2] = {0, 0}, mu[2] = {1.0, 0.0}, H0 = H_of(&p, mu), worst = 0.0;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  for (int n = 0; n < 100000; n++) {
+    ck_assert_int_eq(sdae_step(s, n * 0.01, 0.01, xi, mu), SDAE_OK);
+    worst = fmax(worst, rel_diff(H_of(&p, mu), H0));
+  }
+  ck_assert_double_le(worst, 1e-13);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+/* Reference for the damped oscillator: GSL's rk8pd at tight tolerance. */
+static int damped_rhs(double t, const double y[], double f[], void *params) {
+  const quartic *p = params;
+  (void)t;
+  f[0] = y[1];
+  f[1] = -p->k * y[0] * y[0] * y[0] - p->d * y[1];
+  return GSL_SUCCESS;
+}
+
+/* S = J - R, R = diag(0, d) >= 0: H(mu+) - H(mu) = -T d gradbar_2^2 <= 0 every step; and H
+ * follows the continuous decay to the map's second order. */
+START_TEST(dgrad_dissipates_monotonically) {
+  quartic p = {1.0, 0.1, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  gsl_odeiv2_system sys = {damped_rhs, NULL, 2, &p};
+  gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-3,
+                                                        1e-13, 0.0);
+  sdae_stepper *s;
+  double xi[2] = {0, 0}, mu[2] = {1.0, 0.0}, y[2] = {1.0, 0.0}, t = 0.0, T = 0.01;
+  double H = H_of(&p, mu), H0 = H;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  for (int n = 0; n < 1000; n++) {
+    ck_assert_int_eq(sdae_step(s, n * T, T, xi, mu), SDAE_OK);
+    double Hn = H_of(&p, mu);
+    ck_assert_double_le(Hn, H + 4e-16 * H0);
+    H = Hn;
+  }
+  ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &t, 10.0, y), GSL_SUCCESS);
+  ck_assert_double_lt(H, 0.5 * H0);
+  ck_assert_double_le(rel_diff(H, H_of(&p, y)), 1e-3);
+  gsl_odeiv2_driver_free(d);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+/* The map itself, through the internal table: when |mu+ - mu| is below sqrt(eps), gradbar H
+ * is grad H(mid) (H is not called, phi = S grad H(mid) = q0(mid)); otherwise the difference
+ * quotient makes gradbar . v = H(mu+) - H(mu), with gradbar = S^-1 phi = J^T phi for S = J. */
+START_TEST(dgrad_small_increment_branch) {
+  quartic p = {1.0, 0.0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double x[2] = {0.8, 0.3}, near[2] = {0.8 + 1e-10, 0.3 - 1e-10}, far[2] = {0.9, 0.1};
+  double phi[2], q0mid[2], Hx, Hy;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, near, phi), SDAE_OK);
+  ck_assert_int_eq(p.H_calls, 0);
+  double mid[2] = {0.5 * (x[0] + near[0]), 0.5 * (x[1] + near[1])};
+  ck_assert_int_eq(m.q0(0.0, mid, q0mid, &p), 0);
+  ck_assert_double_eq(phi[0], q0mid[0]);
+  ck_assert_double_eq(phi[1], q0mid[1]);
+
+  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, far, phi), SDAE_OK);
+  ck_assert_int_eq(p.H_calls, 2);
+  double gradbar_v = -phi[1] * (far[0] - x[0]) + phi[0] * (far[1] - x[1]);
+  quartic_H(0.0, x, &Hx, &p);
+  quartic_H(0.0, far, &Hy, &p);
+  ck_assert_double_le(fabs(gradbar_v - (Hy - Hx)), 1e-16);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("maps");
+  ADD_CASE(s, order_euler_is_1);
+  ADD_CASE(s, order_midpoint_is_2);
+  ADD_CASE(s, order_dgrad_is_2);
+  ADD_CASE(s, order_user_paper_map_is_2);
+  ADD_CASE(s, dgrad_conserves_H);
+  ADD_CASE(s, dgrad_dissipates_monotonically);
+  ADD_CASE(s, dgrad_small_increment_branch);
+  return run_suite(s);
+}

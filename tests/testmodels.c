@@ -1,0 +1,127 @@
+#include "testmodels.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include <gsl/gsl_sf_elljac.h>
+
+static int q0(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  out[0] = mu[1];
+  out[1] = -p->k * mu[0] * mu[0] * mu[0] - p->d * mu[1];
+  return 0;
+}
+
+int quartic_q0_jac(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  out[0] = 0.0;
+  out[1] = 1.0;
+  out[2] = -3.0 * p->k * mu[0] * mu[0];
+  out[3] = -p->d;
+  return 0;
+}
+
+static int Q(double t, const double *xi, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  out[0] = -1.0;
+  out[1] = 1.0;
+  out[2] = p->k * (3 * mu[0] * mu[0] - 3 * mu[0] * xi[0] + xi[0] * xi[0]) + p->d;
+  out[3] = 1.0;
+  return 0;
+}
+
+int quartic_H(double t, const double *mu, double *out, void *params) {
+  quartic *p = params;
+  (void)t;
+  p->H_calls++;
+  out[0] = 0.5 * mu[1] * mu[1] + 0.25 * p->k * mu[0] * mu[0] * mu[0] * mu[0];
+  return 0;
+}
+
+static int grad_H(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  out[0] = p->k * mu[0] * mu[0] * mu[0];
+  out[1] = mu[1];
+  return 0;
+}
+
+static int S(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  (void)mu;
+  out[0] = 0.0;
+  out[1] = 1.0;
+  out[2] = -1.0;
+  out[3] = -p->d;
+  return 0;
+}
+
+static const unsigned rel_degree_2[1] = {2};
+
+sdae_model quartic_model(quartic *p) {
+  sdae_model m = {0};
+  m.n_xi = 2;
+  m.n_mu = 2;
+  m.q0 = q0;
+  m.Q = Q;
+  m.q0_jac = quartic_q0_jac;
+  m.n_constraints = 1;
+  m.rel_degree = rel_degree_2;
+  m.params = p;
+  return m;
+}
+
+sdae_options quartic_options(const sdae_map_type *map, sdae_scheme scheme) {
+  sdae_options o;
+  sdae_options_default(&o);
+  o.map = map;
+  o.scheme = scheme;
+  o.H = quartic_H;
+  o.grad_H = grad_H;
+  o.S = S;
+  return o;
+}
+
+void quartic_exact(double k, double A, double t, double *x, double *v) {
+  double sn, cn, dn, w = A * sqrt(k);
+  gsl_sf_elljac_e(w * t, 0.5, &sn, &cn, &dn);
+  *x = A * cn;
+  *v = -A * w * sn * dn; /* d/du cn = -sn dn */
+}
+
+double quartic_error(const sdae_options *o, double A, double tf, double T) {
+  quartic p = {1.0, 0.0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_stepper *s = NULL;
+  double xi[2] = {0, 0}, mu[2] = {A, 0}, x, v;
+  size_t n = (size_t)lround(tf / T);
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, o), SDAE_OK);
+  ck_assert_int_eq(sdae_integrate(s, 0.0, T, n, n, xi, mu, NULL, NULL, NULL), SDAE_OK);
+  sdae_stepper_free(s);
+  quartic_exact(p.k, A, tf, &x, &v);
+  return fmax(fabs(mu[0] - x), fabs(mu[1] - v));
+}
+
+double rel_diff(double a, double b) {
+  double scale = fmax(fabs(a), fabs(b));
+  return scale == 0.0 ? 0.0 : fabs(a - b) / scale;
+}
+
+void add_case(Suite *s, const char *name, const TTest *test) {
+  TCase *tc = tcase_create(name);
+  tcase_set_timeout(tc, 300); /* generous: the sanitizer and valgrind builds run slower */
+  tcase_add_test(tc, test);
+  suite_add_tcase(s, tc);
+}
+
+int run_suite(Suite *s) {
+  SRunner *r = srunner_create(s);
+  srunner_run_all(r, CK_NORMAL);
+  int failed = srunner_ntests_failed(r);
+  srunner_free(r);
+  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

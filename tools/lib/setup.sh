@@ -1,0 +1,70 @@
+# Shared set-up of tools/check and tools/demo (sourced): the system packages, the Python venv
+# under build/, and the configured and built tree. Works on a fresh Debian or Ubuntu machine.
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+BUILD="$ROOT/build"
+JOBS=$(nproc 2>/dev/null || echo 2)
+
+say() { printf '== %s\n' "$*"; }
+
+# Debian package names of what is missing.
+missing_packages() {
+  local pkgs=()
+  command -v cmake >/dev/null || pkgs+=(cmake)
+  command -v cc >/dev/null || pkgs+=(gcc)
+  command -v make >/dev/null || pkgs+=(make)
+  command -v pkg-config >/dev/null || pkgs+=(pkg-config)
+  pkg-config --exists gsl 2>/dev/null || pkgs+=(libgsl-dev)
+  pkg-config --exists check 2>/dev/null || pkgs+=(check)
+  ls /usr/lib/*/cmake/sundials/SUNDIALSConfig.cmake >/dev/null 2>&1 || pkgs+=(libsundials-dev)
+  python3 -c 'import ensurepip, venv' 2>/dev/null || pkgs+=(python3-venv)
+  for tool in "$@"; do
+    command -v "$tool" >/dev/null || pkgs+=("$tool")
+  done
+  echo "${pkgs[@]}"
+}
+
+# Installs the missing packages with apt-get when root; otherwise prints the command and stops.
+# Arguments: extra commands whose Debian package has the same name (valgrind, clang).
+ensure_packages() {
+  local pkgs
+  pkgs=$(missing_packages "$@")
+  [ -z "$pkgs" ] && return 0
+  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
+    say "installing system packages: $pkgs"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    # shellcheck disable=SC2086
+    apt-get install -y -qq --no-install-recommends $pkgs >/dev/null
+  else
+    echo "stabdae needs these Debian packages: $pkgs" >&2
+    echo "install them with: sudo apt-get install -y $pkgs" >&2
+    exit 2
+  fi
+}
+
+# build/venv with tools/requirements.txt, reinstalled only when the requirements change.
+ensure_venv() {
+  local req="$ROOT/tools/requirements.txt" stamp="$BUILD/venv/.requirements"
+  mkdir -p "$BUILD"
+  if [ ! -x "$BUILD/venv/bin/python" ]; then
+    say "creating the Python venv in build/venv"
+    python3 -m venv "$BUILD/venv"
+  fi
+  if ! cmp -s "$req" "$stamp"; then
+    say "installing the pinned Python packages"
+    "$BUILD/venv/bin/python" -m pip install -q --disable-pip-version-check -r "$req"
+    cp "$req" "$stamp"
+  fi
+  PYTHON="$BUILD/venv/bin/python"
+}
+
+# configure_and_build DIR [cmake options...]
+configure_and_build() {
+  local dir=$1
+  shift
+  say "configuring and building ${dir#"$ROOT"/}"
+  cmake -S "$ROOT" -B "$dir" -DSTABDAE_WERROR=ON -DPython3_EXECUTABLE="${PYTHON:-python3}" \
+    "$@" >/dev/null
+  cmake --build "$dir" -j "$JOBS" >/dev/null
+}
