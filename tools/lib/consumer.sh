@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the built tree into BUILD/prefix and builds tests/consumer against it three ways:
+# find_package(stabdae) with the shared library, find_package with stabdae::stabdae_static,
+# and pkg-config; runs each and checks which library it loads.
+# Usage: tools/lib/consumer.sh [BUILD_DIR]   (default build/)
+set -euo pipefail
+source "$(dirname "$0")/setup.sh"
+build=${1:-$BUILD}
+prefix=$build/prefix
+
+say "installing into ${prefix#"$ROOT"/}"
+rm -rf "$prefix"
+cmake --install "$build" --prefix "$prefix" >/dev/null
+pcdir=$(dirname "$(find "$prefix" -name stabdae.pc | head -n 1)")
+
+for via in cmake cmake-static pkg-config; do
+  dir=$build/consumer/$via
+  say "consumer via $via"
+  rm -rf "$dir"
+  PKG_CONFIG_PATH="$pcdir" cmake -S "$ROOT/tests/consumer" -B "$dir" -DSTABDAE_VIA="$via" \
+    -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+  cmake --build "$dir" >/dev/null
+  # the shared builds must load the installed libstabdae.so.0, the static one none
+  needed=$(readelf -d "$dir/consumer" | sed -n 's/.*Shared library: \[\(libstabdae[^]]*\)\].*/\1/p')
+  loaded=$(ldd "$dir/consumer" | awk '/libstabdae/ {print $3}')
+  if [ "$via" = cmake-static ]; then
+    [ -z "$needed" ] || { echo "static consumer needs $needed" >&2; exit 1; }
+  else
+    [ "$needed" = libstabdae.so.0 ] || { echo "consumer needs '$needed'" >&2; exit 1; }
+    [[ -n "$loaded" && "$(realpath "$loaded")" == "$(realpath "$prefix")"/* ]] ||
+      { echo "consumer loads '$loaded', not the one in $prefix" >&2; exit 1; }
+  fi
+  "$dir/consumer"
+done
