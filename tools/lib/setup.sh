@@ -19,26 +19,66 @@ missing_packages() {
   ls /usr/lib/*/cmake/sundials/SUNDIALSConfig.cmake >/dev/null 2>&1 || pkgs+=(libsundials-dev)
   python3 -c 'import ensurepip, venv' 2>/dev/null || pkgs+=(python3-venv)
   for tool in "$@"; do
-    command -v "$tool" >/dev/null || pkgs+=("$tool")
+    case $tool in
+      fuzzer) # clang, then its libFuzzer runtime (a package of its own on Debian)
+        if ! command -v clang >/dev/null; then pkgs+=(clang)
+        elif ! clang_links_fuzzer; then pkgs+=("$(fuzzer_runtime_package)")
+        fi ;;
+      *) command -v "$tool" >/dev/null || pkgs+=("$tool") ;;
+    esac
   done
   echo "${pkgs[@]}"
 }
 
+# Whether clang links a fuzz target with -fsanitize=fuzzer,address,undefined.
+clang_links_fuzzer() {
+  local dir rc
+  dir=$(mktemp -d)
+  printf '%s\n' '#include <stddef.h>' '#include <stdint.h>' \
+    'int LLVMFuzzerTestOneInput(const uint8_t *d, size_t n) { (void)d; (void)n; return 0; }' \
+    >"$dir/t.c"
+  clang -fsanitize=fuzzer,address,undefined "$dir/t.c" -o "$dir/t" >/dev/null 2>&1
+  rc=$?
+  rm -rf "$dir"
+  return $rc
+}
+
+# libclang-rt-N-dev (Debian 12, Ubuntu 23.04 on) or libclang-common-N-dev (older), N = clang's
+# major version.
+fuzzer_runtime_package() {
+  local v
+  v=$(clang -dumpversion | cut -d. -f1)
+  if apt-cache show "libclang-rt-$v-dev" >/dev/null 2>&1; then
+    echo "libclang-rt-$v-dev"
+  else
+    echo "libclang-common-$v-dev"
+  fi
+}
+
 # Installs the missing packages with apt-get when root; otherwise prints the command and stops.
-# Arguments: extra commands whose Debian package has the same name (valgrind, clang).
+# Arguments: extra commands whose Debian package has the same name (valgrind), and `fuzzer`
+# for clang with its libFuzzer runtime. Two rounds, because the runtime's package name is
+# known only once clang is there.
 ensure_packages() {
-  local pkgs
-  pkgs=$(missing_packages "$@")
-  [ -z "$pkgs" ] && return 0
-  if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null; then
-    say "installing system packages: $pkgs"
+  local pkgs round
+  for round in 1 2; do
+    pkgs=$(missing_packages "$@")
+    [ -z "$pkgs" ] && return 0
+    if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null; then
+      echo "stabdae needs these Debian packages: $pkgs" >&2
+      echo "install them with: sudo apt-get install -y $pkgs" >&2
+      exit 2
+    fi
     export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
+    [ "$round" -eq 1 ] && apt-get update -qq
+    pkgs=$(missing_packages "$@") # again, now that apt knows the package names
+    say "installing system packages: $pkgs"
     # shellcheck disable=SC2086
     apt-get install -y -qq --no-install-recommends $pkgs >/dev/null
-  else
-    echo "stabdae needs these Debian packages: $pkgs" >&2
-    echo "install them with: sudo apt-get install -y $pkgs" >&2
+  done
+  pkgs=$(missing_packages "$@")
+  if [ -n "$pkgs" ]; then
+    echo "still missing after apt-get install: $pkgs" >&2
     exit 2
   fi
 }

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# valgrind memcheck of every Check suite and every fuzz corpus replay of a build: no error, no
+# definite or indirect leak. CK_FORK=no keeps each test in valgrind's process. A summary line
+# per program; the full logs are in BUILD/memcheck/.
+# Usage: tools/lib/memcheck.sh [BUILD_DIR]   (default build/)
+set -euo pipefail
+source "$(dirname "$0")/setup.sh"
+build=${1:-$BUILD}
+logs=$build/memcheck
+mkdir -p "$logs"
+
+# memcheck PROGRAM [ARGS...]
+memcheck() {
+  local name log
+  name=$(basename "$1")
+  log=$logs/$name.log
+  if ! CK_FORK=no valgrind --error-exitcode=99 --leak-check=full \
+    --errors-for-leak-kinds=definite,indirect --show-leak-kinds=definite,indirect \
+    --log-file="$log" "$@" >"$logs/$name.out" 2>&1; then
+    cat "$logs/$name.out" "$log" >&2
+    echo "memcheck: $name failed (log in ${log#"$ROOT"/})" >&2
+    return 1
+  fi
+  printf '%-22s %s; %s\n' "$name" \
+    "$(sed -n 's/.*ERROR SUMMARY: \([0-9,]* errors\).*/\1/p' "$log")" \
+    "$(sed -n 's/.*total heap usage: \(.*\)/\1/p' "$log")"
+}
+
+say "valgrind memcheck of the unit suites and the fuzz corpora"
+for prog in "$build"/tests/check_*; do
+  [ -f "$prog" ] && [ -x "$prog" ] && memcheck "$prog"
+done
+for prog in "$build"/tests/fuzz/fuzz_*; do
+  [ -f "$prog" ] && [ -x "$prog" ] || continue
+  name=$(basename "$prog")
+  memcheck "$prog" "$ROOT/tests/fuzz/corpus/${name#fuzz_}"
+done
