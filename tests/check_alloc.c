@@ -10,11 +10,15 @@ extern void *__libc_malloc(size_t n);
 extern void *__libc_calloc(size_t n, size_t size);
 extern void *__libc_realloc(void *p, size_t n);
 
-static volatile int counting;
+static volatile int counting, fail_next;
 static volatile long allocations;
 
 void *malloc(size_t n) {
   if (counting) allocations++;
+  if (fail_next) {
+    fail_next = 0;
+    return NULL;
+  }
   return __libc_malloc(n);
 }
 
@@ -64,9 +68,25 @@ START_TEST(no_allocation_in_step) {
 }
 END_TEST
 
+/* sdae_stepper_alloc's one malloc fails: SDAE_ERR_NOMEM, *s untouched; the next one works. */
+START_TEST(out_of_memory_is_reported) {
+  quartic p = {1.0, 0.0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s = NULL;
+  fail_next = 1;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_ERR_NOMEM);
+  ck_assert_int_eq(fail_next, 0); /* the failure was the library's malloc */
+  ck_assert_ptr_null(s);
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  sdae_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("alloc");
   ADD_CASE(s, counter_sees_allocations);
   ADD_CASE(s, no_allocation_in_step);
+  ADD_CASE(s, out_of_memory_is_reported);
   return run_suite(s);
 }

@@ -1,6 +1,7 @@
 /* Every bad input gets its named status, and a failed step leaves xi and mu exactly as they
  * were. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,6 +28,12 @@ static void expect_config(int want) {
   ck_assert_ptr_eq(s, before);
   ck_assert_uint_eq(sdae_stepper_size(&model, &opt), 0);
   reset();
+}
+
+static int overflow_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
+                            double *qnorm2, void *p) {
+  (void)t, (void)xi, (void)mu, (void)Qxi, (void)qnorm2, (void)p;
+  return -1; /* never called: the configuration is refused */
 }
 
 START_TEST(bad_model) {
@@ -220,6 +227,36 @@ START_TEST(overflowing_state) {
 }
 END_TEST
 
+/* Dimensions whose workspace does not fit in size_t: the product n_mu x n_xi of a dense Q, and
+ * (with Q_apply, no product) the byte count of n_mu-long arrays. Nothing is allocated. */
+START_TEST(workspace_overflow) {
+  reset();
+  model.n_mu = SIZE_MAX / 2 + 1, expect_config(SDAE_ERR_OVERFLOW);
+  model.n_mu = SIZE_MAX / 8, model.Q = NULL, model.Q_apply = overflow_Q_apply;
+  expect_config(SDAE_ERR_OVERFLOW);
+}
+END_TEST
+
+/* Baumgarte with scheme 15 solves (I - T A) xi+ = xi for the chain of a relative-degree-2
+ * constraint, A = [[0, 1], [-alpha0, -alpha1]]: det = 1 + T alpha1 + T^2 alpha0 = 0 for
+ * T = 1, alpha = (-1, 0). A named status and the state untouched. */
+START_TEST(baumgarte_singular_chain) {
+  sdae_stepper *s;
+  double xi[2] = {0.1, 0.25}, mu[2] = {0.2, -0.5};
+  reset();
+  opt.stabilizer = SDAE_STAB_BAUMGARTE;
+  opt.baumgarte_alpha[0] = -1.0, opt.baumgarte_alpha[1] = 0.0;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 1.0, xi, mu), SDAE_ERR_SINGULAR);
+  ck_assert_double_eq(xi[0], 0.1);
+  ck_assert_double_eq(xi[1], 0.25);
+  ck_assert_double_eq(mu[0], 0.2);
+  ck_assert_double_eq(mu[1], -0.5);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.5, xi, mu), SDAE_OK); /* det = 0.75 */
+  sdae_stepper_free(s);
+}
+END_TEST
+
 START_TEST(strerror_names_every_status) {
   for (int st = SDAE_ERR_OVERFLOW; st <= SDAE_STOPPED; st++) {
     const char *msg = sdae_strerror(st);
@@ -243,6 +280,8 @@ int main(void) {
   ADD_CASE(s, callback_failures);
   ADD_CASE(s, energy_callback_nan);
   ADD_CASE(s, overflowing_state);
+  ADD_CASE(s, workspace_overflow);
+  ADD_CASE(s, baumgarte_singular_chain);
   ADD_CASE(s, strerror_names_every_status);
   return run_suite(s);
 }
