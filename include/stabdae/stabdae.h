@@ -24,6 +24,7 @@
 #include <stabdae/export.h>
 #include <stabdae/model.h>
 #include <stabdae/certify.h>
+#include <stabdae/check.h>
 
 #ifdef __cplusplus
 extern "C" {
