@@ -189,6 +189,31 @@ static const char *kind_hint(const cli_flag *fl) {
   return "";
 }
 
+/* the value the target holds now: the default when called before parsing went further */
+static void print_default(FILE *f, const cli_flag *fl) {
+  switch (fl->kind) {
+  case CLI_REAL:
+  case CLI_POSITIVE:
+  case CLI_NONNEG: fprintf(f, " [%g]", *(const double *)fl->target); break;
+  case CLI_COUNT: fprintf(f, " [%zu]", *(const size_t *)fl->target); break;
+  case CLI_SEED: fprintf(f, " [%lu]", *(const unsigned long *)fl->target); break;
+  case CLI_CHOICE: fprintf(f, " [%s]", fl->choices[*(const int *)fl->target]); break;
+  case CLI_VECTOR: {
+    const double *v = fl->target;
+    if (isnan(v[0])) break; /* a default computed from other flags, told in the help text */
+    fputs(" [", f);
+    for (size_t j = 0; j < fl->n; j++) fprintf(f, "%s%g", j ? "," : "", v[j]);
+    fputc(']', f);
+    break;
+  }
+  case CLI_PATH: {
+    const char *path = *(const char *const *)fl->target;
+    fprintf(f, " [%s]", path ? path : "stdout");
+    break;
+  }
+  }
+}
+
 void cli_usage(FILE *f, const char *prog, const char *summary, const cli_flag *flags,
                size_t nflags) {
   fprintf(f, "usage: %s [flags]\n%s\n\nflags:\n", prog, summary);
@@ -202,6 +227,7 @@ void cli_usage(FILE *f, const char *prog, const char *summary, const cli_flag *f
         fprintf(f, "%s%s", j ? "|" : "", flags[i].choices[j]);
       fputc(')', f);
     }
+    print_default(f, &flags[i]);
     fputc('\n', f);
   }
   fprintf(f, "  %-22s %s\n", "--help", "this text");
@@ -233,7 +259,7 @@ size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices
        "discretization: eq. 11 explicit, eq. 15 semi-implicit"},
       {"map", CLI_CHOICE, &run->map, map_choices, 0, map_help},
       {"every", CLI_COUNT, &run->every, NULL, 0, "a row every N steps (t = 0 and the end too)"},
-      {"out", CLI_PATH, &run->out, NULL, 0, "CSV output file (default: stdout)"},
+      {"out", CLI_PATH, &run->out, NULL, 0, "CSV output file"},
   };
   memcpy(dst, common, sizeof common);
   return CLI_RUN_NFLAGS;

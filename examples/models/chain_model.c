@@ -169,7 +169,8 @@ static int chain_q0_jac(double t, const double *mu, double *out, void *params) {
     chain_jac_row(p, mu, r, row);
     for (size_t o = 0; o < CHAIN_JAC_WIDTH; o++) {
       size_t c = r + o; /* the column plus CHAIN_JAC_LOWER */
-      if (c >= CHAIN_JAC_LOWER && c - CHAIN_JAC_LOWER < n) out[r * n + c - CHAIN_JAC_LOWER] = row[o];
+      if (c >= CHAIN_JAC_LOWER && c - CHAIN_JAC_LOWER < n)
+        out[r * n + c - CHAIN_JAC_LOWER] = row[o];
     }
   }
   return 0;

@@ -59,7 +59,9 @@ regress)
       for (i = 1; i < n; i++) {   # the last column, newton_iters, depends on the solver
         x = a[i] + 0; y = b[i] + 0; d = x - y; if (d < 0) d = -d
         s = (x < 0 ? -x : x); t = (y < 0 ? -y : y); if (t > s) s = t
-        if (d > 1e-10 * s + 1e-13) { printf "row %d column %d: %s vs %s\n", NR, i, a[i], b[i]; bad = 1 }
+        if (d > 1e-10 * s + 1e-13) {
+          printf "row %d column %d: %s vs %s\n", NR, i, a[i], b[i]; bad = 1
+        }
       } } END { exit bad }' || die "values differ from $expected"
   exit 0
   ;;

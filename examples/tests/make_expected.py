@@ -181,8 +181,9 @@ class Chain:
 
     def energy(self, x):
         s = x.reshape(self.N, 4)
-        return float(np.sum(self.m * (s[:, 2] ** 2 + s[:, 3] ** 2) / 2 + self.k * s[:, 0] ** 4 / 4
-                            + self.m * self.ga * s[:, 1]) + np.sum(self.kc * np.diff(s[:, 0]) ** 4 / 4))
+        bodies = (self.m * (s[:, 2] ** 2 + s[:, 3] ** 2) / 2 + self.k * s[:, 0] ** 4 / 4
+                  + self.m * self.ga * s[:, 1])
+        return float(np.sum(bodies) + np.sum(self.kc * np.diff(s[:, 0]) ** 4 / 4))
 
     def row(self, xi, mu):
         return [float(np.max(np.abs(xi[0::2]))), float(np.max(np.abs(xi[1::2]))),
