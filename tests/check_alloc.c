@@ -30,7 +30,7 @@ void *realloc(void *p, size_t n) {
 
 static long allocations_in_run(const sdae_map_type *map, sdae_stabilizer stabilizer) {
   static max_align_t mem[256];
-  quartic p = {2.0, 0.03, 0};
+  quartic p = {2.0, 0.03, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;

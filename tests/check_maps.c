@@ -66,7 +66,7 @@ static double H_of(quartic *p, const double *mu) {
 
 /* S skew: H(mu+) - H(mu) = T gradbar^T S gradbar = 0 up to rounding, over 1e5 steps. */
 START_TEST(dgrad_conserves_H) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -93,7 +93,7 @@ static int damped_rhs(double t, const double y[], double f[], void *params) {
 /* S = J - R, R = diag(0, d) >= 0: H(mu+) - H(mu) = -T d gradbar_2^2 <= 0 every step; and H
  * follows the continuous decay to the map's second order. */
 START_TEST(dgrad_dissipates_monotonically) {
-  quartic p = {1.0, 0.1, 0};
+  quartic p = {1.0, 0.1, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   gsl_odeiv2_system sys = {damped_rhs, NULL, 2, &p};
@@ -121,7 +121,7 @@ END_TEST
  * is grad H(mid) (H is not called, phi = S grad H(mid) = q0(mid)); otherwise the difference
  * quotient makes gradbar . v = H(mu+) - H(mu), with gradbar = S^-1 phi = J^T phi for S = J. */
 START_TEST(dgrad_small_increment_branch) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;

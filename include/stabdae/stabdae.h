@@ -23,6 +23,7 @@
 
 #include <stabdae/export.h>
 #include <stabdae/model.h>
+#include <stabdae/certify.h>
 
 #ifdef __cplusplus
 extern "C" {
