@@ -59,7 +59,13 @@ static int dgrad_phi(sdae_stepper *s, double t, double T, const double *mu,
 
 /* No closed form for d phi / d mu+ (it needs the Hessian of H): Newton uses finite
  * differences. */
-static const sdae_map_type dgrad_type = {"dgrad", 1, dgrad_check, dgrad_scratch, dgrad_phi,
-                                         NULL,    NULL};
+static const sdae_map_type dgrad_type = {
+    .name = "dgrad",
+    .implicit = 1,
+    .uses_newton = 1,
+    .check = dgrad_check,
+    .scratch = dgrad_scratch,
+    .phi = dgrad_phi,
+};
 
 const sdae_map_type *const sdae_map_dgrad = &dgrad_type;

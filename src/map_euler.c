@@ -20,6 +20,12 @@ static int euler_phi(sdae_stepper *s, double t, double T, const double *mu,
 }
 
 static const sdae_map_type euler_type = {
-    "euler", 0, euler_check, euler_scratch, euler_phi, NULL, NULL};
+    .name = "euler",
+    .implicit = 0,
+    .uses_newton = 0,
+    .check = euler_check,
+    .scratch = euler_scratch,
+    .phi = euler_phi,
+};
 
 const sdae_map_type *const sdae_map_euler = &euler_type;
