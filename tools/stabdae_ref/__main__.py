@@ -1,5 +1,5 @@
 """Command line: python -m stabdae_ref MODEL [options] writes the run as CSV (the C examples'
-columns, see models.md), %.17g in float64, all dps digits in mpmath.
+columns, see models.py), %.17g in float64, all dps digits in mpmath.
 
 Bad input: one line on stderr, exit 2, no output file. A step that fails: the rows computed so
 far stay written, one line on stderr says where it stopped, exit 1.

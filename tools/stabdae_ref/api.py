@@ -61,7 +61,7 @@ def simulate(model, params=None, x0=None, T=0.001, nsteps=1000, scheme=15, map="
 
     model       'oscillator', 'pendulum' or 'chain'
     params      model parameters (k, d, m, ga, q | L, m, ga | N, k, d, m, ga, kc) and the
-                method's (delta, eps, alpha); defaults from models.md, delta 2, eps 1,
+                method's (delta, eps, alpha); defaults in models.py, delta 2, eps 1,
                 alpha (1, 2)
     x0          physical start (X, Y, Xdot, Ydot per mass), mapped by Phi; default per model
     z0          (xi0, mu0) instead of x0, given directly in the coordinates (numbers or

@@ -12,6 +12,8 @@ constraint, xi_j' = xi_{j+1} with the last derivative 0 ('none', index reduction
 xi_1(t) = xi_1(0) + t xi_2(0)) or -sum_j alpha_j xi_j ('baumgarte'): xi' = A xi, discretized as
 xi+ = xi + T A xi (scheme 11) or (I - T A) xi+ = xi (scheme 15). The mu update is the same.
 """
+import math
+
 from . import maps, vec
 
 SCHEMES = (11, 15)
@@ -27,6 +29,8 @@ class StepFailure(Exception):
 
 
 class Stepper:
+    """The step of one model with one scheme, map and stabilizer (see the module docstring)."""
+
     def __init__(self, model, scheme=15, map="dg", stabilizer="paper", delta=2.0, eps=1.0,
                  alpha=(1.0, 2.0)):
         a = model.a
@@ -34,8 +38,10 @@ class Stepper:
             raise ValueError("scheme must be 11 or 15, got %r" % (scheme,))
         if stabilizer not in STABILIZERS:
             raise ValueError("stabilizer must be paper, none or baumgarte, got %r" % (stabilizer,))
-        if not (float(delta) > 0 and float(eps) > 0):
-            raise ValueError("delta and eps must be > 0, got %r, %r" % (delta, eps))
+        if not all(math.isfinite(float(v)) and float(v) > 0 for v in (delta, eps)):
+            raise ValueError("delta and eps must be finite and > 0, got %r, %r" % (delta, eps))
+        if not all(math.isfinite(float(v)) for v in alpha):
+            raise ValueError("alpha must be finite, got %r" % (alpha,))
         self.model, self.a, self.scheme, self.stabilizer = model, a, scheme, stabilizer
         self.delta, self.eps = a.num(float(delta)), a.num(float(eps))
         self.alpha = [a.num(float(v)) for v in alpha]

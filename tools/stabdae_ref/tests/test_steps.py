@@ -11,13 +11,13 @@ DELTA, EPS = 2.0, 1.0
 
 
 def osc_gains(xi1, mu1, k=2.0, d=0.03, m=1.0):
-    """k_1, k_2 of the oscillator from models.md (corrected Q)."""
+    """k_1, k_2 of the oscillator (corrected Q, from eq. 22)."""
     c = (k * (3 * mu1 ** 2 - 3 * mu1 * xi1 + xi1 ** 2) + d) / m
     return -(DELTA ** 2 / 2) * (1 + c ** 2) - EPS, -DELTA ** 2 - EPS
 
 
 def pend_gains(xi1, mu1, mu2, L=1.0, ga=9.81):
-    """k_1, k_2 of the pendulum: q_1 from models.md, q_2 = 0."""
+    """k_1, k_2 of the pendulum: q_1 = q - q0 of the radial coordinates, q_2 = 0."""
     r2 = L ** 2 + 2 * xi1
     q1 = (-2 * mu2 / (L ** 2 * r2), -2 * ga * math.sin(mu1) / (L + math.sqrt(r2)))
     return -(DELTA ** 2 / 2) * (q1[0] ** 2 + q1[1] ** 2) - EPS, -EPS
@@ -102,7 +102,7 @@ def test_baumgarte_converges_at_order_one(scheme):
 
 
 def test_newton_solves_the_mu_equation_in_mpmath():
-    """mu+ = mu + T (q0((mu + mu+)/2) + Q xi) to the residual 1e-30 (q0, Q from models.md)."""
+    """mu+ = mu + T (q0((mu + mu+)/2) + Q xi) to the residual 1e-30 (q0, Q written out here)."""
     T = 1e-2
     res = simulate("oscillator", {"d": 0.03}, None, T, 1, 15, "midpoint", arithmetic="mpmath",
                    z0=(["0.2", "0.1"], ["0.6", "0.3"]))
