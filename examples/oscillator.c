@@ -10,9 +10,9 @@
 #include "cli.h"
 #include "oscillator_model.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg-paper", NULL};
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg-paper", "dg4", NULL};
 static const char *const q_choices[] = {"corrected", "paper", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG_PAPER };
+enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG_PAPER, MAP_DG4 };
 
 typedef struct osc_args {
   osc_params p;
@@ -67,6 +67,7 @@ static const sdae_map_type *osc_map(int map) {
   case MAP_EULER: return sdae_map_euler;
   case MAP_MIDPOINT: return sdae_map_midpoint;
   case MAP_DG: return sdae_map_dgrad;
+  case MAP_DG4: return sdae_map_dg4;
   default: return sdae_map_user;
   }
 }

@@ -10,8 +10,8 @@
 #include "cli.h"
 #include "pendulum_model.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG };
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", NULL};
+enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4 };
 
 typedef struct pend_args {
   pend_params p;
@@ -72,6 +72,7 @@ static const sdae_map_type *pend_map(int map) {
   switch (map) {
   case MAP_EULER: return sdae_map_euler;
   case MAP_MIDPOINT: return sdae_map_midpoint;
+  case MAP_DG4: return sdae_map_dg4;
   default: return sdae_map_dgrad;
   }
 }

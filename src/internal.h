@@ -13,8 +13,8 @@ struct sdae_map_type {
   int uses_newton; /* the map or the step needs the Newton workspace */
   /* SDAE_OK when the options give every callback the map needs, SDAE_ERR_MAP otherwise */
   int (*check)(const sdae_model *m, const sdae_options *o);
-  /* doubles of scratch the map needs for a model with n_mu components */
-  size_t (*scratch)(size_t n_mu);
+  /* doubles of scratch the map needs */
+  size_t (*scratch)(const sdae_model *m, const sdae_options *o);
   /* phi_T(mu, mu+): n_mu values */
   int (*phi)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
              double *out);

@@ -16,7 +16,9 @@ static int dg4_check(const sdae_model *m, const sdae_options *o) {
 }
 
 /* the discrete gradient's scratch, then the stage's start and end */
-static size_t dg4_scratch(size_t n_mu) { return sdae_map_dgrad->scratch(n_mu) + 2 * n_mu; }
+static size_t dg4_scratch(const sdae_model *m, const sdae_options *o) {
+  return sdae_map_dgrad->scratch(m, o) + 2 * m->n_mu;
+}
 
 /* one stage y = Psi_h(x): Newton on y = x + h S gradbar H(x, y) from x + h q0(x) */
 static int stage(sdae_stepper *s, double t, double h, const double *x, double *y) {
@@ -31,7 +33,7 @@ static int stage(sdae_stepper *s, double t, double h, const double *x, double *y
 static int dg4_phi(sdae_stepper *s, double t, double T, const double *mu,
                    const double *mu_next, double *out) {
   size_t n = s->model.n_mu;
-  double *a = s->map_work + sdae_map_dgrad->scratch(n), *b = a + n;
+  double *a = s->map_work + sdae_map_dgrad->scratch(&s->model, &s->opt), *b = a + n;
   const double g1 = 1.0 / (2.0 - cbrt(2.0)), gamma[3] = {g1, 1.0 - 2.0 * g1, g1};
   int rc = SDAE_OK;
   (void)mu_next;

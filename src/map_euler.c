@@ -7,8 +7,8 @@ static int euler_check(const sdae_model *m, const sdae_options *o) {
   return SDAE_OK;
 }
 
-static size_t euler_scratch(size_t n_mu) {
-  (void)n_mu;
+static size_t euler_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)m, (void)o;
   return 0;
 }
 

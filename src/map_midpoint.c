@@ -7,7 +7,10 @@ static int midpoint_check(const sdae_model *m, const sdae_options *o) {
   return SDAE_OK;
 }
 
-static size_t midpoint_scratch(size_t n_mu) { return n_mu; /* the midpoint */ }
+static size_t midpoint_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)o;
+  return m->n_mu; /* the midpoint */
+}
 
 static const double *midpoint(sdae_stepper *s, const double *mu, const double *mu_next) {
   double *mid = s->map_work;

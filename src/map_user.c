@@ -7,8 +7,8 @@ static int user_check(const sdae_model *m, const sdae_options *o) {
   return o->user_phi ? SDAE_OK : SDAE_ERR_MAP;
 }
 
-static size_t user_scratch(size_t n_mu) {
-  (void)n_mu;
+static size_t user_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)m, (void)o;
   return 0;
 }
 

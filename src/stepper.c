@@ -95,7 +95,7 @@ static void carve(sdae_stepper *s, arena *a) {
   s->qnorm2 = take(a, n_xi, 1);
   s->k = take(a, n_xi, 1);
   s->xi_new = take(a, n_xi, 1);
-  s->map_work = take(a, s->opt.map->scratch(n_mu), 1);
+  s->map_work = take(a, s->opt.map->scratch(&s->model, &s->opt), 1);
   s->blk = take(a, r, r);
   s->blk_LU = take(a, r, sdae__lu_band_cols(r - 1, r - 1));
   s->blk_piv = take_pivots(a, r);

@@ -186,6 +186,7 @@ int chain_model(sdae_model *model, chain_params *p) {
   model->q0 = chain_q0;
   model->Q_apply = chain_Q_apply;
   model->q0_jac = chain_q0_jac;
+  model->bandwidth = 3; /* mu_{i,2}' couples to mu_{i-1,1}, mu_{i+1,1}: offsets -3..+1 */
   model->n_constraints = p->N;
   model->rel_degree = p->rel_degree;
   model->params = p;
@@ -217,17 +218,15 @@ static int chain_grad_H(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-static int chain_S(double t, const double *mu, double *out, void *params) {
+/* S v with S = block-diag([[0, 1/m], [-1/m, -d/m^2]]), in O(N) */
+static int chain_S_apply(double t, const double *mu, const double *v, double *out,
+                         void *params) {
   const chain_params *p = params;
-  size_t n = 2 * p->N;
   (void)t;
   (void)mu;
-  memset(out, 0, n * n * sizeof *out);
   for (size_t i = 0; i < p->N; i++) {
-    size_t r = 2 * i;
-    out[r * n + r + 1] = 1.0 / p->m;
-    out[(r + 1) * n + r] = -1.0 / p->m;
-    out[(r + 1) * n + r + 1] = -p->d / (p->m * p->m);
+    out[2 * i] = v[2 * i + 1] / p->m;
+    out[2 * i + 1] = -v[2 * i] / p->m - p->d / (p->m * p->m) * v[2 * i + 1];
   }
   return 0;
 }
@@ -235,7 +234,7 @@ static int chain_S(double t, const double *mu, double *out, void *params) {
 void chain_map_callbacks(sdae_options *o) {
   o->H = chain_H_cb;
   o->grad_H = chain_grad_H;
-  o->S = chain_S;
+  o->S_apply = chain_S_apply;
 }
 
 int chain_random_start(const chain_params *p, unsigned long seed, double *x) {

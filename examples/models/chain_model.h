@@ -35,7 +35,7 @@ void chain_model_free(chain_params *p);
 /* dq0/dmu in band storage: band[r * CHAIN_JAC_WIDTH + (c - r + CHAIN_JAC_LOWER)] is entry
  * (r, c); entries outside the matrix are 0. 2N rows. */
 void chain_q0_jac_band(const chain_params *p, const double *mu, double *band);
-/* H, grad H and the block-diagonal S = diag([[0, 1/m], [-1/m, -d/m^2]]) (dense, 2N x 2N). */
+/* H, grad H and the block-diagonal S = diag([[0, 1/m], [-1/m, -d/m^2]]) (as S v, O(N)). */
 void chain_map_callbacks(sdae_options *o);
 
 /* A reproducible start off the manifold from GSL's MT19937 seeded with seed: for each mass in

@@ -92,6 +92,8 @@ typedef struct sdae_options {
   int (*H)(double t, const double *mu, double *out, void *params);      /* 1 value */
   int (*grad_H)(double t, const double *mu, double *out, void *params); /* n_mu values */
   int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
+  /* instead of S, for large models: out = S(mu) v (n_mu values) */
+  int (*S_apply)(double t, const double *mu, const double *v, double *out, void *params);
 
   /* sdae_map_user: phi(T, mu, mu+) and optionally d phi / d mu+ (n_mu x n_mu) */
   int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
