@@ -138,9 +138,12 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
   case CLI_VECTOR:
     return parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
   case CLI_PATH:
-    if (*s == '\0') return fail(err, errlen, "--%s: empty file name", fl->name);
+  case CLI_TEXT:
+    if (*s == '\0') return fail(err, errlen, "--%s: empty value", fl->name);
     *(const char **)fl->target = s;
     return CLI_OK;
+  case CLI_SWITCH:
+    return fail(err, errlen, "--%s takes no value", fl->name);
   }
   return fail(err, errlen, "--%s: internal error (unknown kind)", fl->name);
 }
@@ -165,6 +168,10 @@ int cli_parse(int argc, char *const *argv, const cli_flag *flags, size_t nflags,
     const cli_flag *fl = find_flag(name, len, flags, nflags);
     if (!fl) return fail(err, errlen, "unknown flag '--%.*s'", (int)len, name);
     const char *value = eq ? eq + 1 : NULL;
+    if (fl->kind == CLI_SWITCH && !value) {
+      *(int *)fl->target = 1;
+      continue;
+    }
     if (!value) {
       if (i + 1 >= argc) return fail(err, errlen, "--%s: missing value", fl->name);
       value = argv[++i];
@@ -185,6 +192,8 @@ static const char *kind_hint(const cli_flag *fl) {
   case CLI_CHOICE: return "CHOICE";
   case CLI_VECTOR: return "X,X,..";
   case CLI_PATH: return "FILE";
+  case CLI_TEXT: return "SPEC";
+  case CLI_SWITCH: return "";
   }
   return "";
 }
@@ -211,6 +220,8 @@ static void print_default(FILE *f, const cli_flag *fl) {
     fprintf(f, " [%s]", path ? path : "stdout");
     break;
   }
+  case CLI_TEXT:
+  case CLI_SWITCH: break; /* the help text tells the default */
   }
 }
 

@@ -21,7 +21,9 @@ typedef enum cli_kind {
   CLI_SEED,     /* unsigned long, any value */
   CLI_CHOICE,   /* int: index into choices */
   CLI_VECTOR,   /* exactly n finite doubles separated by commas */
-  CLI_PATH      /* const char *, non-empty */
+  CLI_PATH,     /* const char *, non-empty */
+  CLI_TEXT,     /* const char *, non-empty, parsed by the program (e.g. --box) */
+  CLI_SWITCH    /* int set to 1, takes no value */
 } cli_kind;
 
 typedef struct cli_flag {

@@ -7,6 +7,7 @@
  * being restored; E is dissipated for d > 0 and W conserved on the manifold for d = 0. */
 #include <stdio.h>
 
+#include "certify_cli.h"
 #include "cli.h"
 #include "oscillator_model.h"
 
@@ -19,7 +20,8 @@ typedef struct osc_args {
   int q;
   double x0[4];
   cli_run run;
-  cli_flag flags[6 + CLI_RUN_NFLAGS];
+  cli_certify cert;
+  cli_flag flags[6 + CLI_RUN_NFLAGS + CERT_NFLAGS];
   size_t nflags;
 } osc_args;
 
@@ -33,7 +35,8 @@ static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, s
   *a = (osc_args){.p = {2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED},
                   .q = 0,
                   .x0 = {0.1, 0.6, 0.0, 0.0},
-                  .run = {2.0, 1.0, 0.001, 50.0, 1, MAP_DG_PAPER, 1, NULL, 0}};
+                  .run = {2.0, 1.0, 0.001, 50.0, 1, MAP_DG_PAPER, 1, NULL, 0},
+                  .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model_flags[6] = {
       {"k", CLI_REAL, &a->p.k, NULL, 0, "spring constant (force -k X^3)"},
       {"d", CLI_REAL, &a->p.d, NULL, 0, "damping (force -d Xdot)"},
@@ -45,9 +48,13 @@ static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, s
   for (size_t i = 0; i < 6; i++) a->flags[i] = model_flags[i];
   a->nflags = 6 + cli_run_flags(a->flags + 6, &a->run, map_choices,
                                 "mu-map: dg = Gonzalez with H = W, dg-paper = Section IV's");
+  a->nflags += cli_certify_flags(a->flags + a->nflags, &a->cert,
+                                 "box of (xi, mu), the paper's B with xi2 fixed "
+                                 "[xi1=-0.7:0.7,xi2=0:0,mu1=-0.9:0.9,mu2=-0.9:0.9]");
   int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
   if (rc != CLI_OK) return rc;
   a->p.q = a->q == 0 ? OSC_Q_CORRECTED : OSC_Q_PAPER;
+  if (cli_certify_finish(&a->cert, err, errlen) != CLI_OK) return CLI_BAD;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
@@ -87,6 +94,12 @@ int main(int argc, char **argv) {
   cli_run_options(&a.run, &opt);
   opt.map = osc_map(a.run.map);
   osc_map_callbacks(&opt);
+  if (a.cert.certify) return cli_certify_run("oscillator", &a.cert, &model, &opt);
+  if (a.cert.check_model) {
+    sdae_dae dae;
+    osc_dae_spec(&dae, &a.p);
+    return cli_check_model_run("oscillator", &a.cert, &model, &dae);
+  }
   osc_to_coords(&a.p, a.x0, xi, mu);
   const cli_program prog = {"oscillator", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,W,newton_iters",
                             &model, &opt, xi, mu, osc_row, &a.p};

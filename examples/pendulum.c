@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "certify_cli.h"
 #include "cli.h"
 #include "pendulum_model.h"
 
@@ -17,7 +18,8 @@ typedef struct pend_args {
   pend_params p;
   double x0[4];
   cli_run run;
-  cli_flag flags[4 + CLI_RUN_NFLAGS];
+  cli_certify cert;
+  cli_flag flags[4 + CLI_RUN_NFLAGS + CERT_NFLAGS];
   size_t nflags;
 } pend_args;
 
@@ -30,7 +32,10 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
                            size_t errlen) {
   *a = (pend_args){.p = {1.0, 1.0, 9.81},
                    .x0 = {NAN, NAN, 0.0, 0.0},
-                   .run = {2.0, 1.0, 0.001, 10.0, 1, MAP_DG, 1, NULL, 0}};
+                   .run = {2.0, 1.0, 0.001, 10.0, 1, MAP_DG, 1, NULL, 0},
+                   .cert = {.grid = 41,
+                            .lo = {-0.1, -0.5, -3.14159, -2.0},
+                            .hi = {0.1, 0.5, 3.14159, 2.0}}};
   const cli_flag model_flags[4] = {
       {"L", CLI_POSITIVE, &a->p.L, NULL, 0, "rod length"},
       {"m", CLI_POSITIVE, &a->p.m, NULL, 0, "mass"},
@@ -41,6 +46,9 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
   for (size_t i = 0; i < 4; i++) a->flags[i] = model_flags[i];
   a->nflags = 4 + cli_run_flags(a->flags + 4, &a->run, map_choices,
                                 "mu-map: dg = Gonzalez with the pendulum's energy");
+  a->nflags += cli_certify_flags(a->flags + a->nflags, &a->cert,
+                                 "box of (xi, mu) "
+                                 "[xi1=-0.1:0.1,xi2=-0.5:0.5,mu1=-3.14159:3.14159,mu2=-2:2]");
   int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
   if (rc != CLI_OK) return rc;
   if (isnan(a->x0[0])) { /* the default start depends on L: 0.5 rad from the bottom, at rest */
@@ -52,6 +60,7 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
                           "undefined");
     return CLI_BAD;
   }
+  if (cli_certify_finish(&a->cert, err, errlen) != CLI_OK) return CLI_BAD;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
@@ -92,6 +101,12 @@ int main(int argc, char **argv) {
   cli_run_options(&a.run, &opt);
   opt.map = pend_map(a.run.map);
   pend_map_callbacks(&opt);
+  if (a.cert.certify) return cli_certify_run("pendulum", &a.cert, &model, &opt);
+  if (a.cert.check_model) {
+    sdae_dae dae;
+    pend_dae_spec(&dae, &a.p);
+    return cli_check_model_run("pendulum", &a.cert, &model, &dae);
+  }
   pend_to_coords(&a.p, a.x0, xi, mu); /* the pivot was refused above */
   const cli_program prog = {"pendulum", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters",
                             &model, &opt, xi, mu, pend_row, &a.p};

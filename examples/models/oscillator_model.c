@@ -150,3 +150,37 @@ void osc_map_callbacks(sdae_options *o) {
   o->user_phi = osc_paper_phi;
   o->user_phi_jac = osc_paper_phi_jac;
 }
+
+/* ---- the DAE for sdae_check_model --------------------------------------------------------- */
+
+static int dae_f(double t, const double *x, double *out, void *params) {
+  double g[4];
+  (void)t;
+  osc_dae(params, x, out, g);
+  return 0;
+}
+
+static int dae_g(double t, const double *x, double *out, void *params) {
+  double f[4];
+  (void)t;
+  osc_dae(params, x, f, out);
+  return 0;
+}
+
+/* outside the model's domain a recoverable failure */
+static int dae_Phi(double t, const double *x, double *z, void *params) {
+  (void)t;
+  osc_to_coords(params, x, z, z + 2);
+  return 0;
+}
+
+static int dae_Phi_inv(double t, const double *z, double *x, void *params) {
+  (void)t;
+  osc_from_coords(params, z, z + 2, x);
+  return 0;
+}
+
+void osc_dae_spec(sdae_dae *d, osc_params *p) {
+  *d = (sdae_dae){.n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi,
+                  .Phi_inv = dae_Phi_inv, .params = p};
+}

@@ -31,4 +31,7 @@ void osc_model(sdae_model *model, osc_params *p);
  * the paper's phi_T with its Jacobian for sdae_map_user; the caller picks o->map. */
 void osc_map_callbacks(sdae_options *o);
 
+/* The DAE (f, g), Phi and Phi^-1 as sdae_check_model wants them; params = p. */
+void osc_dae_spec(sdae_dae *d, osc_params *p);
+
 #endif /* STABDAE_EXAMPLES_OSCILLATOR_MODEL_H */

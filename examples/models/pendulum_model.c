@@ -145,3 +145,35 @@ void pend_map_callbacks(sdae_options *o) {
   o->grad_H = pend_grad_H;
   o->S = pend_S;
 }
+
+/* ---- the DAE for sdae_check_model --------------------------------------------------------- */
+
+static int dae_f(double t, const double *x, double *out, void *params) {
+  double g[4];
+  (void)t;
+  pend_dae(params, x, out, g);
+  return 0;
+}
+
+static int dae_g(double t, const double *x, double *out, void *params) {
+  double f[4];
+  (void)t;
+  pend_dae(params, x, f, out);
+  return 0;
+}
+
+/* outside the model's domain a recoverable failure */
+static int dae_Phi(double t, const double *x, double *z, void *params) {
+  (void)t;
+  return pend_to_coords(params, x, z, z + 2) ? 1 : 0;
+}
+
+static int dae_Phi_inv(double t, const double *z, double *x, void *params) {
+  (void)t;
+  return pend_from_coords(params, z, z + 2, x) ? 1 : 0;
+}
+
+void pend_dae_spec(sdae_dae *d, pend_params *p) {
+  *d = (sdae_dae){.n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi,
+                  .Phi_inv = dae_Phi_inv, .params = p};
+}

@@ -22,4 +22,7 @@ void pend_model(sdae_model *model, pend_params *p);
 /* H, grad H and S = [[0, 1/m], [-1/m, 0]] for sdae_map_dgrad (S grad H = q0, S skew). */
 void pend_map_callbacks(sdae_options *o);
 
+/* The DAE (f, g), Phi and Phi^-1 as sdae_check_model wants them; params = p. */
+void pend_dae_spec(sdae_dae *d, pend_params *p);
+
 #endif /* STABDAE_EXAMPLES_PENDULUM_MODEL_H */

@@ -13,6 +13,9 @@
 #                                        EXPR is awk with the CSV columns as v["name"]
 #   cli_test.sh fail PROG ARGS...        a failure mid-run: exit 1, one line on stderr naming the
 #                                        step, the header and the rows so far kept in the file
+#   cli_test.sh value PROG CODE KEY WANT TOL ARGS...
+#                                        exit CODE and a line "KEY: v" on stdout with
+#                                        |v - WANT| <= TOL
 set -u
 mode=$1
 prog=$2
@@ -84,6 +87,19 @@ fail)
   [ "$(wc -l <"$dir/stderr")" -eq 1 ] || die "stderr is not exactly one line"
   grep -q 'step [0-9]' "$dir/stderr" || die "the message does not name the step"
   [ "$(wc -l <"$out")" -ge 2 ] || die "the rows computed so far were not kept"
+  exit 0
+  ;;
+value)
+  code=$1 key=$2 want=$3 tol=$4
+  shift 4
+  "$prog" "$@" >"$dir/stdout" 2>"$dir/stderr"
+  rc=$?
+  cat "$dir/stdout" "$dir/stderr" >&2
+  [ "$rc" -eq "$code" ] || die "exit code $rc, expected $code"
+  v=$(sed -n "s/^$key: \([^ ]*\).*/\1/p" "$dir/stdout")
+  [ -n "$v" ] || die "no line '$key: ...'"
+  awk -v v="$v" -v w="$want" -v t="$tol" 'BEGIN { d = v - w; if (d < 0) d = -d; exit !(d <= t) }' ||
+    die "$key is $v, expected $want within $tol"
   exit 0
   ;;
 *)
