@@ -9,11 +9,12 @@
 
 struct sdae_map_type {
   const char *name;
-  int implicit; /* phi depends on mu+: Newton is needed */
+  int implicit;    /* phi depends on mu+: the step solves for mu+ by Newton */
+  int uses_newton; /* the map or the step needs the Newton workspace */
   /* SDAE_OK when the options give every callback the map needs, SDAE_ERR_MAP otherwise */
   int (*check)(const sdae_model *m, const sdae_options *o);
-  /* doubles of scratch the map needs for a model with n_mu components */
-  size_t (*scratch)(size_t n_mu);
+  /* doubles of scratch the map needs */
+  size_t (*scratch)(const sdae_model *m, const sdae_options *o);
   /* phi_T(mu, mu+): n_mu values */
   int (*phi)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
              double *out);
@@ -29,7 +30,7 @@ struct sdae_stepper {
   sdae_model model;
   sdae_options opt;
   void *block;     /* what sdae_stepper_alloc malloc'ed, NULL for a caller's block */
-  int analytic_jac; /* the map's Jacobian is available */
+  size_t band;     /* Newton's band: lb = ub = band (n_mu - 1 when dense) */
   sdae_stats stats;
 
   double *Q;      /* n_mu x n_xi (dense models only) */
@@ -42,8 +43,8 @@ struct sdae_stepper {
 
   /* Newton (implicit maps only) */
   double *R, *dy, *fd_y, *fd_plus, *fd_minus; /* n_mu each */
-  double *J;      /* n_mu x n_mu: dphi/dmu+, then I - T dphi/dmu+ */
-  double *LU;     /* n_mu x (3 n_mu - 2): J in band format, then its LU factors */
+  double *J;      /* n_mu x n_mu, dense models: an analytic dphi/dmu+, then I - T dphi/dmu+ */
+  double *LU;     /* n_mu x (3 band + 1): I - T dphi/dmu+ in band format, then its factors */
   unsigned *piv;  /* n_mu */
 
   /* baselines (none, Baumgarte): one r x r block at a time */
@@ -69,8 +70,10 @@ void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB);
 int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, const double *b,
                    double *x);
 
-/* newton.c: solves R(y) = y - mu - T (phi_T(mu, y) + Qxi) = 0 for y, starting from y */
-int sdae__newton(sdae_stepper *s, double t, double T, const double *mu, double *y);
+/* newton.c: solves y = x + h (map's phi(x, y) + shift) for y (shift may be NULL), starting
+ * from y; adds its iterations to the stats' newton_iters_last */
+int sdae__newton(sdae_stepper *s, const sdae_map_type *map, double t, double h, const double *x,
+                 const double *shift, double *y);
 
 /* stabilizer.c: the xi update of the chosen stabilizer and scheme, into s->xi_new */
 int sdae__stabilizer_check(const sdae_model *m, const sdae_options *o);

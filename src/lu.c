@@ -5,6 +5,7 @@
  * zero inside GSL. */
 #include <float.h>
 #include <math.h>
+#include <string.h>
 
 #include <gsl/gsl_linalg.h>
 
@@ -12,12 +13,11 @@
 
 size_t sdae__lu_band_cols(size_t lb, size_t ub) { return 2 * lb + ub + 1; }
 
-/* GSL's band format: row j holds column j of A, AB[j][lb + ub + i - j] = A[i][j]. The slots
- * outside A (the corners of the band and the fill-in columns) are zeroed: sdae__lu_solve's
- * scale reads whole rows, and the workspace holds whatever was in memory before. */
+/* GSL's band format: row j holds column j of A, AB[j][lb + ub + i - j] = A[i][j]; the cells
+ * outside A (first and last rows) are zeroed, since the pivot scale reads the whole band. */
 void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB) {
   size_t ld = sdae__lu_band_cols(lb, ub);
-  for (size_t c = 0; c < n * ld; c++) AB[c] = 0.0;
+  memset(AB, 0, n * ld * sizeof *AB);
   for (size_t j = 0; j < n; j++) {
     size_t i0 = j > ub ? j - ub : 0, i1 = j + lb < n ? j + lb : n - 1;
     for (size_t i = i0; i <= i1; i++) AB[j * ld + lb + ub + i - j] = A[i * n + j];

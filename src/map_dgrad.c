@@ -11,10 +11,32 @@
 
 static int dgrad_check(const sdae_model *m, const sdae_options *o) {
   (void)m;
-  return (o->H && o->grad_H && o->S) ? SDAE_OK : SDAE_ERR_MAP;
+  return (o->H && o->grad_H && (o->S || o->S_apply)) ? SDAE_OK : SDAE_ERR_MAP;
 }
 
-static size_t dgrad_scratch(size_t n_mu) { return 3 * n_mu + n_mu * n_mu; }
+/* the midpoint, grad H, the increment, and a dense S unless S_apply is given */
+static size_t dgrad_scratch(const sdae_model *m, const sdae_options *o) {
+  return 3 * m->n_mu + (o->S_apply ? 0 : m->n_mu * m->n_mu);
+}
+
+/* out = S(mid) g */
+static int apply_S(sdae_stepper *s, double tm, const double *mid, const double *g, double *S,
+                   double *out) {
+  size_t n = s->model.n_mu;
+  int rc;
+  if (s->opt.S_apply) {
+    rc = sdae__status_of_callback(s->opt.S_apply(tm, mid, g, out, s->model.params));
+    if (rc != SDAE_OK) return rc;
+    return sdae__all_finite(out, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
+  }
+  if ((rc = sdae__call_checked(s->opt.S, s, tm, mid, S, n * n)) != SDAE_OK) return rc;
+  for (size_t r = 0; r < n; r++) {
+    double acc = 0.0;
+    for (size_t j = 0; j < n; j++) acc += S[r * n + j] * g[j];
+    out[r] = acc;
+  }
+  return SDAE_OK;
+}
 
 /* The correction along v; 0 when |v| is so small that the difference quotient is all rounding:
  * below |v|^2 = eps (1 + |m|^2) the dropped term is O(|v|^3) H''', far below rounding. */
@@ -46,20 +68,20 @@ static int dgrad_phi(sdae_stepper *s, double t, double T, const double *mu,
   }
   int rc = sdae__call_checked(s->opt.grad_H, s, tm, mid, grad, n);
   if (rc == SDAE_OK) rc = correction(s, tm, mu, mu_next, mid, grad, v, &c);
-  if (rc == SDAE_OK) rc = sdae__call_checked(s->opt.S, s, tm, mid, S, n * n);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) grad[i] += c * v[i]; /* gradbar H */
-  for (size_t r = 0; r < n; r++) {
-    double acc = 0.0;
-    for (size_t j = 0; j < n; j++) acc += S[r * n + j] * grad[j];
-    out[r] = acc;
-  }
-  return SDAE_OK;
+  return apply_S(s, tm, mid, grad, S, out);
 }
 
 /* No closed form for d phi / d mu+ (it needs the Hessian of H): Newton uses finite
  * differences. */
-static const sdae_map_type dgrad_type = {"dgrad", 1, dgrad_check, dgrad_scratch, dgrad_phi,
-                                         NULL,    NULL};
+static const sdae_map_type dgrad_type = {
+    .name = "dgrad",
+    .implicit = 1,
+    .uses_newton = 1,
+    .check = dgrad_check,
+    .scratch = dgrad_scratch,
+    .phi = dgrad_phi,
+};
 
 const sdae_map_type *const sdae_map_dgrad = &dgrad_type;

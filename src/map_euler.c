@@ -7,8 +7,8 @@ static int euler_check(const sdae_model *m, const sdae_options *o) {
   return SDAE_OK;
 }
 
-static size_t euler_scratch(size_t n_mu) {
-  (void)n_mu;
+static size_t euler_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)m, (void)o;
   return 0;
 }
 
@@ -20,6 +20,12 @@ static int euler_phi(sdae_stepper *s, double t, double T, const double *mu,
 }
 
 static const sdae_map_type euler_type = {
-    "euler", 0, euler_check, euler_scratch, euler_phi, NULL, NULL};
+    .name = "euler",
+    .implicit = 0,
+    .uses_newton = 0,
+    .check = euler_check,
+    .scratch = euler_scratch,
+    .phi = euler_phi,
+};
 
 const sdae_map_type *const sdae_map_euler = &euler_type;

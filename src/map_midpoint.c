@@ -7,7 +7,10 @@ static int midpoint_check(const sdae_model *m, const sdae_options *o) {
   return SDAE_OK;
 }
 
-static size_t midpoint_scratch(size_t n_mu) { return n_mu; /* the midpoint */ }
+static size_t midpoint_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)o;
+  return m->n_mu; /* the midpoint */
+}
 
 static const double *midpoint(sdae_stepper *s, const double *mu, const double *mu_next) {
   double *mid = s->map_work;
@@ -35,8 +38,15 @@ static int midpoint_jac_given(const sdae_model *m, const sdae_options *o) {
   return m->q0_jac != NULL;
 }
 
-static const sdae_map_type midpoint_type = {"midpoint",     1,           midpoint_check,
-                                            midpoint_scratch, midpoint_phi, midpoint_jac,
-                                            midpoint_jac_given};
+static const sdae_map_type midpoint_type = {
+    .name = "midpoint",
+    .implicit = 1,
+    .uses_newton = 1,
+    .check = midpoint_check,
+    .scratch = midpoint_scratch,
+    .phi = midpoint_phi,
+    .jac = midpoint_jac,
+    .jac_given = midpoint_jac_given,
+};
 
 const sdae_map_type *const sdae_map_midpoint = &midpoint_type;

@@ -7,8 +7,8 @@ static int user_check(const sdae_model *m, const sdae_options *o) {
   return o->user_phi ? SDAE_OK : SDAE_ERR_MAP;
 }
 
-static size_t user_scratch(size_t n_mu) {
-  (void)n_mu;
+static size_t user_scratch(const sdae_model *m, const sdae_options *o) {
+  (void)m, (void)o;
   return 0;
 }
 
@@ -35,7 +35,15 @@ static int user_jac_given(const sdae_model *m, const sdae_options *o) {
 
 /* Implicit: a user map may depend on mu+; for one that does not, Newton converges in one
  * iteration. */
-static const sdae_map_type user_type = {"user",   1,        user_check,    user_scratch,
-                                        user_phi, user_jac, user_jac_given};
+static const sdae_map_type user_type = {
+    .name = "user",
+    .implicit = 1,
+    .uses_newton = 1,
+    .check = user_check,
+    .scratch = user_scratch,
+    .phi = user_phi,
+    .jac = user_jac,
+    .jac_given = user_jac_given,
+};
 
 const sdae_map_type *const sdae_map_user = &user_type;

@@ -81,6 +81,11 @@ static unsigned *take_pivots(arena *a, size_t n) {
   return a->ubase ? a->ubase + (a->nu - n) : NULL;
 }
 
+/* the band Newton factors: the model's, or all of it (dense) */
+static size_t newton_band(const sdae_model *m) {
+  return m->bandwidth > 0 && m->bandwidth < m->n_mu - 1 ? m->bandwidth : m->n_mu - 1;
+}
+
 static void carve(sdae_stepper *s, arena *a) {
   size_t n_mu = s->model.n_mu, n_xi = s->model.n_xi, r = SDAE_MAX_REL_DEGREE;
   s->Q = s->model.Q ? take(a, n_mu, n_xi) : NULL;
@@ -90,18 +95,18 @@ static void carve(sdae_stepper *s, arena *a) {
   s->qnorm2 = take(a, n_xi, 1);
   s->k = take(a, n_xi, 1);
   s->xi_new = take(a, n_xi, 1);
-  s->map_work = take(a, s->opt.map->scratch(n_mu), 1);
+  s->map_work = take(a, s->opt.map->scratch(&s->model, &s->opt), 1);
   s->blk = take(a, r, r);
   s->blk_LU = take(a, r, sdae__lu_band_cols(r - 1, r - 1));
   s->blk_piv = take_pivots(a, r);
-  if (!s->opt.map->implicit) return;
+  if (!s->opt.map->uses_newton) return;
   s->R = take(a, n_mu, 1);
   s->dy = take(a, n_mu, 1);
   s->fd_y = take(a, n_mu, 1);
   s->fd_plus = take(a, n_mu, 1);
   s->fd_minus = take(a, n_mu, 1);
-  s->J = take(a, n_mu, n_mu);
-  s->LU = take(a, n_mu, sdae__lu_band_cols(n_mu - 1, n_mu - 1));
+  s->J = s->band == n_mu - 1 ? take(a, n_mu, n_mu) : NULL; /* dense: analytic Jacobians */
+  s->LU = take(a, n_mu, sdae__lu_band_cols(s->band, s->band));
   s->piv = take_pivots(a, n_mu);
 }
 
@@ -117,6 +122,7 @@ static int measure(const sdae_model *m, const sdae_options *o, size_t *bytes) {
   memset(&probe, 0, sizeof probe);
   probe.model = *m;
   probe.opt = *o;
+  probe.band = newton_band(m);
   carve(&probe, &a);
   *bytes = header_bytes() + alignof(max_align_t) - 1;
   if (a.overflow || !mul_ok(a.nd, sizeof(double), &db) || !add_ok(bytes, db) ||
@@ -138,7 +144,7 @@ static sdae_stepper *build(void *mem, const sdae_model *m, const sdae_options *o
   memset(s, 0, sizeof *s);
   s->model = *m;
   s->opt = *o;
-  s->analytic_jac = o->map->jac && o->map->jac_given && o->map->jac_given(m, o);
+  s->band = newton_band(m);
   carve(s, &count);
   a.dbase = (double *)((char *)s + header_bytes());
   a.ubase = (unsigned *)(a.dbase + count.nd);
@@ -179,13 +185,13 @@ void sdae_stepper_free(sdae_stepper *s) {
  * mu + T (phi_T(mu, mu) + Q xi), exact for the explicit maps */
 static int mu_update(sdae_stepper *s, double t, double T, const double *mu) {
   size_t n = s->model.n_mu;
-  int rc = s->opt.map->phi(s, t, T, mu, mu, s->phi);
+  int rc;
+  s->stats.newton_iters_last = 0; /* counts the map's own solves too (dg4's stages) */
+  rc = s->opt.map->phi(s, t, T, mu, mu, s->phi);
   s->stats.phi_evals++;
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) s->mu_new[i] = mu[i] + T * (s->phi[i] + s->Qxi[i]);
-  s->stats.newton_iters_last = 0;
-  if (!s->opt.map->implicit) return SDAE_OK;
-  rc = sdae__newton(s, t, T, mu, s->mu_new);
+  if (s->opt.map->implicit) rc = sdae__newton(s, s->opt.map, t, T, mu, s->Qxi, s->mu_new);
   s->stats.newton_iters_total += s->stats.newton_iters_last;
   return rc;
 }

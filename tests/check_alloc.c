@@ -34,7 +34,7 @@ void *realloc(void *p, size_t n) {
 
 static long allocations_in_run(const sdae_map_type *map, sdae_stabilizer stabilizer) {
   static max_align_t mem[256];
-  quartic p = {2.0, 0.03, 0};
+  quartic p = {2.0, 0.03, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -60,8 +60,9 @@ START_TEST(counter_sees_allocations) {
 END_TEST
 
 START_TEST(no_allocation_in_step) {
-  const sdae_map_type *maps[3] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad};
-  for (int i = 0; i < 3; i++) {
+  const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
+                                  sdae_map_dg4};
+  for (int i = 0; i < 4; i++) {
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_PAPER), 0);
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_BAUMGARTE), 0);
   }
@@ -70,7 +71,7 @@ END_TEST
 
 /* sdae_stepper_alloc's one malloc fails: SDAE_ERR_NOMEM, *s untouched; the next one works. */
 START_TEST(out_of_memory_is_reported) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s = NULL;

@@ -9,10 +9,10 @@
 
 static sdae_model model;
 static sdae_options opt;
-static quartic params = {1.0, 0.0, 0};
+static quartic params = {1.0, 0.0, 0, 0};
 
 static void reset(void) {
-  params = (quartic){1.0, 0.0, 0};
+  params = (quartic){1.0, 0.0, 0, 0};
   model = quartic_model(&params);
   opt = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
 }

@@ -20,7 +20,7 @@ static int observer(size_t step, double t, const double *xi, const double *mu, v
 }
 
 START_TEST(observer_sees_first_every_and_last) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -43,7 +43,7 @@ START_TEST(observer_sees_first_every_and_last) {
 END_TEST
 
 START_TEST(observer_stops_cleanly) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -68,7 +68,7 @@ static int q0_until(double t, const double *mu, double *out, void *params) {
 }
 
 START_TEST(failure_keeps_last_good_state) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p), good = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s, *g;
@@ -99,7 +99,7 @@ typedef struct job {
 
 static void *run_job(void *arg) {
   job *j = arg;
-  quartic p = {2.0, 0.03, 0};
+  quartic p = {2.0, 0.03, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;

@@ -39,6 +39,15 @@ START_TEST(order_dgrad_is_2) {
 }
 END_TEST
 
+/* Yoshida's triple jump of the symmetric discrete gradient: 2^4 = 16 */
+START_TEST(order_dg4_is_4) {
+  sdae_options o = quartic_options(sdae_map_dg4, SDAE_SCHEME_SEMI_IMPLICIT);
+  double e1 = quartic_error(&o, 1.0, 2.0, 0.04), e2 = quartic_error(&o, 1.0, 2.0, 0.02);
+  ck_assert_double_gt(e1 / e2, 15.0);
+  ck_assert_double_lt(e1 / e2, 17.0);
+}
+END_TEST
+
 /* The paper's Section IV map for k = 1, d = 0 is the coordinate discrete gradient of H:
  * symmetric, so order 2. */
 static int paper_phi(double t, double T, const double *mu, const double *y, double *out,
@@ -64,11 +73,12 @@ static double H_of(quartic *p, const double *mu) {
   return h;
 }
 
-/* S skew: H(mu+) - H(mu) = T gradbar^T S gradbar = 0 up to rounding, over 1e5 steps. */
-START_TEST(dgrad_conserves_H) {
-  quartic p = {1.0, 0.0, 0};
+/* S skew: H(mu+) - H(mu) = T gradbar^T S gradbar = 0 up to rounding, over 1e5 steps; for dg4
+ * in each of its three stages. */
+static void conserves_H(const sdae_map_type *map) {
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
-  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
   double xi[2] = {0, 0}, mu[2] = {1.0, 0.0}, H0 = H_of(&p, mu), worst = 0.0;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
@@ -79,6 +89,11 @@ START_TEST(dgrad_conserves_H) {
   ck_assert_double_le(worst, 1e-13);
   sdae_stepper_free(s);
 }
+
+START_TEST(dgrad_conserves_H) { conserves_H(sdae_map_dgrad); }
+END_TEST
+
+START_TEST(dg4_conserves_H) { conserves_H(sdae_map_dg4); }
 END_TEST
 
 /* Reference for the damped oscillator: GSL's rk8pd at tight tolerance. */
@@ -93,7 +108,7 @@ static int damped_rhs(double t, const double y[], double f[], void *params) {
 /* S = J - R, R = diag(0, d) >= 0: H(mu+) - H(mu) = -T d gradbar_2^2 <= 0 every step; and H
  * follows the continuous decay to the map's second order. */
 START_TEST(dgrad_dissipates_monotonically) {
-  quartic p = {1.0, 0.1, 0};
+  quartic p = {1.0, 0.1, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   gsl_odeiv2_system sys = {damped_rhs, NULL, 2, &p};
@@ -121,7 +136,7 @@ END_TEST
  * is grad H(mid) (H is not called, phi = S grad H(mid) = q0(mid)); otherwise the difference
  * quotient makes gradbar . v = H(mu+) - H(mu), with gradbar = S^-1 phi = J^T phi for S = J. */
 START_TEST(dgrad_small_increment_branch) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -150,8 +165,10 @@ int main(void) {
   ADD_CASE(s, order_euler_is_1);
   ADD_CASE(s, order_midpoint_is_2);
   ADD_CASE(s, order_dgrad_is_2);
+  ADD_CASE(s, order_dg4_is_4);
   ADD_CASE(s, order_user_paper_map_is_2);
   ADD_CASE(s, dgrad_conserves_H);
+  ADD_CASE(s, dg4_conserves_H);
   ADD_CASE(s, dgrad_dissipates_monotonically);
   ADD_CASE(s, dgrad_small_increment_branch);
   return run_suite(s);

@@ -58,7 +58,7 @@ static int run(trace *tr, int analytic, unsigned max_iter, double T, double *mu,
 /* A large step (T = 0.8 from (1.5, 0.5)) so that the predictor is far from the root: the
  * errors e_k = |y_k - y*| must satisfy e_{k+1} <= C e_k^2. */
 START_TEST(quadratic_convergence_analytic) {
-  trace tr = {{1.0, 0.0, 0}, 0, {{0}}, 0};
+  trace tr = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0};
   double mu[2] = {1.5, 0.5};
   int status, iters = run(&tr, 1, 20, 0.8, mu, &status);
   ck_assert_int_eq(status, SDAE_OK);
@@ -81,7 +81,7 @@ START_TEST(quadratic_convergence_analytic) {
 END_TEST
 
 START_TEST(finite_differences_same_root) {
-  trace ta = {{1.0, 0.0, 0}, 0, {{0}}, 0}, tf = {{1.0, 0.0, 0}, 0, {{0}}, 0};
+  trace ta = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0}, tf = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0};
   double a[2] = {1.5, 0.5}, f[2] = {1.5, 0.5};
   int sa, sf;
   run(&ta, 1, 20, 0.8, a, &sa);
@@ -101,7 +101,7 @@ static void counting_handler(const char *reason, const char *file, int line, int
 
 /* I - T dphi/dmu+ = 0: a named status, the state untouched, GSL's handler never called. */
 START_TEST(singular_matrix_is_reported) {
-  trace tr = {{1.0, 0.0, 0}, 0, {{0}}, 1};
+  trace tr = {{1.0, 0.0, 0, 0}, 0, {{0}}, 1};
   double mu[2] = {1.5, 0.5};
   int status;
   gsl_error_handler_t *old = gsl_set_error_handler(counting_handler);
@@ -116,7 +116,7 @@ END_TEST
 
 /* Quadratic convergence from an O(1) start needs more than two iterations at T = 0.8. */
 START_TEST(iteration_cap_is_reported) {
-  trace tr = {{1.0, 0.0, 0}, 0, {{0}}, 0};
+  trace tr = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0};
   double mu[2] = {1.5, 0.5};
   int status, iters = run(&tr, 1, 2, 0.8, mu, &status);
   ck_assert_int_eq(status, SDAE_ERR_NEWTON);
@@ -128,7 +128,7 @@ END_TEST
 
 /* Statistics: the totals add up and the last residual is at rounding level. */
 START_TEST(statistics_add_up) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
@@ -154,7 +154,7 @@ END_TEST
 static void steps_in_block(unsigned char fill, sdae_stabilizer stabilizer, double *xi,
                            double *mu) {
   static max_align_t mem[256];
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;

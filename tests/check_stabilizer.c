@@ -110,7 +110,7 @@ static int const_Q(double t, const double *xi, const double *mu, double *out, vo
 }
 
 static double scheme11_after(double T, int n) {
-  quartic p = {0.0, 0.0, 0}; /* linear q0: mu stays bounded over the run */
+  quartic p = {0.0, 0.0, 0, 0}; /* linear q0: mu stays bounded over the run */
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_EXPLICIT);
   sdae_stepper *s;
@@ -137,7 +137,7 @@ END_TEST
 START_TEST(none_drifts_linearly) {
   const sdae_scheme schemes[2] = {SDAE_SCHEME_EXPLICIT, SDAE_SCHEME_SEMI_IMPLICIT};
   for (int j = 0; j < 2; j++) {
-    quartic p = {1.0, 0.0, 0};
+    quartic p = {1.0, 0.0, 0, 0};
     sdae_model m = quartic_model(&p);
     sdae_options o = quartic_options(sdae_map_euler, schemes[j]);
     sdae_stepper *s;
@@ -155,7 +155,7 @@ END_TEST
 /* Baumgarte with alpha = (1, 2): xi1'' = -xi1 - 2 xi1', exact xi1 = (a + (b + a) t) e^-t.
  * The discretization is first order: the error at t = 5 halves with T. */
 static double baumgarte_error(sdae_scheme scheme, double T) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_euler, scheme);
   sdae_stepper *s;
@@ -183,7 +183,7 @@ END_TEST
 /* The paper's stabilizer on the oscillator: after each step of scheme 15 every |xi_i| has
  * shrunk exactly by 1/(1 - T k_i) with the gains at the step's start. */
 START_TEST(paper_stabilizer_factor_along_run) {
-  quartic p = {2.0, 0.03, 0};
+  quartic p = {2.0, 0.03, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;

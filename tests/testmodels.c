@@ -28,7 +28,10 @@ static int Q(double t, const double *xi, const double *mu, double *out, void *pa
   (void)t;
   out[0] = -1.0;
   out[1] = 1.0;
-  out[2] = p->k * (3 * mu[0] * mu[0] - 3 * mu[0] * xi[0] + xi[0] * xi[0]) + p->d;
+  if (p->printed)
+    out[2] = p->k * (3 * mu[0] * xi[0] - 3 * mu[0] * mu[0] - xi[0] * xi[0]) + p->d * xi[0];
+  else
+    out[2] = p->k * (3 * mu[0] * mu[0] - 3 * mu[0] * xi[0] + xi[0] * xi[0]) + p->d;
   out[3] = 1.0;
   return 0;
 }
@@ -94,7 +97,7 @@ void quartic_exact(double k, double A, double t, double *x, double *v) {
 }
 
 double quartic_error(const sdae_options *o, double A, double tf, double T) {
-  quartic p = {1.0, 0.0, 0};
+  quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_stepper *s = NULL;
   double xi[2] = {0, 0}, mu[2] = {A, 0}, x, v;

@@ -11,6 +11,7 @@
 typedef struct quartic {
   double k, d;
   long H_calls; /* counts the H callback, to see the discrete gradient's branches */
+  int printed;  /* Q as printed in the paper: c = k(3 mu1 xi1 - 3 mu1^2 - xi1^2) + d xi1 */
 } quartic;
 
 sdae_model quartic_model(quartic *p);

@@ -18,6 +18,12 @@ typedef struct sdae_model {
    * column norms ||q_i||^2 (n_xi values, the gains' input) in one call; used when Q is NULL */
   int (*Q_apply)(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
                  void *params);
+  /* optional, for large models: 0 (dense), or b > 0 when d phi/d mu+ has at most b sub- and b
+   * super-diagonals (true of the midpoint and discrete-gradient maps when q0, S and grad H
+   * couple mu_i only to mu_j with |i - j| <= b). Newton then factors a band, O(n b^2), and
+   * builds its matrix from 2 (2b + 1) evaluations of phi whatever n; analytic Jacobians
+   * (q0_jac, user_phi_jac) are dense and are not used then. */
+  size_t bandwidth;
   /* optional: dq0/dmu, n_mu x n_mu row-major (midpoint Newton); finite differences otherwise */
   int (*q0_jac)(double t, const double *mu, double *out, void *params);
   /* optional, needed by the baselines: the constraints and the relative degree of each; xi

@@ -23,6 +23,8 @@
 
 #include <stabdae/export.h>
 #include <stabdae/model.h>
+#include <stabdae/certify.h>
+#include <stabdae/check.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -76,6 +78,8 @@ SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* phi = q0(mu), e
 SDAE_API extern const sdae_map_type *const sdae_map_midpoint; /* phi = q0((mu + mu+)/2) */
 SDAE_API extern const sdae_map_type *const sdae_map_dgrad;    /* phi = S(mid) gradbar H */
 SDAE_API extern const sdae_map_type *const sdae_map_user;     /* phi = options.user_phi */
+/* dgrad composed by Yoshida's triple jump: order 4, H conserved for skew S (dgrad's callbacks) */
+SDAE_API extern const sdae_map_type *const sdae_map_dg4;
 
 SDAE_API const char *sdae_map_name(const sdae_map_type *map);
 
@@ -88,6 +92,8 @@ typedef struct sdae_options {
   int (*H)(double t, const double *mu, double *out, void *params);      /* 1 value */
   int (*grad_H)(double t, const double *mu, double *out, void *params); /* n_mu values */
   int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
+  /* instead of S, for large models: out = S(mu) v (n_mu values) */
+  int (*S_apply)(double t, const double *mu, const double *v, double *out, void *params);
 
   /* sdae_map_user: phi(T, mu, mu+) and optionally d phi / d mu+ (n_mu x n_mu) */
   int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,

@@ -1,0 +1,106 @@
+/* Shared command-line layer of the example programs: one table-driven flag parser, number
+ * parsing, the step count, CSV output and the integration driver with its exit codes
+ * (0 done, 1 failure during integration, 2 bad input). */
+#ifndef STABDAE_EXAMPLES_CLI_H
+#define STABDAE_EXAMPLES_CLI_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include <stabdae/stabdae.h>
+
+enum { CLI_OK = 0, CLI_HELP = 1, CLI_BAD = 2 };
+enum { CLI_EXIT_OK = 0, CLI_EXIT_FAILED = 1, CLI_EXIT_USAGE = 2 };
+#define CLI_ERR_LEN 256
+
+typedef enum cli_kind {
+  CLI_REAL,     /* double, finite */
+  CLI_POSITIVE, /* double, finite, > 0 */
+  CLI_NONNEG,   /* double, finite, >= 0 */
+  CLI_COUNT,    /* size_t, >= 1 */
+  CLI_SEED,     /* unsigned long, any value */
+  CLI_CHOICE,   /* int: index into choices */
+  CLI_VECTOR,   /* exactly n finite doubles separated by commas */
+  CLI_PATH,     /* const char *, non-empty */
+  CLI_TEXT,     /* const char *, non-empty, parsed by the program (e.g. --box) */
+  CLI_SWITCH    /* int set to 1, takes no value */
+} cli_kind;
+
+typedef struct cli_flag {
+  const char *name; /* without the leading "--" */
+  cli_kind kind;
+  void *target;                /* double *, size_t *, unsigned long *, int *, const char ** */
+  const char *const *choices;  /* CLI_CHOICE: NULL-terminated list */
+  size_t n;                    /* CLI_VECTOR: number of values */
+  const char *help;
+} cli_flag;
+
+/* Parses argv[1..argc) against the table: "--name value" or "--name=value"; "--help" anywhere
+ * before an error returns CLI_HELP. On CLI_BAD, err holds one line naming the problem. */
+int cli_parse(int argc, char *const *argv, const cli_flag *flags, size_t nflags, char *err,
+              size_t errlen);
+void cli_usage(FILE *f, const char *prog, const char *summary, const cli_flag *flags,
+               size_t nflags);
+
+/* Strict conversions: the whole string, finite, in range; 0 on success, -1 otherwise. */
+int cli_parse_double(const char *s, double *out);
+int cli_parse_size(const char *s, size_t *out);
+int cli_parse_ulong(const char *s, unsigned long *out);
+
+/* ---- the settings every program shares -------------------------------------------------- */
+
+extern const char *const cli_scheme_choices[]; /* "11", "15" */
+
+typedef struct cli_run {
+  double delta, eps, T, tf;
+  int scheme;       /* index into cli_scheme_choices */
+  int map;          /* index into the program's map choices */
+  size_t every;     /* a CSV row every `every` steps, plus t = 0 and the last step */
+  const char *out;  /* NULL: stdout */
+  size_t nsteps;    /* set by cli_run_finish */
+} cli_run;
+
+/* Appends the shared flags (--delta --eps --T --tf --scheme --map --every --out) to dst, which
+ * has room for CLI_RUN_NFLAGS entries; returns the number appended. */
+#define CLI_RUN_NFLAGS 8
+size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices,
+                     const char *map_help);
+/* Derived settings and cross-checks: nsteps = ceil(tf/T - 1e-9) (the final time is tf up to a
+ * relative 1e-9; rows are at t = i T), which must be representable. 0 or -1 with err set. */
+int cli_run_finish(cli_run *run, char *err, size_t errlen);
+/* Copies scheme, delta and epsilon into the options. */
+void cli_run_options(const cli_run *run, sdae_options *o);
+
+/* ---- CSV --------------------------------------------------------------------------------- */
+
+/* Writes n values with %.17g, then the Newton iteration count, one row. */
+int cli_csv_row(FILE *f, const double *v, size_t n, unsigned newton_iters);
+
+/* ---- the driver ---------------------------------------------------------------------------- */
+
+/* One CSV row from the state at time t; non-zero when the state cannot be written (outside the
+ * model's domain), with a one-line reason in why. */
+typedef int (*cli_row_fn)(FILE *f, double t, const double *xi, const double *mu,
+                          unsigned newton_iters, void *ctx, const char **why);
+
+typedef struct cli_program {
+  const char *name;        /* for messages */
+  const char *header;      /* the CSV header line, without newline */
+  const sdae_model *model;
+  const sdae_options *options;
+  double *xi, *mu;         /* the initial state, updated in place */
+  cli_row_fn row;
+  void *row_ctx;
+} cli_program;
+
+/* Opens the output, builds the stepper and integrates run->nsteps steps, writing rows.
+ * Returns the exit code; on a bad setup (CLI_EXIT_USAGE) the output file is removed, on a
+ * failure during integration the rows so far are kept and one line names the step. */
+int cli_execute(const cli_program *p, const cli_run *run);
+
+/* The common main: parse (CLI_HELP prints usage on stdout), print one line and return 2 on bad
+ * input. Returns -1 when the caller should go on. */
+int cli_parse_or_exit(int rc, const char *prog, const char *summary, const cli_flag *flags,
+                      size_t nflags, const char *err);
+
+#endif /* STABDAE_EXAMPLES_CLI_H */

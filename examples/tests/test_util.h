@@ -1,0 +1,25 @@
+/* Small helpers shared by the example model suites: a seeded generator, the time derivative of
+ * a coordinate map along a vector field by central differences, and a state integrator. */
+#ifndef STABDAE_EXAMPLES_TEST_UTIL_H
+#define STABDAE_EXAMPLES_TEST_UTIL_H
+
+#include <stddef.h>
+
+#include <gsl/gsl_rng.h>
+#include <stabdae/stabdae.h>
+
+/* z = Phi(x), n_x inputs, n_z outputs */
+typedef void (*tu_map)(const double *x, double *z, const void *ctx);
+
+/* dPhi(x)[v] by the central difference (Phi(x + h v) - Phi(x - h v)) / 2h, n_x, n_z <= 64 */
+void tu_directional(tu_map phi, const void *ctx, const double *x, const double *v, size_t n_x,
+                    size_t n_z, double h, double *out);
+
+/* uniform in [a, b] */
+double tu_flat(gsl_rng *r, double a, double b);
+
+/* nsteps steps of size T from t = 0 with a fresh stepper; returns the last status */
+int tu_integrate(const sdae_model *m, const sdae_options *o, double T, size_t nsteps, double *xi,
+                 double *mu);
+
+#endif /* STABDAE_EXAMPLES_TEST_UTIL_H */

@@ -1,0 +1,239 @@
+/* Model consistency against the original DAE: at random points z of a box, with x = Phi^-1(z),
+ *
+ *   Phi(x) = z,   L_g phi_j(x) = 0 (mu, and every xi but the last of each chain: Prop. 1),
+ *   L_f xi_j(x) = xi_{j+1} (the chains of eq. 2),   L_f mu(x) = q0(mu) + Q(xi, mu) xi (eq. 5),
+ *
+ * each residual relative to the size of the terms it is made of (so finite-difference
+ * Jacobians, good to ~1e-10 of those terms, pass a tolerance like 1e-6). */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_rng.h>
+
+#include "internal.h"
+
+typedef struct work {
+  const sdae_model *model;
+  const sdae_dae *dae;
+  double t;
+  size_t n, n_xi, n_mu;
+  double *z, *x, *z2, *J, *F, *G, *q0, *Q, *Qxi, *qn2, *LU, *dx, *fa, *fb;
+  unsigned *piv;
+  unsigned char *chain_last; /* n_xi: 1 for the last coordinate of a chain (L_g may be != 0) */
+} work;
+
+static int call(int (*cb)(double, const double *, double *, void *), double t, const double *in,
+                double *out, size_t n_out, void *params) {
+  int rc = sdae__status_of_callback(cb(t, in, out, params));
+  if (rc != SDAE_OK) return rc;
+  return sdae__all_finite(out, n_out) ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
+
+/* dPhi/dx: the callback, or central differences column by column */
+static int jacobian(work *w, const double *x) {
+  const sdae_dae *d = w->dae;
+  size_t n = w->n;
+  if (d->Phi_jac) return call(d->Phi_jac, w->t, x, w->J, n * n, d->params);
+  memcpy(w->dx, x, n * sizeof *x);
+  for (size_t j = 0; j < n; j++) {
+    double h = cbrt(DBL_EPSILON) * fmax(1.0, fabs(x[j]));
+    int rc;
+    w->dx[j] = x[j] + h;
+    h = w->dx[j] - x[j];
+    rc = call(d->Phi, w->t, w->dx, w->fa, n, d->params);
+    w->dx[j] = x[j] - h;
+    if (rc == SDAE_OK) rc = call(d->Phi, w->t, w->dx, w->fb, n, d->params);
+    w->dx[j] = x[j];
+    if (rc != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) w->J[i * n + j] = (w->fa[i] - w->fb[i]) / (2.0 * h);
+  }
+  return SDAE_OK;
+}
+
+/* x = Phi^-1(z): the callback, or Newton from x = z on Phi(x) - z = 0 */
+static int invert(work *w) {
+  const sdae_dae *d = w->dae;
+  size_t n = w->n;
+  if (d->Phi_inv) return call(d->Phi_inv, w->t, w->z, w->x, n, d->params);
+  memcpy(w->x, w->z, n * sizeof *w->x);
+  for (int it = 0; it < 50; it++) {
+    double step = 0.0, size = 0.0;
+    int rc = call(d->Phi, w->t, w->x, w->z2, n, d->params);
+    if (rc == SDAE_OK) rc = jacobian(w, w->x);
+    if (rc != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) w->z2[i] -= w->z[i];
+    sdae__lu_pack(w->J, n, n - 1, n - 1, w->LU);
+    if ((rc = sdae__lu_solve(w->LU, w->piv, n, n - 1, n - 1, w->z2, w->fa)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) {
+      w->x[i] -= w->fa[i];
+      step = fmax(step, fabs(w->fa[i]));
+      size = fmax(size, fabs(w->x[i]));
+    }
+    if (step <= 1e-15 * (1.0 + size)) return SDAE_OK;
+  }
+  return SDAE_ERR_NEWTON;
+}
+
+static double rel(double residual, double scale) {
+  return residual == 0.0 ? 0.0 : fabs(residual) / fmax(scale, DBL_MIN);
+}
+
+static void note(sdae_check_report *r, const work *w, int kind, size_t index, double res) {
+  if (res > r->residual[kind]) r->residual[kind] = res;
+  double worst = r->residual[r->worst_check];
+  if (res > worst || (kind == r->worst_check && res == worst)) {
+    r->worst_check = kind;
+    r->worst_index = index;
+    if (r->worst_z) memcpy(r->worst_z, w->z, w->n * sizeof *w->z);
+  }
+}
+
+/* (J v)_i and the size of its terms, sum_k |J_ik v_k| */
+static double row_dot(const work *w, size_t i, const double *v, size_t stride, double *size) {
+  double acc = 0.0;
+  *size = 0.0;
+  for (size_t k = 0; k < w->n; k++) {
+    acc += w->J[i * w->n + k] * v[k * stride];
+    *size += fabs(w->J[i * w->n + k] * v[k * stride]);
+  }
+  return acc;
+}
+
+static void check_lie(work *w, sdae_check_report *r) {
+  size_t n_xi = w->n_xi;
+  double size;
+  for (size_t i = 0; i < w->n; i++) {
+    if (i < n_xi && w->chain_last[i]) continue;
+    for (size_t c = 0; c < w->dae->m; c++) {
+      double lg = row_dot(w, i, w->G + c, w->dae->m, &size);
+      note(r, w, SDAE_CHECK_LG, i, rel(lg, size));
+    }
+  }
+  for (size_t i = 0; i + 1 < n_xi; i++) {
+    if (w->chain_last[i]) continue;
+    double lf = row_dot(w, i, w->F, 1, &size);
+    note(r, w, SDAE_CHECK_CHAIN, i, rel(lf - w->z[i + 1], size + fabs(w->z[i + 1])));
+  }
+}
+
+/* q0(mu) + Q(xi, mu) xi at z, and the size of its terms in w->fb */
+static int normal_form(work *w) {
+  const sdae_model *m = w->model;
+  const double *xi = w->z, *mu = w->z + w->n_xi;
+  int rc = call(m->q0, w->t, mu, w->q0, w->n_mu, m->params);
+  if (rc != SDAE_OK) return rc;
+  if (m->Q) {
+    rc = sdae__status_of_callback(m->Q(w->t, xi, mu, w->Q, m->params));
+    if (rc != SDAE_OK) return rc;
+    for (size_t a = 0; a < w->n_mu; a++) {
+      w->Qxi[a] = 0.0, w->fb[a] = fabs(w->q0[a]);
+      for (size_t i = 0; i < w->n_xi; i++) {
+        w->Qxi[a] += w->Q[a * w->n_xi + i] * xi[i];
+        w->fb[a] += fabs(w->Q[a * w->n_xi + i] * xi[i]);
+      }
+    }
+  } else {
+    rc = sdae__status_of_callback(m->Q_apply(w->t, xi, mu, w->Qxi, w->qn2, m->params));
+    if (rc != SDAE_OK) return rc;
+    for (size_t a = 0; a < w->n_mu; a++) w->fb[a] = fabs(w->q0[a]) + fabs(w->Qxi[a]);
+  }
+  return sdae__all_finite(w->Qxi, w->n_mu) ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
+
+static int check_point(work *w, sdae_check_report *r) {
+  const sdae_dae *d = w->dae;
+  double size = 0.0, res = 0.0;
+  int rc = invert(w);
+  if (rc == SDAE_OK) rc = call(d->Phi, w->t, w->x, w->z2, w->n, d->params);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < w->n; i++) {
+    size = fmax(size, fmax(fabs(w->z[i]), fabs(w->z2[i])));
+    res = fmax(res, fabs(w->z2[i] - w->z[i]));
+  }
+  note(r, w, SDAE_CHECK_INVERSE, 0, rel(res, size));
+  if ((rc = jacobian(w, w->x)) != SDAE_OK) return rc;
+  if ((rc = call(d->f, w->t, w->x, w->F, w->n, d->params)) != SDAE_OK) return rc;
+  if ((rc = call(d->g, w->t, w->x, w->G, w->n * d->m, d->params)) != SDAE_OK) return rc;
+  check_lie(w, r);
+  if ((rc = normal_form(w)) != SDAE_OK) return rc;
+  for (size_t a = 0; a < w->n_mu; a++) {
+    double lf = row_dot(w, w->n_xi + a, w->F, 1, &size);
+    note(r, w, SDAE_CHECK_DYNAMICS, w->n_xi + a,
+         rel(lf - w->q0[a] - w->Qxi[a], size + w->fb[a]));
+  }
+  return SDAE_OK;
+}
+
+static void mark_chains(const sdae_model *m, unsigned char *last) {
+  size_t off = 0;
+  memset(last, 0, m->n_xi);
+  if (!m->rel_degree || m->n_constraints == 0) {
+    last[m->n_xi - 1] = 1;
+    return;
+  }
+  for (size_t c = 0; c < m->n_constraints && off < m->n_xi; c++) {
+    off += m->rel_degree[c];
+    if (off >= 1 && off <= m->n_xi) last[off - 1] = 1;
+  }
+}
+
+static int validate(const sdae_model *m, const sdae_dae *d, const double *lo, const double *hi,
+                    double tol, const sdae_check_report *r) {
+  if (!m || !d || !lo || !hi || !r) return SDAE_ERR_NULL;
+  if (!m->q0 || (!m->Q && !m->Q_apply) || !d->f || !d->g || !d->Phi) return SDAE_ERR_NULL;
+  if (m->n_xi == 0 || m->n_mu == 0 || d->m == 0 || d->n != m->n_xi + m->n_mu) return SDAE_ERR_DIM;
+  if (!(tol > 0.0) || !isfinite(tol)) return SDAE_ERR_PARAM;
+  for (size_t j = 0; j < d->n; j++)
+    if (!isfinite(lo[j]) || !isfinite(hi[j]) || lo[j] > hi[j]) return SDAE_ERR_PARAM;
+  return SDAE_OK;
+}
+
+static int run(work *w, const double *lo, const double *hi, size_t npoints, unsigned long seed,
+               sdae_check_report *r) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  int rc = SDAE_OK;
+  if (!rng) return SDAE_ERR_NOMEM;
+  gsl_rng_set(rng, seed);
+  for (size_t p = 0; p < npoints && rc == SDAE_OK; p++) {
+    for (size_t j = 0; j < w->n; j++) w->z[j] = lo[j] + (hi[j] - lo[j]) * gsl_rng_uniform(rng);
+    rc = check_point(w, r);
+    if (rc == SDAE_OK) r->points++;
+  }
+  gsl_rng_free(rng);
+  return rc;
+}
+
+int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t, const double *lo,
+                     const double *hi, size_t npoints, unsigned long seed, double tol,
+                     sdae_check_report *r) {
+  int rc = validate(model, dae, lo, hi, tol, r);
+  if (rc != SDAE_OK) return rc;
+  size_t n = dae->n, n_mu = model->n_mu, n_xi = model->n_xi;
+  size_t nd = 3 * n + n * n + n + n * dae->m + n_mu + n_mu * n_xi + n_mu + n_xi +
+              n * sdae__lu_band_cols(n - 1, n - 1) + 3 * n;
+  double *block = calloc(nd, sizeof *block);
+  unsigned *piv = calloc(n, sizeof *piv);
+  unsigned char *last = calloc(n_xi, 1);
+  work w = {0};
+  if (!block || !piv || !last) {
+    rc = SDAE_ERR_NOMEM;
+  } else {
+    double *p = block;
+    w.model = model, w.dae = dae, w.t = t, w.n = n, w.n_xi = n_xi, w.n_mu = n_mu;
+    w.z = p, p += n, w.x = p, p += n, w.z2 = p, p += n, w.J = p, p += n * n, w.F = p, p += n;
+    w.G = p, p += n * dae->m, w.q0 = p, p += n_mu, w.Q = p, p += n_mu * n_xi, w.Qxi = p;
+    p += n_mu, w.qn2 = p, p += n_xi, w.LU = p, p += n * sdae__lu_band_cols(n - 1, n - 1);
+    w.dx = p, p += n, w.fa = p, p += n, w.fb = p;
+    w.piv = piv, w.chain_last = last;
+    mark_chains(model, last);
+    memset(r->residual, 0, sizeof r->residual);
+    r->points = 0, r->worst_check = 0, r->worst_index = 0;
+    rc = run(&w, lo, hi, npoints, seed, r);
+    r->consistent = rc == SDAE_OK;
+    for (int k = 0; k < 4; k++) r->consistent = r->consistent && r->residual[k] <= tol;
+  }
+  free(block), free(piv), free(last);
+  return rc;
+}
