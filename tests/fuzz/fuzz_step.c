@@ -15,8 +15,9 @@
  *     malloc'ed one.
  *
  * Input layout: byte 0 = choice bits (see `choice`), byte 1 = steps - 1 (low 3 bits) and
- * newton_max_iter (high 5 bits), then the doubles of `numbers` in order, 8 bytes each, native
- * byte order; missing bytes read as zero. tests/fuzz/seeds.py writes the seed corpus. */
+ * newton_max_iter (high 5 bits), byte 2 = more choice bits (`choice2`), then the doubles of
+ * `numbers` in order, 8 bytes each, native byte order; missing bytes read as zero.
+ * tests/fuzz/seeds.py writes the seed corpus. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -40,6 +41,11 @@ enum choice {
   JACOBIAN = 1 << 5,       /* q0_jac (midpoint) and user_phi_jac (user) given */
   CALLER_BLOCK = 1 << 6,   /* also step a stepper in a stale caller's block and compare */
   Q_APPLY = 1 << 7         /* the model gives Q_apply instead of Q */
+};
+
+enum choice2 {
+  DG4 = 1 << 0,     /* the dgrad choice of MAP means dg4 */
+  S_APPLY = 1 << 1  /* the options give S_apply instead of S */
 };
 
 typedef struct numbers {
@@ -109,6 +115,14 @@ static int S(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
+static int S_apply(double t, const double *mu, const double *v, double *out, void *params) {
+  const oscillator *p = params;
+  (void)t, (void)mu;
+  out[0] = v[1];
+  out[1] = -v[0] - p->d * v[1];
+  return 0;
+}
+
 /* the user map: the midpoint rule written by hand */
 static int user_phi(double t, double T, const double *mu, const double *y, double *out,
                     void *params) {
@@ -152,8 +166,8 @@ static int all_finite(const double *v, int n) {
   return 1;
 }
 
-static void configure(uint8_t c, unsigned max_iter, const numbers *x, oscillator *osc,
-                      sdae_model *m, sdae_options *o) {
+static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x,
+                      oscillator *osc, sdae_model *m, sdae_options *o) {
   static const sdae_stabilizer stabilizers[4] = {SDAE_STAB_PAPER, SDAE_STAB_NONE,
                                                  SDAE_STAB_BAUMGARTE, SDAE_STAB_PAPER};
   const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
@@ -169,6 +183,7 @@ static void configure(uint8_t c, unsigned max_iter, const numbers *x, oscillator
   sdae_options_default(o);
   o->scheme = (c & EXPLICIT) ? SDAE_SCHEME_EXPLICIT : SDAE_SCHEME_SEMI_IMPLICIT;
   o->map = maps[(c & MAP) >> 1];
+  if (o->map == sdae_map_dgrad && (c2 & DG4)) o->map = sdae_map_dg4;
   o->stabilizer = stabilizers[(c & STABILIZER) >> 3];
   o->delta = x->delta;
   o->epsilon = x->epsilon;
@@ -176,7 +191,11 @@ static void configure(uint8_t c, unsigned max_iter, const numbers *x, oscillator
   o->newton_max_iter = max_iter;
   o->baumgarte_alpha[0] = x->alpha0;
   o->baumgarte_alpha[1] = x->alpha1;
-  o->H = H, o->grad_H = grad_H, o->S = S;
+  o->H = H, o->grad_H = grad_H;
+  if (c2 & S_APPLY)
+    o->S_apply = S_apply;
+  else
+    o->S = S;
   o->user_phi = user_phi;
   if (c & JACOBIAN) o->user_phi_jac = user_phi_jac;
 }
@@ -243,7 +262,7 @@ static void one_step(sdae_stepper *s, sdae_stepper *twin, const sdae_options *o,
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   static max_align_t block[512];
-  uint8_t c = size > 0 ? data[0] : 0, b = size > 1 ? data[1] : 0;
+  uint8_t c = size > 0 ? data[0] : 0, b = size > 1 ? data[1] : 0, c2 = size > 2 ? data[2] : 0;
   unsigned steps = (b & 7u) + 1u, max_iter = b >> 3;
   numbers x;
   oscillator osc;
@@ -252,8 +271,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   sdae_stepper *s = NULL, *twin = NULL;
   unsigned long good = 0;
 
-  read_numbers(size > 2 ? data + 2 : data, size > 2 ? size - 2 : 0, &x);
-  configure(c, max_iter, &x, &osc, &m, &o);
+  read_numbers(size > 3 ? data + 3 : data, size > 3 ? size - 3 : 0, &x);
+  configure(c, c2, max_iter, &x, &osc, &m, &o);
   int valid = options_valid(&o), rc = sdae_stepper_alloc(&s, &m, &o);
   REQUIRE(valid ? rc == SDAE_OK : rc == SDAE_ERR_PARAM);
   REQUIRE((sdae_stepper_size(&m, &o) > 0) == valid);
