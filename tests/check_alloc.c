@@ -13,18 +13,21 @@ extern void *__libc_realloc(void *p, size_t n);
 static volatile int counting, fail_next;
 static volatile long allocations;
 
+/* fail_next: the next malloc or calloc fails, once */
+static int take_failure(void) {
+  int fail = fail_next;
+  fail_next = 0;
+  return fail;
+}
+
 void *malloc(size_t n) {
   if (counting) allocations++;
-  if (fail_next) {
-    fail_next = 0;
-    return NULL;
-  }
-  return __libc_malloc(n);
+  return take_failure() ? NULL : __libc_malloc(n);
 }
 
 void *calloc(size_t n, size_t size) {
   if (counting) allocations++;
-  return __libc_calloc(n, size);
+  return take_failure() ? NULL : __libc_calloc(n, size);
 }
 
 void *realloc(void *p, size_t n) {
@@ -69,17 +72,32 @@ START_TEST(no_allocation_in_step) {
 }
 END_TEST
 
-/* sdae_stepper_alloc's one malloc fails: SDAE_ERR_NOMEM, *s untouched; the next one works. */
+/* The first allocation of sdae_stepper_alloc, sdae_certify_box and sdae_check_model fails:
+ * SDAE_ERR_NOMEM, nothing returned, nothing leaked (the memcheck run sees to that). */
+static int never_called(double t, const double *x, double *out, void *params) {
+  (void)t, (void)x, (void)out, (void)params;
+  return -1;
+}
+
 START_TEST(out_of_memory_is_reported) {
   quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_dae dae = {4, 1, never_called, never_called, never_called, NULL, NULL, &p};
   sdae_stepper *s = NULL;
+  sdae_certificate cert;
+  sdae_check_report report;
+  const double lo[4] = {-1, -1, -1, -1}, hi[4] = {1, 1, 1, 1};
   fail_next = 1;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_ERR_NOMEM);
   ck_assert_int_eq(fail_next, 0); /* the failure was the library's malloc */
   ck_assert_ptr_null(s);
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  fail_next = 1;
+  ck_assert_int_eq(sdae_certify_box(s, 0.0, lo, hi, 3, NULL, NULL, &cert), SDAE_ERR_NOMEM);
+  fail_next = 1;
+  ck_assert_int_eq(sdae_check_model(&m, &dae, 0.0, lo, hi, 5, 1, 1e-9, &report), SDAE_ERR_NOMEM);
+  ck_assert_int_eq(fail_next, 0);
   sdae_stepper_free(s);
 }
 END_TEST

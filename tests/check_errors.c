@@ -70,6 +70,7 @@ START_TEST(map_without_callbacks) {
   opt.map = sdae_map_dgrad, opt.H = NULL, expect_config(SDAE_ERR_MAP);
   opt.map = sdae_map_dgrad, opt.grad_H = NULL, expect_config(SDAE_ERR_MAP);
   opt.map = sdae_map_dgrad, opt.S = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dg4, opt.S = NULL, expect_config(SDAE_ERR_MAP); /* nor S_apply */
   opt.map = sdae_map_user, expect_config(SDAE_ERR_MAP); /* no user_phi */
   ck_assert_str_eq(sdae_map_name(sdae_map_dgrad), "dgrad");
 }
@@ -257,6 +258,47 @@ START_TEST(baumgarte_singular_chain) {
 }
 END_TEST
 
+/* Condition (18)'s observer: bad arguments to its init, and a W that fails or writes NaN stops
+ * the run (SDAE_STOPPED) with the reason in the status. */
+static int W_nan(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)mu, (void)p;
+  out[0] = NAN;
+  return 0;
+}
+
+static int W_fails(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)mu, (void)p;
+  out[0] = 1.0;
+  return -2;
+}
+
+static void expect_cond18_stop(int (*W)(double, const double *, double *, void *), int want) {
+  sdae_stepper *s;
+  sdae_cond18 c;
+  double xi[2] = {0.1, 0.25}, mu[2] = {0.2, -0.5}, prev[2];
+  size_t done = 99;
+  reset();
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, W, &params, prev), SDAE_OK);
+  ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, 10, 1, xi, mu, sdae_cond18_observe, &c, &done),
+                   SDAE_STOPPED);
+  ck_assert_uint_eq(done, 0);
+  ck_assert_int_eq(c.status, want);
+  sdae_stepper_free(s);
+}
+
+START_TEST(cond18_bad_input) {
+  sdae_cond18 c;
+  double prev[2];
+  ck_assert_int_eq(sdae_cond18_init(NULL, 2, quartic_H, &params, prev), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, NULL, &params, prev), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, quartic_H, &params, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 0, quartic_H, &params, prev), SDAE_ERR_DIM);
+  expect_cond18_stop(W_nan, SDAE_ERR_NONFINITE);
+  expect_cond18_stop(W_fails, SDAE_ERR_CALLBACK_FATAL);
+}
+END_TEST
+
 START_TEST(strerror_names_every_status) {
   for (int st = SDAE_ERR_OVERFLOW; st <= SDAE_STOPPED; st++) {
     const char *msg = sdae_strerror(st);
@@ -282,6 +324,7 @@ int main(void) {
   ADD_CASE(s, overflowing_state);
   ADD_CASE(s, workspace_overflow);
   ADD_CASE(s, baumgarte_singular_chain);
+  ADD_CASE(s, cond18_bad_input);
   ADD_CASE(s, strerror_names_every_status);
   return run_suite(s);
 }
