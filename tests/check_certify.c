@@ -69,11 +69,6 @@ END_TEST
 
 /* Constant gain k = -3 (Q = [[2, 0], [0, 0]], delta = epsilon = 1): T_bar = 2/3 by hand, and
  * scheme 11 is bounded just below it and divergent just above. */
-static int const_Q(double t, const double *xi, const double *mu, double *out, void *params) {
-  (void)t, (void)xi, (void)mu, (void)params;
-  out[0] = 2.0, out[1] = 0.0, out[2] = 0.0, out[3] = 0.0;
-  return 0;
-}
 
 START_TEST(T_bar_on_constant_gain) {
   quartic p = {0.0, 0.0, 0, 0};
@@ -82,7 +77,7 @@ START_TEST(T_bar_on_constant_gain) {
   sdae_stepper *s;
   sdae_certificate c;
   double lo[4] = {-1, -1, -1, -1}, hi[4] = {1, 1, 1, 1};
-  m.Q = const_Q;
+  m.Q = quartic_const_Q;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
   ck_assert_int_eq(sdae_certify_box(s, 0.0, lo, hi, 3, NULL, NULL, &c), SDAE_OK);
   ck_assert_double_eq_tol(c.T_bar, 2.0 / 3.0, 1e-15);

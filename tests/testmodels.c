@@ -36,6 +36,12 @@ static int Q(double t, const double *xi, const double *mu, double *out, void *pa
   return 0;
 }
 
+int quartic_const_Q(double t, const double *xi, const double *mu, double *out, void *params) {
+  (void)t, (void)xi, (void)mu, (void)params;
+  out[0] = 2.0, out[1] = 0.0, out[2] = 0.0, out[3] = 0.0;
+  return 0;
+}
+
 int quartic_H(double t, const double *mu, double *out, void *params) {
   quartic *p = params;
   (void)t;

@@ -20,6 +20,10 @@ sdae_options quartic_options(const sdae_map_type *map, sdae_scheme scheme);
 int quartic_H(double t, const double *mu, double *out, void *params);
 int quartic_q0_jac(double t, const double *mu, double *out, void *params);
 
+/* A constant Q = [[2, 0], [0, 0]]: with delta = epsilon = 1 the gain k_1 = -(1/2) 4 - 1 = -3
+ * everywhere, so Theorem 3's bound is T < 2/3. */
+int quartic_const_Q(double t, const double *xi, const double *mu, double *out, void *params);
+
 /* Exact solution of x'' = -k x^3 from x(0) = A, x'(0) = 0: x = A cn(A sqrt(k) t | 1/2). */
 void quartic_exact(double k, double A, double t, double *x, double *v);
 
