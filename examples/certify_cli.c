@@ -1,6 +1,5 @@
 #include "certify_cli.h"
 
-#include <stdarg.h>
 #include <string.h>
 
 static const char *const names[CERT_DIM] = {"xi1", "xi2", "mu1", "mu2"};
@@ -18,33 +17,27 @@ size_t cli_certify_flags(cli_flag *dst, cli_certify *c, const char *box_help) {
   return CERT_NFLAGS;
 }
 
-static int bad(char *err, size_t errlen, const char *fmt, ...) {
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, errlen, fmt, ap);
-  va_end(ap);
-  return CLI_BAD;
-}
-
 /* one "name=lo:hi" or "name=v" item */
 static int parse_item(cli_certify *c, const char *item, size_t len, char *err, size_t errlen) {
   char buf[96], *eq, *colon;
   size_t j;
-  if (len == 0 || len >= sizeof buf) return bad(err, errlen, "--box: empty or too long item");
+  if (len == 0 || len >= sizeof buf) return cli_fail(err, errlen, "--box: empty or too long item");
   memcpy(buf, item, len);
   buf[len] = '\0';
-  if (!(eq = strchr(buf, '='))) return bad(err, errlen, "--box: '%s' is not name=lo:hi", buf);
+  if (!(eq = strchr(buf, '='))) return cli_fail(err, errlen, "--box: '%s' is not name=lo:hi", buf);
   *eq = '\0';
   for (j = 0; j < CERT_DIM && strcmp(buf, names[j]) != 0; j++) continue;
   if (j == CERT_DIM)
-    return bad(err, errlen, "--box: unknown coordinate '%s' (expected xi1, xi2, mu1, mu2)", buf);
+    return cli_fail(err, errlen, "--box: unknown coordinate '%s' (expected xi1, xi2, mu1, mu2)",
+                    buf);
   colon = strchr(eq + 1, ':');
   if (colon) *colon = '\0';
-  if (cli_parse_double(eq + 1, &c->lo[j]) || cli_parse_double(colon ? colon + 1 : eq + 1, &c->hi[j]))
-    return bad(err, errlen, "--box: %s: bounds must be finite numbers", names[j]);
+  if (cli_parse_double(eq + 1, &c->lo[j]) ||
+      cli_parse_double(colon ? colon + 1 : eq + 1, &c->hi[j]))
+    return cli_fail(err, errlen, "--box: %s: bounds must be finite numbers", names[j]);
   if (c->lo[j] > c->hi[j])
-    return bad(err, errlen, "--box: %s: lower bound %g above upper bound %g", names[j], c->lo[j],
-               c->hi[j]);
+    return cli_fail(err, errlen, "--box: %s: lower bound %g above upper bound %g", names[j],
+                    c->lo[j], c->hi[j]);
   return CLI_OK;
 }
 

@@ -10,11 +10,15 @@
 
 const char *const cli_scheme_choices[] = {"11", "15", NULL};
 
-static int fail(char *err, size_t errlen, const char *fmt, ...) {
+int cli_fail(char *err, size_t errlen, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(err, errlen, fmt, ap);
   va_end(ap);
+  /* the message quotes arguments: a control character in one (a newline) would break the
+   * one-line rule, so it is shown as '?' */
+  for (char *c = err; *c; c++)
+    if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
   return CLI_BAD;
 }
 
@@ -70,19 +74,19 @@ static int parse_vector(const char *s, double *out, size_t n, const char *name, 
     size_t len = comma ? (size_t)(comma - p) : strlen(p);
     char buf[64];
     if (len == 0 || len >= sizeof buf)
-      return fail(err, errlen, "--%s: '%s' is not a comma-separated list of numbers", name, s);
+      return cli_fail(err, errlen, "--%s: '%s' is not a comma-separated list of numbers", name, s);
     memcpy(buf, p, len);
     buf[len] = '\0';
     double v;
     if (cli_parse_double(buf, &v))
-      return fail(err, errlen, "--%s: '%s' is not a finite number", name, buf);
+      return cli_fail(err, errlen, "--%s: '%s' is not a finite number", name, buf);
     if (count < n) out[count] = v;
     count++;
     if (!comma) break;
     p = comma + 1;
   }
   if (count != n)
-    return fail(err, errlen, "--%s: expected %zu values, got %zu", name, n, count);
+    return cli_fail(err, errlen, "--%s: expected %zu values, got %zu", name, n, count);
   return CLI_OK;
 }
 
@@ -97,17 +101,17 @@ static int parse_choice(const char *s, const cli_flag *fl, char *err, size_t err
     if (i) strncat(list, "|", sizeof list - strlen(list) - 1);
     strncat(list, fl->choices[i], sizeof list - strlen(list) - 1);
   }
-  return fail(err, errlen, "--%s: unknown value '%s' (expected %s)", fl->name, s, list);
+  return cli_fail(err, errlen, "--%s: unknown value '%s' (expected %s)", fl->name, s, list);
 }
 
 static int parse_real(const char *s, const cli_flag *fl, char *err, size_t errlen) {
   double v;
   if (cli_parse_double(s, &v))
-    return fail(err, errlen, "--%s: '%s' is not a finite number", fl->name, s);
+    return cli_fail(err, errlen, "--%s: '%s' is not a finite number", fl->name, s);
   if (fl->kind == CLI_POSITIVE && !(v > 0))
-    return fail(err, errlen, "--%s: must be > 0, got %s", fl->name, s);
+    return cli_fail(err, errlen, "--%s: must be > 0, got %s", fl->name, s);
   if (fl->kind == CLI_NONNEG && !(v >= 0))
-    return fail(err, errlen, "--%s: must be >= 0, got %s", fl->name, s);
+    return cli_fail(err, errlen, "--%s: must be >= 0, got %s", fl->name, s);
   *(double *)fl->target = v;
   return CLI_OK;
 }
@@ -121,14 +125,14 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
   case CLI_COUNT: {
     size_t v;
     if (cli_parse_size(s, &v) || v == 0)
-      return fail(err, errlen, "--%s: '%s' is not a whole number >= 1", fl->name, s);
+      return cli_fail(err, errlen, "--%s: '%s' is not a whole number >= 1", fl->name, s);
     *(size_t *)fl->target = v;
     return CLI_OK;
   }
   case CLI_SEED: {
     unsigned long v;
     if (cli_parse_ulong(s, &v))
-      return fail(err, errlen, "--%s: '%s' is not a whole number in [0, %lu]", fl->name, s,
+      return cli_fail(err, errlen, "--%s: '%s' is not a whole number in [0, %lu]", fl->name, s,
                   ULONG_MAX);
     *(unsigned long *)fl->target = v;
     return CLI_OK;
@@ -139,13 +143,13 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
     return parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
   case CLI_PATH:
   case CLI_TEXT:
-    if (*s == '\0') return fail(err, errlen, "--%s: empty value", fl->name);
+    if (*s == '\0') return cli_fail(err, errlen, "--%s: empty value", fl->name);
     *(const char **)fl->target = s;
     return CLI_OK;
   case CLI_SWITCH:
-    return fail(err, errlen, "--%s takes no value", fl->name);
+    return cli_fail(err, errlen, "--%s takes no value", fl->name);
   }
-  return fail(err, errlen, "--%s: internal error (unknown kind)", fl->name);
+  return cli_fail(err, errlen, "--%s: internal error (unknown kind)", fl->name);
 }
 
 static const cli_flag *find_flag(const char *name, size_t len, const cli_flag *flags,
@@ -162,18 +166,18 @@ int cli_parse(int argc, char *const *argv, const cli_flag *flags, size_t nflags,
     const char *arg = argv[i];
     if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) return CLI_HELP;
     if (strncmp(arg, "--", 2) != 0)
-      return fail(err, errlen, "unexpected argument '%s' (flags start with --)", arg);
+      return cli_fail(err, errlen, "unexpected argument '%s' (flags start with --)", arg);
     const char *name = arg + 2, *eq = strchr(name, '=');
     size_t len = eq ? (size_t)(eq - name) : strlen(name);
     const cli_flag *fl = find_flag(name, len, flags, nflags);
-    if (!fl) return fail(err, errlen, "unknown flag '--%.*s'", (int)len, name);
+    if (!fl) return cli_fail(err, errlen, "unknown flag '--%.*s'", (int)len, name);
     const char *value = eq ? eq + 1 : NULL;
     if (fl->kind == CLI_SWITCH && !value) {
       *(int *)fl->target = 1;
       continue;
     }
     if (!value) {
-      if (i + 1 >= argc) return fail(err, errlen, "--%s: missing value", fl->name);
+      if (i + 1 >= argc) return cli_fail(err, errlen, "--%s: missing value", fl->name);
       value = argv[++i];
     }
     int rc = parse_value(value, fl, err, errlen);
@@ -281,7 +285,7 @@ int cli_run_finish(cli_run *run, char *err, size_t errlen) {
   /* doubles count exactly up to 2^53; beyond that the step count itself is not representable */
   double n = ceil(steps - 1e-9);
   if (!isfinite(steps) || n > 9007199254740992.0 || n >= (double)SIZE_MAX) {
-    fail(err, errlen, "--tf/--T: %g steps cannot be represented", steps);
+    cli_fail(err, errlen, "--tf/--T: %g steps cannot be represented", steps);
     return -1;
   }
   run->nsteps = n > 0 ? (size_t)n : 0;

@@ -42,6 +42,9 @@ int cli_parse(int argc, char *const *argv, const cli_flag *flags, size_t nflags,
 void cli_usage(FILE *f, const char *prog, const char *summary, const cli_flag *flags,
                size_t nflags);
 
+/* Formats a one-line message into err (control characters shown as '?'); returns CLI_BAD. */
+int cli_fail(char *err, size_t errlen, const char *fmt, ...);
+
 /* Strict conversions: the whole string, finite, in range; 0 on success, -1 otherwise. */
 int cli_parse_double(const char *s, double *out);
 int cli_parse_size(const char *s, size_t *out);

@@ -171,7 +171,8 @@ START_TEST(bad_step_arguments) {
   ck_assert_int_eq(sdae_step(s, 0.0, 0.1, NULL, mu), SDAE_ERR_NULL);
   ck_assert_int_eq(sdae_step(s, 0.0, 0.1, xi, NULL), SDAE_ERR_NULL);
   sdae_stepper_free(s);
-  for (int i = 0; i < 4; i++) expect_step(sdae_map_euler, OK, 0.0, badT[i], 0.1, 0.2, SDAE_ERR_STEP);
+  for (int i = 0; i < 4; i++)
+    expect_step(sdae_map_euler, OK, 0.0, badT[i], 0.1, 0.2, SDAE_ERR_STEP);
   expect_step(sdae_map_euler, OK, NAN, 0.1, 0.1, 0.2, SDAE_ERR_PARAM);
   expect_step(sdae_map_euler, OK, 0.0, 0.1, NAN, 0.2, SDAE_ERR_STATE);
   expect_step(sdae_map_euler, OK, 0.0, 0.1, 0.1, -INFINITY, SDAE_ERR_STATE);
