@@ -365,14 +365,17 @@ static size_t make_cases(bench_case *out) {
   return n;
 }
 
-/* keeps the cases whose label model/map/scheme/N starts with only (all when only is NULL) */
+/* keeps the cases whose label model/map/scheme/N starts with the fields of only (all when only
+ * is NULL): "chain/dg" keeps every N, "chain/dg/15/100" N = 100 alone */
 static size_t select_cases(bench_case *c, size_t n, const char *only) {
   size_t kept = 0;
   for (size_t i = 0; i < n; i++) {
     char label[96];
     snprintf(label, sizeof label, "%s/%s/%d/%zu", model_name(c[i].kind), c[i].map,
              (int)c[i].scheme, c[i].N);
-    if (!only || strncmp(label, only, strlen(only)) == 0) c[kept++] = c[i];
+    size_t len = only ? strlen(only) : 0;
+    if (!only || (strncmp(label, only, len) == 0 && (label[len] == '\0' || label[len] == '/')))
+      c[kept++] = c[i];
   }
   return kept;
 }
@@ -409,7 +412,7 @@ static int parse_args(int argc, char **argv, int *smoke, int *reps, const char *
       if (!(*only = value_of(argc, argv, &i))) return usage_error("--only needs a value", NULL);
     } else if (strcmp(opt, "--help") == 0) {
       printf("usage: bench [--smoke] [--reps N (1..101; default 7, smoke 3)] [--report FILE]\n"
-             "             [--only MODEL/MAP/SCHEME/N (a prefix: e.g. oscillator/dg-paper/15)]\n"
+             "             [--only MODEL[/MAP[/SCHEME[/N]]] (e.g. oscillator/dg-paper/15)]\n"
              "default report (full mode): %s\n", BENCH_REPORT);
       return 0;
     } else {
