@@ -1,9 +1,9 @@
 /* Linear solves for Newton and the Baumgarte baseline: LU with partial pivoting through GSL's
  * banded LU, a dense matrix being the band lb = ub = n - 1; Newton's small dense matrices
- * (n <= SDAE_SMALL_DENSE) by the same elimination written out here. The banded routines work entirely in
- * the caller's memory (gsl_linalg_LU_decomp allocates its pivots on every call), and the pivots
- * are checked here before the solve, so a singular matrix is a status, never a division by
- * zero inside GSL. */
+ * (n <= SDAE_SMALL_DENSE) by the same elimination, written out here. The banded routines work
+ * entirely in the caller's memory (gsl_linalg_LU_decomp allocates its pivots on every call), and
+ * the pivots are checked here before the solve, so a singular matrix is a status, never a
+ * division by zero inside GSL. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -30,7 +30,10 @@ void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB) 
 static double band_scale(const double *AB, size_t n, size_t lb, size_t ld) {
   double scale = 0.0;
   for (size_t j = 0; j < n; j++)
-    for (size_t c = lb; c < ld; c++) scale = fabs(AB[j * ld + c]) > scale ? fabs(AB[j * ld + c]) : scale;
+    for (size_t c = lb; c < ld; c++) {
+      double a = fabs(AB[j * ld + c]);
+      scale = a > scale ? a : scale;
+    }
   return scale;
 }
 

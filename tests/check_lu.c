@@ -52,7 +52,8 @@ START_TEST(same_solution_as_gsl) {
       ck_assert_int_eq(rs, rg);
       if (rs != SDAE_OK) continue;
       check_residual(A, n, b, x);
-      for (size_t i = 0; i < n; i++) ck_assert_double_le(fabs(x[i] - y[i]), 1e-9 * (1.0 + fabs(y[i])));
+      for (size_t i = 0; i < n; i++)
+        ck_assert_double_le(fabs(x[i] - y[i]), 1e-9 * (1.0 + fabs(y[i])));
     }
   gsl_rng_free(rng);
 }

@@ -340,7 +340,8 @@ static void print_header(FILE *f, int argc, char **argv, int reps) {
   fprintf(f, "- date: %s\n- command:", date);
   for (int i = 0; i < argc; i++) fprintf(f, " %s", argv[i]);
   fprintf(f, "\n- method: one warm-up and %d timed repetitions per case, each from the same "
-             "start; median CPU time of the thread (CLOCK_THREAD_CPUTIME_ID) per step, whole sdae_step; T = 0.001, "
+             "start; median CPU time of the thread (CLOCK_THREAD_CPUTIME_ID) per step, whole "
+             "sdae_step; T = 0.001, "
              "delta 2, epsilon 1; heap allocations counted by malloc/calloc/realloc "
              "interposition while steps run\n\n", reps);
 }
