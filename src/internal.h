@@ -3,6 +3,8 @@
 #ifndef STABDAE_INTERNAL_H
 #define STABDAE_INTERNAL_H
 
+#include <math.h>
+
 #include <stabdae/stabdae.h>
 
 /* ---- maps: one static table per map type, one file per map (map_*.c) ---- */
@@ -53,8 +55,17 @@ struct sdae_stepper {
 };
 
 /* model.c: callbacks with their status and their outputs checked */
-int sdae__status_of_callback(int rc);
-int sdae__all_finite(const double *v, size_t n);
+/* The SUNDIALS rule: 0 success, > 0 recoverable, < 0 fatal. Inline, as sdae__all_finite: both
+ * run on every callback, a few values each for small models. */
+static inline int sdae__status_of_callback(int rc) {
+  if (rc == 0) return SDAE_OK;
+  return rc > 0 ? SDAE_ERR_CALLBACK_RECOVERABLE : SDAE_ERR_CALLBACK_FATAL;
+}
+static inline int sdae__all_finite(const double *v, size_t n) {
+  for (size_t i = 0; i < n; i++)
+    if (!isfinite(v[i])) return 0;
+  return 1;
+}
 int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out);
 int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out);
 /* Q(xi, mu) xi into s->Qxi and ||q_i||^2 into s->qnorm2 */
@@ -69,6 +80,16 @@ size_t sdae__lu_band_cols(size_t lb, size_t ub);
 void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB);
 int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, const double *b,
                    double *x);
+/* the two halves of sdae__lu_solve, so that Newton can reuse the factors */
+int sdae__lu_factor(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub);
+void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb,
+                             size_t ub, const double *b, double *x);
+/* Dense n x n (row-major) with n <= SDAE_SMALL_DENSE: LU with partial pivoting in place, same
+ * singularity test (SDAE_ERR_SINGULAR); then solves with the factors. */
+#define SDAE_SMALL_DENSE 4
+int sdae__lu_small_factor(double *A, unsigned *piv, size_t n);
+void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,
+                          double *x);
 
 /* newton.c: solves y = x + h (map's phi(x, y) + shift) for y (shift may be NULL), starting
  * from y; adds its iterations to the stats' newton_iters_last */

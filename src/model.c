@@ -4,18 +4,6 @@
 
 #include "internal.h"
 
-/* The SUNDIALS rule: 0 success, > 0 recoverable, < 0 fatal. */
-int sdae__status_of_callback(int rc) {
-  if (rc == 0) return SDAE_OK;
-  return rc > 0 ? SDAE_ERR_CALLBACK_RECOVERABLE : SDAE_ERR_CALLBACK_FATAL;
-}
-
-int sdae__all_finite(const double *v, size_t n) {
-  for (size_t i = 0; i < n; i++)
-    if (!isfinite(v[i])) return 0;
-  return 1;
-}
-
 int sdae__call_checked(int (*cb)(double, const double *, double *, void *), sdae_stepper *s,
                        double t, const double *mu, double *out, size_t n_out) {
   int rc = sdae__status_of_callback(cb(t, mu, out, s->model.params));
@@ -35,15 +23,16 @@ int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out) 
 /* Dense Q: the product Q xi and the squared column norms ||q_i||^2 (eq. 6's input). */
 static void reduce_dense_Q(sdae_stepper *s, const double *xi) {
   size_t n_mu = s->model.n_mu, n_xi = s->model.n_xi;
-  for (size_t i = 0; i < n_xi; i++) s->qnorm2[i] = 0.0;
+  const double *Q = s->Q;
   for (size_t r = 0; r < n_mu; r++) {
-    const double *row = s->Q + r * n_xi;
     double acc = 0.0;
-    for (size_t i = 0; i < n_xi; i++) {
-      acc += row[i] * xi[i];
-      s->qnorm2[i] += row[i] * row[i];
-    }
+    for (size_t i = 0; i < n_xi; i++) acc += Q[r * n_xi + i] * xi[i];
     s->Qxi[r] = acc;
+  }
+  for (size_t i = 0; i < n_xi; i++) { /* column by column: no zeroing pass (a memset call) */
+    double acc = 0.0;
+    for (size_t r = 0; r < n_mu; r++) acc += Q[r * n_xi + i] * Q[r * n_xi + i];
+    s->qnorm2[i] = acc;
   }
 }
 
@@ -53,14 +42,13 @@ int sdae__eval_Q(sdae_stepper *s, double t, const double *xi, const double *mu) 
   if (m->Q) {
     rc = sdae__status_of_callback(m->Q(t, xi, mu, s->Q, m->params));
     if (rc != SDAE_OK) return rc;
-    if (!sdae__all_finite(s->Q, m->n_mu * m->n_xi)) return SDAE_ERR_NONFINITE;
     reduce_dense_Q(s, xi);
   } else {
     rc = sdae__status_of_callback(m->Q_apply(t, xi, mu, s->Qxi, s->qnorm2, m->params));
     if (rc != SDAE_OK) return rc;
-    if (!sdae__all_finite(s->qnorm2, m->n_xi)) return SDAE_ERR_NONFINITE;
   }
-  /* a finite Q can still overflow in Q xi or in the norms */
+  /* one test for a NaN or Inf in Q (it reaches its column's ||q_i||^2) and for an overflow in
+   * Q xi or in the norms */
   if (!sdae__all_finite(s->Qxi, m->n_mu) || !sdae__all_finite(s->qnorm2, m->n_xi))
     return SDAE_ERR_NONFINITE;
   return SDAE_OK;

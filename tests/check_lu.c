@@ -1,0 +1,90 @@
+/* The small dense LU of Newton (n <= SDAE_SMALL_DENSE) against GSL's banded LU on the same
+ * matrices: the same solution to rounding, pivoting where the first pivot is zero, and the same
+ * singularity verdicts. */
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_rng.h>
+
+#include "../src/internal.h"
+#include "testmodels.h"
+
+enum { NMAX = SDAE_SMALL_DENSE };
+
+/* x = A^-1 b through GSL's banded LU with the band lb = ub = n - 1 */
+static int gsl_solve(const double *A, size_t n, const double *b, double *x) {
+  double AB[NMAX * (4 * NMAX)];
+  unsigned piv[NMAX];
+  sdae__lu_pack(A, n, n - 1, n - 1, AB);
+  return sdae__lu_solve(AB, piv, n, n - 1, n - 1, b, x);
+}
+
+static int small_solve(const double *A, size_t n, const double *b, double *x) {
+  double LU[NMAX * NMAX];
+  unsigned piv[NMAX];
+  memcpy(LU, A, n * n * sizeof *A);
+  int rc = sdae__lu_small_factor(LU, piv, n);
+  if (rc == SDAE_OK) sdae__lu_small_solve(LU, piv, n, b, x);
+  return rc;
+}
+
+/* A x = b holds to rounding: ||A x - b|| <= 64 n eps ||A|| ||x|| */
+static void check_residual(const double *A, size_t n, const double *b, const double *x) {
+  double An = 0.0, xn = 0.0, r = 0.0;
+  for (size_t i = 0; i < n; i++) {
+    double acc = -b[i];
+    for (size_t j = 0; j < n; j++) acc += A[i * n + j] * x[j], An = fmax(An, fabs(A[i * n + j]));
+    r = fmax(r, fabs(acc));
+    xn = fmax(xn, fabs(x[i]));
+  }
+  ck_assert_double_le(r, 64.0 * (double)n * 2.2e-16 * An * xn);
+}
+
+START_TEST(same_solution_as_gsl) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  for (size_t n = 1; n <= NMAX; n++)
+    for (int trial = 0; trial < 200; trial++) {
+      double A[NMAX * NMAX], b[NMAX], x[NMAX], y[NMAX];
+      for (size_t i = 0; i < n * n; i++) A[i] = 2.0 * gsl_rng_uniform(rng) - 1.0;
+      for (size_t i = 0; i < n; i++) b[i] = 2.0 * gsl_rng_uniform(rng) - 1.0;
+      if (trial % 4 == 0) A[0] = 0.0; /* the first pivot must come from another row */
+      int rs = small_solve(A, n, b, x), rg = gsl_solve(A, n, b, y);
+      ck_assert_int_eq(rs, rg);
+      if (rs != SDAE_OK) continue;
+      check_residual(A, n, b, x);
+      for (size_t i = 0; i < n; i++)
+        ck_assert_double_le(fabs(x[i] - y[i]), 1e-9 * (1.0 + fabs(y[i])));
+    }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+START_TEST(singular_is_reported) {
+  /* rank 1, a zero matrix, and a NaN: refused by both, without a division by zero */
+  const double rank1[9] = {1, 2, 3, 2, 4, 6, -1, -2, -3}, zero[4] = {0}, nan[4] = {1, NAN, 0, 1};
+  const double b[3] = {1, 1, 1};
+  double x[3];
+  ck_assert_int_eq(small_solve(rank1, 3, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(gsl_solve(rank1, 3, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(small_solve(zero, 2, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(small_solve(nan, 2, b, x), SDAE_ERR_SINGULAR);
+}
+END_TEST
+
+START_TEST(permutation_case_exact) {
+  /* [[0, 1], [1, 0]] x = (3, 5): x = (5, 3) exactly, through one row swap */
+  const double A[4] = {0, 1, 1, 0}, b[2] = {3, 5};
+  double x[2];
+  ck_assert_int_eq(small_solve(A, 2, b, x), SDAE_OK);
+  ck_assert_double_eq(x[0], 5.0);
+  ck_assert_double_eq(x[1], 3.0);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("lu");
+  ADD_CASE(s, same_solution_as_gsl);
+  ADD_CASE(s, singular_is_reported);
+  ADD_CASE(s, permutation_case_exact);
+  return run_suite(s);
+}

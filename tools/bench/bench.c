@@ -1,0 +1,486 @@
+/* stabdae benchmark: in-process timings of sdae_step for the example models.
+ *
+ *   bench [--smoke] [--reps N] [--report FILE]
+ *
+ * Each case builds its stepper once, runs one warm-up repetition, then --reps timed repetitions
+ * of a fixed number of steps, each from the same start (so every repetition does the same work);
+ * it reports the median CPU time per step (CLOCK_THREAD_CPUTIME_ID, which leaves out the time
+ * other processes take on a shared machine). malloc, calloc and realloc are
+ * interposed and counted while steps run: the library promises none. A last section checks the
+ * conservation of W by dg and dg4 over 10^6 steps (d = 0, on the manifold).
+ *
+ * The table goes to stdout and, in full mode, to the Markdown report (default
+ * build/report/bench.md) with the machine, the date and the command. --smoke runs every case
+ * briefly (a second or two) for ctest: it fails (exit 1) on a failed step or an allocation,
+ * never on a time. */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime, sysconf */
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <stabdae/stabdae.h>
+
+#include "chain_model.h"
+#include "oscillator_model.h"
+#include "pendulum_model.h"
+
+#ifndef BENCH_REPORT
+#define BENCH_REPORT "report/bench.md"
+#endif
+
+/* ---- allocation counter (not in sanitizer builds, which interpose the allocator) ---------- */
+
+static volatile int counting;
+static volatile long allocations;
+
+#if BENCH_COUNT_ALLOCS
+extern void *__libc_malloc(size_t n);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t n);
+
+void *malloc(size_t n) {
+  if (counting) allocations++;
+  return __libc_malloc(n);
+}
+
+void *calloc(size_t n, size_t size) {
+  if (counting) allocations++;
+  return __libc_calloc(n, size);
+}
+
+void *realloc(void *p, size_t n) {
+  if (counting) allocations++;
+  return __libc_realloc(p, n);
+}
+#endif
+
+/* ---- the cases ------------------------------------------------------------------------------ */
+
+typedef enum model_kind { OSCILLATOR, PENDULUM, CHAIN } model_kind;
+
+typedef struct map_entry {
+  const char *name;
+  const sdae_map_type *const *map;
+} map_entry;
+
+static const map_entry maps[] = {
+    {"euler", &sdae_map_euler}, {"midpoint", &sdae_map_midpoint}, {"dg", &sdae_map_dgrad},
+    {"dg-paper", &sdae_map_user}, {"dg4", &sdae_map_dg4},
+};
+
+static const sdae_map_type *map_named(const char *name) {
+  for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++)
+    if (strcmp(maps[i].name, name) == 0) return *maps[i].map;
+  return NULL;
+}
+
+typedef struct bench_case {
+  model_kind kind;
+  const char *map;
+  sdae_scheme scheme;
+  size_t N;      /* masses (1 for the oscillator and the pendulum) */
+  size_t steps;  /* per repetition, full mode */
+} bench_case;
+
+/* One problem: the model, its options, the start and the running state. */
+typedef struct problem {
+  osc_params osc;
+  pend_params pend;
+  chain_params chain;
+  sdae_model model;
+  sdae_options opt;
+  double *xi0, *mu0, *xi, *mu, *x;
+  size_t n_xi, n_mu;
+} problem;
+
+static const double step_T = 0.001; /* the examples' default step */
+
+static void problem_free(problem *P) {
+  free(P->xi0), free(P->mu0), free(P->xi), free(P->mu), free(P->x);
+  chain_model_free(&P->chain);
+}
+
+static int problem_arrays(problem *P, size_t n_xi, size_t n_mu, size_t n_x) {
+  P->n_xi = n_xi, P->n_mu = n_mu;
+  P->xi0 = malloc(n_xi * sizeof(double)), P->xi = malloc(n_xi * sizeof(double));
+  P->mu0 = malloc(n_mu * sizeof(double)), P->mu = malloc(n_mu * sizeof(double));
+  P->x = malloc(n_x * sizeof(double));
+  return P->xi0 && P->xi && P->mu0 && P->mu && P->x ? 0 : -1;
+}
+
+/* The examples' defaults: delta 2, epsilon 1; oscillator k 2, d 0.03, m 1 from (0.1, 0.6, 0, 0);
+ * pendulum L 1 from rest at 0.5 rad; chain k 2, kc 1, d 0.03 from its seeded random start. */
+static int problem_init(problem *P, const bench_case *c) {
+  memset(P, 0, sizeof *P);
+  sdae_options_default(&P->opt);
+  P->opt.delta = 2.0;
+  P->opt.epsilon = 1.0;
+  P->opt.scheme = c->scheme;
+  P->opt.map = map_named(c->map);
+  switch (c->kind) {
+  case OSCILLATOR:
+    P->osc = (osc_params){2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED};
+    osc_model(&P->model, &P->osc);
+    osc_map_callbacks(&P->opt);
+    if (problem_arrays(P, 2, 2, 4)) return -1;
+    memcpy(P->x, (double[4]){0.1, 0.6, 0.0, 0.0}, 4 * sizeof(double));
+    osc_to_coords(&P->osc, P->x, P->xi0, P->mu0);
+    return 0;
+  case PENDULUM:
+    P->pend = (pend_params){1.0, 1.0, 9.81};
+    pend_model(&P->model, &P->pend);
+    pend_map_callbacks(&P->opt);
+    if (problem_arrays(P, 2, 2, 4)) return -1;
+    memcpy(P->x, (double[4]){sin(0.5), -cos(0.5), 0.0, 0.0}, 4 * sizeof(double));
+    return pend_to_coords(&P->pend, P->x, P->xi0, P->mu0);
+  case CHAIN:
+    P->chain = (chain_params){c->N, 2.0, 1.0, 0.03, 1.0, 9.81, NULL};
+    if (chain_model(&P->model, &P->chain)) return -1;
+    chain_map_callbacks(&P->opt);
+    if (problem_arrays(P, 2 * c->N, 2 * c->N, 4 * c->N)) return -1;
+    if (chain_random_start(&P->chain, 1, P->x)) return -1;
+    chain_to_coords(&P->chain, P->x, P->xi0, P->mu0);
+    return 0;
+  }
+  return -1;
+}
+
+/* ---- timing ---------------------------------------------------------------------------------- */
+
+/* CPU time of this thread: on a shared machine it leaves out the time other processes run */
+static double now_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return 1e9 * (double)ts.tv_sec + (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double median(double *v, size_t n) {
+  qsort(v, n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* nsteps steps from the start; the allocation counter is up only while steps run */
+static int run_steps(sdae_stepper *s, problem *P, size_t nsteps, double *ns) {
+  int rc = SDAE_OK;
+  memcpy(P->xi, P->xi0, P->n_xi * sizeof(double));
+  memcpy(P->mu, P->mu0, P->n_mu * sizeof(double));
+  double t0 = now_ns();
+  counting = 1;
+  for (size_t i = 0; i < nsteps && rc == SDAE_OK; i++)
+    rc = sdae_step(s, (double)i * step_T, step_T, P->xi, P->mu);
+  counting = 0;
+  *ns = now_ns() - t0;
+  return rc;
+}
+
+typedef struct result {
+  const bench_case *c;
+  size_t steps;
+  double ns_step;      /* median over the repetitions */
+  double iters_step;   /* Newton iterations per step */
+  long allocs;
+  int rc;
+} result;
+
+enum { MAX_REPS = 101 };
+
+static result measure(const bench_case *c, size_t steps, int reps) {
+  result r = {.c = c, .steps = steps, .rc = SDAE_ERR_NOMEM};
+  problem P;
+  sdae_stepper *s = NULL;
+  double t[MAX_REPS];
+  if (problem_init(&P, c) == 0 && (r.rc = sdae_stepper_alloc(&s, &P.model, &P.opt)) == SDAE_OK) {
+    allocations = 0;
+    r.rc = run_steps(s, &P, steps, &t[0]); /* warm-up */
+    sdae_stepper_reset_stats(s);
+    for (int k = 0; k < reps && r.rc == SDAE_OK; k++) r.rc = run_steps(s, &P, steps, &t[k]);
+    r.allocs = allocations;
+    if (r.rc == SDAE_OK) {
+      r.ns_step = median(t, (size_t)reps) / (double)steps;
+      r.iters_step = (double)sdae_stepper_stats(s)->newton_iters_total / ((double)steps * reps);
+    }
+  }
+  sdae_stepper_free(s);
+  problem_free(&P);
+  return r;
+}
+
+/* ---- W conservation: d = 0, on the manifold, T = 0.01 ------------------------------------ */
+
+typedef struct drift {
+  const char *map;
+  size_t steps;
+  double max_rel; /* max_n |W_n - W_0| / W_0 */
+  int rc;
+} drift;
+
+static drift w_drift(const char *map, const sdae_map_type *type, size_t steps) {
+  drift r = {map, steps, 0.0, SDAE_ERR_NOMEM};
+  osc_params p = {2.0, 0.0, 1.0, 9.81, OSC_Q_CORRECTED};
+  const double x0[4] = {0.7, 0.0, 0.6, 0.0};
+  double xi[2], mu[2], W0;
+  sdae_model m;
+  sdae_options o;
+  sdae_stepper *s;
+  osc_model(&m, &p);
+  sdae_options_default(&o);
+  o.delta = 2.0;
+  o.map = type;
+  osc_map_callbacks(&o);
+  osc_to_coords(&p, x0, xi, mu);
+  W0 = osc_W(&p, mu);
+  if ((r.rc = sdae_stepper_alloc(&s, &m, &o)) != SDAE_OK) return r;
+  for (size_t i = 0; i < steps && r.rc == SDAE_OK; i++) {
+    r.rc = sdae_step(s, (double)i * 0.01, 0.01, xi, mu);
+    r.max_rel = fmax(r.max_rel, fabs(osc_W(&p, mu) - W0) / W0);
+  }
+  sdae_stepper_free(s);
+  return r;
+}
+
+/* ---- report ---------------------------------------------------------------------------------- */
+
+static const char *model_name(model_kind k) {
+  return k == OSCILLATOR ? "oscillator" : k == PENDULUM ? "pendulum" : "chain";
+}
+
+static void cpu_model(char *out, size_t len) {
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  char line[512];
+  snprintf(out, len, "unknown");
+  while (f && fgets(line, sizeof line, f)) {
+    char *colon = strchr(line, ':');
+    if (strncmp(line, "model name", 10) == 0 && colon) {
+      snprintf(out, len, "%s", colon + 2);
+      out[strcspn(out, "\n")] = '\0';
+      break;
+    }
+  }
+  if (f) fclose(f);
+}
+
+static void print_row(FILE *f, const result *r) {
+  const bench_case *c = r->c;
+  if (r->rc != SDAE_OK) {
+    fprintf(f, "| %s | %zu | %s | %d | %zu | failed: %s | | | | %ld |\n", model_name(c->kind),
+            c->N, c->map, (int)c->scheme, r->steps, sdae_strerror(r->rc), r->allocs);
+    return;
+  }
+  fprintf(f, "| %s | %zu | %s | %d | %zu | %.1f | %.3g | %.2f | %.2f | %ld |\n",
+          model_name(c->kind), c->N, c->map, (int)c->scheme, r->steps, r->ns_step,
+          1e9 / r->ns_step, r->ns_step / (double)c->N, r->iters_step, r->allocs);
+}
+
+static void print_table(FILE *f, const result *res, size_t n) {
+  fprintf(f, "| model | N | map | scheme | steps/rep | median ns/step | steps/s | "
+             "ns/(mass step) | Newton it/step | allocations |\n");
+  fprintf(f, "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t i = 0; i < n; i++) print_row(f, &res[i]);
+}
+
+static const result *find(const result *res, size_t n, model_kind k, const char *map,
+                          sdae_scheme scheme, size_t N) {
+  for (size_t i = 0; i < n; i++)
+    if (res[i].c->kind == k && strcmp(res[i].c->map, map) == 0 && res[i].c->scheme == scheme &&
+        res[i].c->N == N && res[i].rc == SDAE_OK)
+      return &res[i];
+  return NULL;
+}
+
+static const char *verdict(int ok) { return ok ? "met" : "missed"; }
+
+static void print_targets(FILE *f, const result *res, size_t n, const drift *dr, size_t ndr,
+                          long allocs) {
+  const result *osc = find(res, n, OSCILLATOR, "dg-paper", SDAE_SCHEME_SEMI_IMPLICIT, 1);
+  fprintf(f, "\n| target | measured | |\n|---|---|---|\n");
+  if (osc)
+    fprintf(f, "| oscillator, scheme 15 + dg-paper: <= 150 ns/step | %.1f ns/step | %s |\n",
+            osc->ns_step, verdict(osc->ns_step <= 150.0));
+  for (size_t m = 0; m < 2; m++) {
+    const char *map = m == 0 ? "euler" : "dg";
+    const result *a = find(res, n, CHAIN, map, SDAE_SCHEME_SEMI_IMPLICIT, 100);
+    const result *b = find(res, n, CHAIN, map, SDAE_SCHEME_SEMI_IMPLICIT, 100000);
+    if (!a || !b) continue;
+    double ra = a->ns_step / 100.0, rb = b->ns_step / 100000.0;
+    fprintf(f, "| chain, %s: ns/(mass step) at N = 1e5 within 1.5x of N = 100 | "
+               "%.2f / %.2f = %.2fx | %s |\n", map, rb, ra, rb / ra, verdict(rb / ra <= 1.5));
+  }
+  for (size_t i = 0; i < ndr; i++)
+    fprintf(f, "| d = 0, on the manifold, %zu steps of T = 0.01, %s: max abs(W - W0)/W0 <= "
+               "1e-12 | %s%.2e | %s |\n", dr[i].steps, dr[i].map,
+            dr[i].rc == SDAE_OK ? "" : "failed, ", dr[i].max_rel,
+            verdict(dr[i].rc == SDAE_OK && dr[i].max_rel <= 1e-12));
+#if BENCH_COUNT_ALLOCS
+  fprintf(f, "| zero heap allocations per step | %ld in all timed steps | %s |\n", allocs,
+          verdict(allocs == 0));
+#else
+  (void)allocs;
+  fprintf(f, "| zero heap allocations per step | not counted (sanitizer build) | |\n");
+#endif
+}
+
+static void print_header(FILE *f, int argc, char **argv, int reps) {
+  char cpu[256], date[64];
+  time_t now = time(NULL);
+  strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", gmtime(&now));
+  cpu_model(cpu, sizeof cpu);
+  fprintf(f, "# stabdae benchmark\n\n");
+  fprintf(f, "- machine: %s, %ld cores online\n", cpu, sysconf(_SC_NPROCESSORS_ONLN));
+  fprintf(f, "- date: %s\n- command:", date);
+  for (int i = 0; i < argc; i++) fprintf(f, " %s", argv[i]);
+  fprintf(f, "\n- method: one warm-up and %d timed repetitions per case, each from the same "
+             "start; median CPU time of the thread (CLOCK_THREAD_CPUTIME_ID) per step, whole "
+             "sdae_step; T = 0.001, "
+             "delta 2, epsilon 1; heap allocations counted by malloc/calloc/realloc "
+             "interposition while steps run\n\n", reps);
+}
+
+/* ---- main ------------------------------------------------------------------------------------ */
+
+static size_t make_cases(bench_case *out) {
+  static const char *const osc_maps[] = {"euler", "midpoint", "dg", "dg-paper", "dg4"};
+  static const char *const pend_maps[] = {"euler", "midpoint", "dg", "dg4"};
+  static const size_t chain_N[] = {10, 100, 1000, 10000, 100000};
+  size_t n = 0;
+  for (int s = 0; s < 2; s++)
+    for (size_t m = 0; m < 5; m++)
+      out[n++] = (bench_case){OSCILLATOR, osc_maps[m],
+                              s ? SDAE_SCHEME_SEMI_IMPLICIT : SDAE_SCHEME_EXPLICIT, 1, 200000};
+  for (size_t m = 0; m < 4; m++)
+    out[n++] = (bench_case){PENDULUM, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 1, 200000};
+  for (size_t m = 0; m < 2; m++)
+    for (size_t i = 0; i < 5; i++) /* about 2e6 mass-steps per repetition */
+      out[n++] = (bench_case){CHAIN, m ? "dg" : "euler", SDAE_SCHEME_SEMI_IMPLICIT, chain_N[i],
+                              chain_N[i] < 100000 ? 2000000 / chain_N[i] : 20};
+  return n;
+}
+
+/* keeps the cases whose label model/map/scheme/N starts with the fields of only (all when only
+ * is NULL): "chain/dg" keeps every N, "chain/dg/15/100" N = 100 alone */
+static size_t select_cases(bench_case *c, size_t n, const char *only) {
+  size_t kept = 0;
+  for (size_t i = 0; i < n; i++) {
+    char label[96];
+    snprintf(label, sizeof label, "%s/%s/%d/%zu", model_name(c[i].kind), c[i].map,
+             (int)c[i].scheme, c[i].N);
+    size_t len = only ? strlen(only) : 0;
+    if (!only || (strncmp(label, only, len) == 0 && (label[len] == '\0' || label[len] == '/')))
+      c[kept++] = c[i];
+  }
+  return kept;
+}
+
+static int usage_error(const char *msg, const char *arg) {
+  fprintf(stderr, "bench: %s%s\n", msg, arg ? arg : "");
+  return 2;
+}
+
+/* the value after option argv[*i]: a usage error when it is missing */
+static const char *value_of(int argc, char **argv, int *i) {
+  if (*i + 1 >= argc) return NULL;
+  return argv[++*i];
+}
+
+static int parse_args(int argc, char **argv, int *smoke, int *reps, const char **report,
+                      const char **only) {
+  for (int i = 1; i < argc; i++) {
+    const char *opt = argv[i], *v;
+    if (strcmp(opt, "--smoke") == 0) {
+      *smoke = 1;
+    } else if (strcmp(opt, "--reps") == 0) {
+      char *end;
+      long r;
+      if (!(v = value_of(argc, argv, &i))) return usage_error("--reps needs a value", NULL);
+      errno = 0;
+      r = strtol(v, &end, 10);
+      if (errno || end == v || *end || r < 1 || r > MAX_REPS)
+        return usage_error("--reps must be an integer in 1..101, not ", v);
+      *reps = (int)r;
+    } else if (strcmp(opt, "--report") == 0) {
+      if (!(*report = value_of(argc, argv, &i))) return usage_error("--report needs a value", NULL);
+    } else if (strcmp(opt, "--only") == 0) {
+      if (!(*only = value_of(argc, argv, &i))) return usage_error("--only needs a value", NULL);
+    } else if (strcmp(opt, "--help") == 0) {
+      printf("usage: bench [--smoke] [--reps N (1..101; default 7, smoke 3)] [--report FILE]\n"
+             "             [--only MODEL[/MAP[/SCHEME[/N]]] (e.g. oscillator/dg-paper/15)]\n"
+             "default report (full mode): %s\n", BENCH_REPORT);
+      return 0;
+    } else {
+      return usage_error("unknown argument ", opt);
+    }
+  }
+  return -1;
+}
+
+/* creates the report's directory (one level, as build/report) when missing */
+static void make_parent(const char *path) {
+  char dir[4096];
+  snprintf(dir, sizeof dir, "%s", path);
+  char *slash = strrchr(dir, '/');
+  if (slash && slash != dir) {
+    *slash = '\0';
+    mkdir(dir, 0777);
+  }
+}
+
+static int write_report(const char *path, int argc, char **argv, int reps, const result *res,
+                        size_t n, const drift *dr, size_t ndr, long allocs) {
+  FILE *f;
+  make_parent(path);
+  if (!(f = fopen(path, "w"))) {
+    fprintf(stderr, "bench: cannot write %s: %s\n", path, strerror(errno));
+    return -1;
+  }
+  print_header(f, argc, argv, reps);
+  print_table(f, res, n);
+  print_targets(f, res, n, dr, ndr, allocs);
+  return fclose(f) == 0 ? 0 : -1;
+}
+
+int main(int argc, char **argv) {
+  int smoke = 0, reps = 0, failed = 0; /* reps 0: the mode's default */
+  const char *report = NULL;
+  const char *only = NULL;
+  int rc = parse_args(argc, argv, &smoke, &reps, &report, &only);
+  if (rc >= 0) return rc;
+  if (!report && !smoke) report = BENCH_REPORT;
+  if (reps == 0) reps = smoke ? 3 : 7;
+
+  bench_case cases[32];
+  result res[32];
+  size_t n = select_cases(cases, make_cases(cases), only);
+  long allocs = 0;
+  for (size_t i = 0; i < n; i++) {
+    size_t steps = smoke ? (cases[i].steps + 199) / 200 : cases[i].steps;
+    res[i] = measure(&cases[i], steps, reps);
+    allocs += res[i].allocs;
+    failed |= res[i].rc != SDAE_OK;
+    print_row(stderr, &res[i]); /* progress */
+  }
+  /* the conservation runs only with the whole set of cases */
+  size_t ndr = only ? 0 : 2;
+  drift dr[2] = {{0}};
+  for (size_t i = 0; i < ndr; i++) {
+    dr[i] = w_drift(i ? "dg4" : "dg", i ? sdae_map_dg4 : sdae_map_dgrad, smoke ? 10000 : 1000000);
+    failed |= dr[i].rc != SDAE_OK;
+  }
+
+  print_header(stdout, argc, argv, reps);
+  print_table(stdout, res, n);
+  print_targets(stdout, res, n, dr, ndr, allocs);
+  if (report && write_report(report, argc, argv, reps, res, n, dr, ndr, allocs)) return 1;
+  if (failed) fprintf(stderr, "bench: a case failed (see the table)\n");
+  if (allocs) fprintf(stderr, "bench: %ld heap allocations while stepping\n", allocs);
+  return failed || allocs ? 1 : 0;
+}
