@@ -72,9 +72,9 @@ def check(ctx, section):
                                                                    PAPER_BY))
     section.figure(plot(ctx.outdir, panels), "Constraint violation |Y| against time (log "
                    "scale) under index reduction, Baumgarte and the paper's stabilization, "
-                   "C oscillator, scheme 15, T = 1e-3; dotted: |Ydot|. From the second start the paper's Y "
-                   "stays exactly 0 (scheme 15 updates xi1 = Y by its own gain, and Y(0) = 0), "
-                   "so only its |Ydot| shows.")
+                   "C oscillator, scheme 15, T = 1e-3; dotted: |Ydot|. From the second start "
+                   "the paper's Y stays exactly 0 (scheme 15 updates xi1 = Y by its own "
+                   "gain, and Y(0) = 0), so only its |Ydot| shows.")
 
 
 def plot(outdir, panels):
