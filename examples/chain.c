@@ -3,7 +3,8 @@
  *
  * N constraints Y_i = 0; the model is given through Q_apply (O(N) per step), so the explicit
  * map runs large chains. Output, one CSV row per --every steps:
- * t,max_abs_Y,max_abs_Ydot,E,newton_iters. */
+ * t,max_abs_Y,max_abs_Ydot,E,newton_iters. --x0 gives the start explicitly instead (4 N values),
+ * for comparisons with other implementations. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,8 +20,9 @@ enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4 };
 typedef struct chain_args {
   chain_params p;
   unsigned long seed;
+  const char *x0; /* NULL: the random start */
   cli_run run;
-  cli_flag flags[7 + CLI_RUN_NFLAGS];
+  cli_flag flags[8 + CLI_RUN_NFLAGS];
   size_t nflags;
 } chain_args;
 
@@ -32,7 +34,7 @@ typedef struct chain_row_ctx {
 static const char summary[] =
     "Integrates a chain of N masses held on the floor (N constraints Y_i = 0), from a\n"
     "random start (seeded MT19937: X_i in [-0.5,0.5], Y_i in [-0.2,0.2], velocities in\n"
-    "[-0.1,0.1]), and writes CSV: t,max_abs_Y,max_abs_Ydot,E,newton_iters.\n"
+    "[-0.1,0.1]) or from --x0, and writes CSV: t,max_abs_Y,max_abs_Ydot,E,newton_iters.\n"
     "Steps: ceil(tf/T - 1e-9).";
 
 static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *err,
@@ -40,7 +42,7 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
   *a = (chain_args){.p = {10, 2.0, 1.0, 0.03, 1.0, 9.81, NULL},
                     .seed = 1,
                     .run = {2.0, 1.0, 0.001, 10.0, 1, MAP_EULER, 1, NULL, 0}};
-  const cli_flag model_flags[7] = {
+  const cli_flag model_flags[8] = {
       {"N", CLI_COUNT, &a->p.N, NULL, 0, "number of masses"},
       {"k", CLI_REAL, &a->p.k, NULL, 0, "anchor spring constant (force -k X_i^3)"},
       {"kc", CLI_REAL, &a->p.kc, NULL, 0, "coupling constant (kc (X_{i+1} - X_i)^3)"},
@@ -48,9 +50,11 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
       {"m", CLI_POSITIVE, &a->p.m, NULL, 0, "mass of each body"},
       {"ga", CLI_REAL, &a->p.ga, NULL, 0, "gravitational acceleration"},
       {"seed", CLI_SEED, &a->seed, NULL, 0, "seed of the random start"},
+      {"x0", CLI_LIST, &a->x0, NULL, 0,
+       "start X_0,Y_0,Xdot_0,Ydot_0,X_1,... (4 N values) [random]"},
   };
-  for (size_t i = 0; i < 7; i++) a->flags[i] = model_flags[i];
-  a->nflags = 7 + cli_run_flags(a->flags + 7, &a->run, map_choices,
+  for (size_t i = 0; i < 8; i++) a->flags[i] = model_flags[i];
+  a->nflags = 8 + cli_run_flags(a->flags + 8, &a->run, map_choices,
                                 "mu-map (midpoint and dg use dense N x N algebra)");
   int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
   if (rc != CLI_OK) return rc;
@@ -84,10 +88,22 @@ static const sdae_map_type *chain_map(int map) {
   }
 }
 
+/* x from --x0 (bad input: exit 2) or the seeded random start (out of memory: exit 1) */
+static int chain_start(const chain_args *a, double *x) {
+  char err[CLI_ERR_LEN];
+  if (!a->x0) return chain_random_start(&a->p, a->seed, x) ? CLI_EXIT_FAILED : CLI_EXIT_OK;
+  if (cli_parse_vector(a->x0, x, 4 * a->p.N, "x0", err, sizeof err) == CLI_OK)
+    return CLI_EXIT_OK;
+  fprintf(stderr, "chain: %s\n", err);
+  return CLI_EXIT_USAGE;
+}
+
 static int run(chain_args *a, double *x, double *xi, double *mu) {
   sdae_model model;
   sdae_options opt;
-  if (chain_model(&model, &a->p) || chain_random_start(&a->p, a->seed, x)) {
+  int rc = chain_model(&model, &a->p) ? CLI_EXIT_FAILED : chain_start(a, x);
+  if (rc == CLI_EXIT_USAGE) return rc;
+  if (rc != CLI_EXIT_OK) {
     fprintf(stderr, "chain: out of memory for %zu masses\n", a->p.N);
     return CLI_EXIT_FAILED;
   }

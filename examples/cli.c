@@ -9,6 +9,7 @@
 #include <string.h>
 
 const char *const cli_scheme_choices[] = {"11", "15", NULL};
+const char *const cli_stabilizer_choices[] = {"paper", "none", "baumgarte", NULL};
 
 int cli_fail(char *err, size_t errlen, const char *fmt, ...) {
   va_list ap;
@@ -65,8 +66,8 @@ int cli_parse_size(const char *s, size_t *out) {
 
 /* ---- flags -------------------------------------------------------------------------------- */
 
-static int parse_vector(const char *s, double *out, size_t n, const char *name, char *err,
-                        size_t errlen) {
+int cli_parse_vector(const char *s, double *out, size_t n, const char *name, char *err,
+                     size_t errlen) {
   size_t count = 0;
   const char *p = s;
   for (;;) {
@@ -140,7 +141,11 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
   case CLI_CHOICE:
     return parse_choice(s, fl, err, errlen);
   case CLI_VECTOR:
-    return parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
+    return cli_parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
+  case CLI_LIST:
+    if (*s == '\0') return cli_fail(err, errlen, "--%s: empty list", fl->name);
+    *(const char **)fl->target = s;
+    return CLI_OK;
   case CLI_PATH:
   case CLI_TEXT:
     if (*s == '\0') return cli_fail(err, errlen, "--%s: empty value", fl->name);
@@ -194,7 +199,8 @@ static const char *kind_hint(const cli_flag *fl) {
   case CLI_COUNT: return "N>=1";
   case CLI_SEED: return "N";
   case CLI_CHOICE: return "CHOICE";
-  case CLI_VECTOR: return "X,X,..";
+  case CLI_VECTOR:
+  case CLI_LIST: return "X,X,..";
   case CLI_PATH: return "FILE";
   case CLI_TEXT: return "SPEC";
   case CLI_SWITCH: return "";
@@ -219,6 +225,7 @@ static void print_default(FILE *f, const cli_flag *fl) {
     fputc(']', f);
     break;
   }
+  case CLI_LIST: break; /* its default is told in the help text */
   case CLI_PATH: {
     const char *path = *(const char *const *)fl->target;
     fprintf(f, " [%s]", path ? path : "stdout");
@@ -273,6 +280,8 @@ size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices
       {"scheme", CLI_CHOICE, &run->scheme, cli_scheme_choices, 0,
        "discretization: eq. 11 explicit, eq. 15 semi-implicit"},
       {"map", CLI_CHOICE, &run->map, map_choices, 0, map_help},
+      {"stabilizer", CLI_CHOICE, &run->stabilizer, cli_stabilizer_choices, 0,
+       "xi update: eq. 6, index reduction, Baumgarte (alpha 1,2)"},
       {"every", CLI_COUNT, &run->every, NULL, 0, "a row every N steps (t = 0 and the end too)"},
       {"out", CLI_PATH, &run->out, NULL, 0, "CSV output file"},
   };
@@ -296,6 +305,9 @@ void cli_run_options(const cli_run *run, sdae_options *o) {
   o->scheme = run->scheme == 0 ? SDAE_SCHEME_EXPLICIT : SDAE_SCHEME_SEMI_IMPLICIT;
   o->delta = run->delta;
   o->epsilon = run->eps;
+  static const sdae_stabilizer stabilizers[] = {SDAE_STAB_PAPER, SDAE_STAB_NONE,
+                                                SDAE_STAB_BAUMGARTE};
+  o->stabilizer = stabilizers[run->stabilizer];
 }
 
 /* ---- CSV ---------------------------------------------------------------------------------- */

@@ -21,6 +21,7 @@ typedef enum cli_kind {
   CLI_SEED,     /* unsigned long, any value */
   CLI_CHOICE,   /* int: index into choices */
   CLI_VECTOR,   /* exactly n finite doubles separated by commas */
+  CLI_LIST,     /* const char *: a list whose length the program checks (cli_parse_vector) */
   CLI_PATH,     /* const char *, non-empty */
   CLI_TEXT,     /* const char *, non-empty, parsed by the program (e.g. --box) */
   CLI_SWITCH    /* int set to 1, takes no value */
@@ -49,10 +50,15 @@ int cli_fail(char *err, size_t errlen, const char *fmt, ...);
 int cli_parse_double(const char *s, double *out);
 int cli_parse_size(const char *s, size_t *out);
 int cli_parse_ulong(const char *s, unsigned long *out);
+/* Exactly n finite doubles separated by commas; CLI_BAD with err naming --name otherwise. */
+int cli_parse_vector(const char *s, double *out, size_t n, const char *name, char *err,
+                     size_t errlen);
 
 /* ---- the settings every program shares -------------------------------------------------- */
 
 extern const char *const cli_scheme_choices[]; /* "11", "15" */
+/* "paper", "none", "baumgarte": the order of sdae_stabilizer */
+extern const char *const cli_stabilizer_choices[];
 
 typedef struct cli_run {
   double delta, eps, T, tf;
@@ -61,17 +67,18 @@ typedef struct cli_run {
   size_t every;     /* a CSV row every `every` steps, plus t = 0 and the last step */
   const char *out;  /* NULL: stdout */
   size_t nsteps;    /* set by cli_run_finish */
+  int stabilizer;   /* index into cli_stabilizer_choices; 0 (paper) when not given */
 } cli_run;
 
-/* Appends the shared flags (--delta --eps --T --tf --scheme --map --every --out) to dst, which
- * has room for CLI_RUN_NFLAGS entries; returns the number appended. */
-#define CLI_RUN_NFLAGS 8
+/* Appends the shared flags (--delta --eps --T --tf --scheme --map --stabilizer --every --out)
+ * to dst, which has room for CLI_RUN_NFLAGS entries; returns the number appended. */
+#define CLI_RUN_NFLAGS 9
 size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices,
                      const char *map_help);
 /* Derived settings and cross-checks: nsteps = ceil(tf/T - 1e-9) (the final time is tf up to a
  * relative 1e-9; rows are at t = i T), which must be representable. 0 or -1 with err set. */
 int cli_run_finish(cli_run *run, char *err, size_t errlen);
-/* Copies scheme, delta and epsilon into the options. */
+/* Copies scheme, delta, epsilon and the stabilizer into the options. */
 void cli_run_options(const cli_run *run, sdae_options *o);
 
 /* ---- CSV --------------------------------------------------------------------------------- */

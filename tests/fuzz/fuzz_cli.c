@@ -107,6 +107,7 @@ static void require_kind(const cli_flag *fl) {
   case CLI_VECTOR:
     for (size_t j = 0; j < fl->n; j++) REQUIRE(isfinite(((const double *)fl->target)[j]));
     break;
+  case CLI_LIST:
   case CLI_PATH:
   case CLI_TEXT: {
     const char *s = *(const char *const *)fl->target;
