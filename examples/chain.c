@@ -41,7 +41,8 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
                             size_t errlen) {
   *a = (chain_args){.p = {10, 2.0, 1.0, 0.03, 1.0, 9.81, NULL},
                     .seed = 1,
-                    .run = {2.0, 1.0, 0.001, 10.0, 1, MAP_EULER, 1, NULL, 0}};
+                    .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
+                          .scheme = 1, .map = MAP_EULER, .every = 1}};
   const cli_flag model_flags[8] = {
       {"N", CLI_COUNT, &a->p.N, NULL, 0, "number of masses"},
       {"k", CLI_REAL, &a->p.k, NULL, 0, "anchor spring constant (force -k X_i^3)"},

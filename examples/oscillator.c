@@ -35,7 +35,8 @@ static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, s
   *a = (osc_args){.p = {2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED},
                   .q = 0,
                   .x0 = {0.1, 0.6, 0.0, 0.0},
-                  .run = {2.0, 1.0, 0.001, 50.0, 1, MAP_DG_PAPER, 1, NULL, 0},
+                  .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,
+                          .scheme = 1, .map = MAP_DG_PAPER, .every = 1},
                   .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model_flags[6] = {
       {"k", CLI_REAL, &a->p.k, NULL, 0, "spring constant (force -k X^3)"},

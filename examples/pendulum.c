@@ -32,7 +32,8 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
                            size_t errlen) {
   *a = (pend_args){.p = {1.0, 1.0, 9.81},
                    .x0 = {NAN, NAN, 0.0, 0.0},
-                   .run = {2.0, 1.0, 0.001, 10.0, 1, MAP_DG, 1, NULL, 0},
+                   .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
+                          .scheme = 1, .map = MAP_DG, .every = 1},
                    .cert = {.grid = 41,
                             .lo = {-0.1, -0.5, -3.14159, -2.0},
                             .hi = {0.1, 0.5, 3.14159, 2.0}}};

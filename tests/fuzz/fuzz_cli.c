@@ -50,7 +50,8 @@ typedef struct args {
 static void table(args *a) {
   *a = (args){.k = 2.0,
               .x0 = {0.1, 0.6, 0.0, 0.0},
-              .run = {2.0, 1.0, 0.001, 50.0, 1, 0, 1, NULL, 0},
+              .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,
+                          .scheme = 1, .map = 0, .every = 1},
               .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model[MODEL_NFLAGS] = {
       {"k", CLI_REAL, &a->k, NULL, 0, "a real"},
