@@ -12,8 +12,8 @@
 #include "chain_model.h"
 #include "cli.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4 };
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
+enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4, MAP_DG6 };
 /* keeps 4N doubles of state far inside size_t and memory on any machine that runs this */
 #define CHAIN_MAX_N 100000000u
 
@@ -85,6 +85,7 @@ static const sdae_map_type *chain_map(int map) {
   case MAP_EULER: return sdae_map_euler;
   case MAP_MIDPOINT: return sdae_map_midpoint;
   case MAP_DG4: return sdae_map_dg4;
+  case MAP_DG6: return sdae_map_dg6;
   default: return sdae_map_dgrad;
   }
 }

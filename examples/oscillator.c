@@ -11,9 +11,10 @@
 #include "cli.h"
 #include "oscillator_model.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg-paper", "dg4", NULL};
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg-paper", "dg4", "dg6",
+                                          NULL};
 static const char *const q_choices[] = {"corrected", "paper", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG_PAPER, MAP_DG4 };
+enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG_PAPER, MAP_DG4, MAP_DG6 };
 
 typedef struct osc_args {
   osc_params p;
@@ -76,6 +77,7 @@ static const sdae_map_type *osc_map(int map) {
   case MAP_MIDPOINT: return sdae_map_midpoint;
   case MAP_DG: return sdae_map_dgrad;
   case MAP_DG4: return sdae_map_dg4;
+  case MAP_DG6: return sdae_map_dg6;
   default: return sdae_map_user;
   }
 }

@@ -11,8 +11,8 @@
 #include "cli.h"
 #include "pendulum_model.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4 };
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
+enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4, MAP_DG6 };
 
 typedef struct pend_args {
   pend_params p;
@@ -83,6 +83,7 @@ static const sdae_map_type *pend_map(int map) {
   case MAP_EULER: return sdae_map_euler;
   case MAP_MIDPOINT: return sdae_map_midpoint;
   case MAP_DG4: return sdae_map_dg4;
+  case MAP_DG6: return sdae_map_dg6;
   default: return sdae_map_dgrad;
   }
 }

@@ -63,9 +63,9 @@ START_TEST(counter_sees_allocations) {
 END_TEST
 
 START_TEST(no_allocation_in_step) {
-  const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
-                                  sdae_map_dg4};
-  for (int i = 0; i < 4; i++) {
+  const sdae_map_type *maps[5] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
+                                  sdae_map_dg4, sdae_map_dg6};
+  for (int i = 0; i < 5; i++) {
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_PAPER), 0);
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_BAUMGARTE), 0);
   }

@@ -78,8 +78,10 @@ SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* phi = q0(mu), e
 SDAE_API extern const sdae_map_type *const sdae_map_midpoint; /* phi = q0((mu + mu+)/2) */
 SDAE_API extern const sdae_map_type *const sdae_map_dgrad;    /* phi = S(mid) gradbar H */
 SDAE_API extern const sdae_map_type *const sdae_map_user;     /* phi = options.user_phi */
-/* dgrad composed by Yoshida's triple jump: order 4, H conserved for skew S (dgrad's callbacks) */
+/* dgrad composed symmetrically, H conserved for skew S (dgrad's callbacks): by Yoshida's triple
+ * jump (order 4, 3 stages), by Kahan and Li's s9odr6a (order 6, 9 stages) */
 SDAE_API extern const sdae_map_type *const sdae_map_dg4;
+SDAE_API extern const sdae_map_type *const sdae_map_dg6;
 
 SDAE_API const char *sdae_map_name(const sdae_map_type *map);
 

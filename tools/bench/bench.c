@@ -7,7 +7,7 @@
  * it reports the median CPU time per step (CLOCK_THREAD_CPUTIME_ID, which leaves out the time
  * other processes take on a shared machine). malloc, calloc and realloc are
  * interposed and counted while steps run: the library promises none. A last section checks the
- * conservation of W by dg and dg4 over 10^6 steps (d = 0, on the manifold).
+ * conservation of W by dg, dg4 and dg6 over 10^6 steps (d = 0, on the manifold).
  *
  * The table goes to stdout and, in full mode, to the Markdown report (default
  * build/report/bench.md) with the machine, the date and the command. --smoke runs every case
@@ -71,7 +71,7 @@ typedef struct map_entry {
 
 static const map_entry maps[] = {
     {"euler", &sdae_map_euler}, {"midpoint", &sdae_map_midpoint}, {"dg", &sdae_map_dgrad},
-    {"dg-paper", &sdae_map_user}, {"dg4", &sdae_map_dg4},
+    {"dg-paper", &sdae_map_user}, {"dg4", &sdae_map_dg4}, {"dg6", &sdae_map_dg6},
 };
 
 static const sdae_map_type *map_named(const char *name) {
@@ -349,15 +349,15 @@ static void print_header(FILE *f, int argc, char **argv, int reps) {
 /* ---- main ------------------------------------------------------------------------------------ */
 
 static size_t make_cases(bench_case *out) {
-  static const char *const osc_maps[] = {"euler", "midpoint", "dg", "dg-paper", "dg4"};
-  static const char *const pend_maps[] = {"euler", "midpoint", "dg", "dg4"};
+  static const char *const osc_maps[] = {"euler", "midpoint", "dg", "dg-paper", "dg4", "dg6"};
+  static const char *const pend_maps[] = {"euler", "midpoint", "dg", "dg4", "dg6"};
   static const size_t chain_N[] = {10, 100, 1000, 10000, 100000};
   size_t n = 0;
   for (int s = 0; s < 2; s++)
-    for (size_t m = 0; m < 5; m++)
+    for (size_t m = 0; m < sizeof osc_maps / sizeof osc_maps[0]; m++)
       out[n++] = (bench_case){OSCILLATOR, osc_maps[m],
                               s ? SDAE_SCHEME_SEMI_IMPLICIT : SDAE_SCHEME_EXPLICIT, 1, 200000};
-  for (size_t m = 0; m < 4; m++)
+  for (size_t m = 0; m < sizeof pend_maps / sizeof pend_maps[0]; m++)
     out[n++] = (bench_case){PENDULUM, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 1, 200000};
   for (size_t m = 0; m < 2; m++)
     for (size_t i = 0; i < 5; i++) /* about 2e6 mass-steps per repetition */
@@ -469,10 +469,11 @@ int main(int argc, char **argv) {
     print_row(stderr, &res[i]); /* progress */
   }
   /* the conservation runs only with the whole set of cases */
-  size_t ndr = only ? 0 : 2;
-  drift dr[2] = {{0}};
+  static const char *const drift_maps[] = {"dg", "dg4", "dg6"};
+  size_t ndr = only ? 0 : sizeof drift_maps / sizeof drift_maps[0];
+  drift dr[sizeof drift_maps / sizeof drift_maps[0]] = {{0}};
   for (size_t i = 0; i < ndr; i++) {
-    dr[i] = w_drift(i ? "dg4" : "dg", i ? sdae_map_dg4 : sdae_map_dgrad, smoke ? 10000 : 1000000);
+    dr[i] = w_drift(drift_maps[i], map_named(drift_maps[i]), smoke ? 10000 : 1000000);
     failed |= dr[i].rc != SDAE_OK;
   }
 

@@ -203,6 +203,7 @@ static const stab_map maps[] = {
     {"dg", &sdae_map_dgrad, 10.0, 1e4},
     {"dg-paper", &sdae_map_user, 10.0, 1e4},
     {"dg4", &sdae_map_dg4, 1.0, 1e3},
+    {"dg6", &sdae_map_dg6, 1.0, 1e3},
 };
 
 static const ida_form forms[] = {{"index1", IDAREF_INDEX1}, {"ggl", IDAREF_GGL}};
