@@ -20,7 +20,9 @@ struct sdae_map_type {
   /* phi_T(mu, mu+): n_mu values */
   int (*phi)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
              double *out);
-  /* d phi_T / d mu+ (n_mu x n_mu), or NULL; used only when jac_given says so */
+  /* d phi_T / d mu+ (n_mu x n_mu), or NULL; used only when jac_given says so. Newton calls it
+   * right after phi at the same arguments (as IDA hands its Jacobian the residual just
+   * computed), so it may reuse what that call left in the map's scratch. */
   int (*jac)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
              double *out);
   int (*jac_given)(const sdae_model *m, const sdae_options *o);

@@ -162,6 +162,79 @@ START_TEST(dgrad_small_increment_branch) {
 }
 END_TEST
 
+/* S = [[0, 1], [-1, -d]] applied, as a large model gives it */
+static int quartic_S_apply(double t, const double *mu, const double *v, double *out,
+                           void *params) {
+  const quartic *p = params;
+  (void)t, (void)mu;
+  out[0] = v[1];
+  out[1] = -v[0] - p->d * v[1];
+  return 0;
+}
+
+/* The Jacobian from hess_H (called after phi at the same point, as Newton does) against
+ * central differences of phi with step h = 1e-6: far from mu (truncation h^2 phi''' about
+ * 1e-12, rounding eps/h about 1e-10), and within the small-increment branch, where it is
+ * (1/2) S hess H(mid) and the differences straddle increments up to h, over which the
+ * Jacobian moves by about h H''' (6 k mu1 h, 5e-6 here). With S dense and with S_apply. */
+static void jacobian_matches_differences(int use_S_apply) {
+  quartic p = {1.0, 0.1, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double x[2] = {0.8, 0.3}, ys[2][2] = {{0.9, 0.1}, {0.8 + 1e-10, 0.3 - 1e-10}};
+  double tol[2] = {1e-8, 2e-5}, h = 1e-6;
+  o.hess_H = quartic_hess_H;
+  if (use_S_apply) o.S = NULL, o.S_apply = quartic_S_apply;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  for (int k = 0; k < 2; k++) {
+    double J[4], phi[2], plus[2], minus[2], y[2];
+    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, ys[k], phi), SDAE_OK);
+    ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.0, 0.1, x, ys[k], J), SDAE_OK);
+    for (int j = 0; j < 2; j++) {
+      y[0] = ys[k][0], y[1] = ys[k][1];
+      y[j] += h;
+      ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, y, plus), SDAE_OK);
+      y[j] -= 2 * h;
+      ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, y, minus), SDAE_OK);
+      for (int i = 0; i < 2; i++)
+        ck_assert_double_le(fabs(J[i * 2 + j] - (plus[i] - minus[i]) / (2 * h)), tol[k]);
+    }
+  }
+  sdae_stepper_free(s);
+}
+
+START_TEST(dgrad_jacobian_matches_differences) { jacobian_matches_differences(0); }
+END_TEST
+
+START_TEST(dgrad_jacobian_with_S_apply) { jacobian_matches_differences(1); }
+END_TEST
+
+/* Newton with the closed-form Jacobian reaches the same mu+ (to the Newton tolerance) with
+ * fewer evaluations of phi: finite differences cost 2 n = 4 per Jacobian. */
+START_TEST(dgrad_hessian_spares_evaluations) {
+  quartic p = {1.0, 0.1, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *fd, *an;
+  double xi[2] = {0.1, -0.2}, mu[2] = {0.8, 0.3}, xi2[2] = {0.1, -0.2}, mu2[2] = {0.8, 0.3};
+  ck_assert_int_eq(sdae_stepper_alloc(&fd, &m, &o), SDAE_OK);
+  o.hess_H = quartic_hess_H;
+  ck_assert_int_eq(sdae_stepper_alloc(&an, &m, &o), SDAE_OK);
+  for (int n = 0; n < 100; n++) {
+    ck_assert_int_eq(sdae_step(fd, n * 0.05, 0.05, xi, mu), SDAE_OK);
+    ck_assert_int_eq(sdae_step(an, n * 0.05, 0.05, xi2, mu2), SDAE_OK);
+  }
+  for (int i = 0; i < 2; i++) {
+    ck_assert_double_le(fabs(mu[i] - mu2[i]), 1e-13);
+    ck_assert_double_le(fabs(xi[i] - xi2[i]), 1e-13);
+  }
+  ck_assert_uint_lt(sdae_stepper_stats(an)->phi_evals, sdae_stepper_stats(fd)->phi_evals / 2);
+  sdae_stepper_free(fd);
+  sdae_stepper_free(an);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("maps");
   ADD_CASE(s, order_euler_is_1);
@@ -175,5 +248,8 @@ int main(void) {
   ADD_CASE(s, dg6_conserves_H);
   ADD_CASE(s, dgrad_dissipates_monotonically);
   ADD_CASE(s, dgrad_small_increment_branch);
+  ADD_CASE(s, dgrad_jacobian_matches_differences);
+  ADD_CASE(s, dgrad_jacobian_with_S_apply);
+  ADD_CASE(s, dgrad_hessian_spares_evaluations);
   return run_suite(s);
 }

@@ -58,6 +58,15 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
+int quartic_hess_H(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  (void)t;
+  out[0] = 3.0 * p->k * mu[0] * mu[0];
+  out[1] = out[2] = 0.0;
+  out[3] = 1.0;
+  return 0;
+}
+
 static int S(double t, const double *mu, double *out, void *params) {
   const quartic *p = params;
   (void)t;

@@ -18,6 +18,8 @@ sdae_model quartic_model(quartic *p);
 /* options with the dgrad callbacks set, map and scheme as given */
 sdae_options quartic_options(const sdae_map_type *map, sdae_scheme scheme);
 int quartic_H(double t, const double *mu, double *out, void *params);
+/* hess H = diag(3 k mu1^2, 1): not set by quartic_options (the suites choose) */
+int quartic_hess_H(double t, const double *mu, double *out, void *params);
 int quartic_q0_jac(double t, const double *mu, double *out, void *params);
 
 /* A constant Q = [[2, 0], [0, 0]]: with delta = epsilon = 1 the gain k_1 = -(1/2) 4 - 1 = -3

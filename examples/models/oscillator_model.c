@@ -106,6 +106,15 @@ static int osc_grad_H(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
+static int osc_hess_H(double t, const double *mu, double *out, void *params) {
+  const osc_params *p = params;
+  (void)t;
+  out[0] = 3 * p->k * mu[0] * mu[0];
+  out[1] = out[2] = 0.0;
+  out[3] = p->m;
+  return 0;
+}
+
 /* S = J - R with J skew and R = diag(0, d/m^2) >= 0: W is dissipated, S grad W = q0 */
 static int osc_S(double t, const double *mu, double *out, void *params) {
   const osc_params *p = params;
@@ -146,6 +155,7 @@ static int osc_paper_phi_jac(double t, double T, const double *mu, const double 
 void osc_map_callbacks(sdae_options *o) {
   o->H = osc_H;
   o->grad_H = osc_grad_H;
+  o->hess_H = osc_hess_H;
   o->S = osc_S;
   o->user_phi = osc_paper_phi;
   o->user_phi_jac = osc_paper_phi_jac;

@@ -129,6 +129,15 @@ static int pend_grad_H(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
+static int pend_hess_H(double t, const double *mu, double *out, void *params) {
+  const pend_params *p = params;
+  (void)t;
+  out[0] = p->m * p->ga * p->L * cos(mu[0]);
+  out[1] = out[2] = 0.0;
+  out[3] = p->m / (p->L * p->L);
+  return 0;
+}
+
 static int pend_S(double t, const double *mu, double *out, void *params) {
   const pend_params *p = params;
   (void)t;
@@ -143,6 +152,7 @@ static int pend_S(double t, const double *mu, double *out, void *params) {
 void pend_map_callbacks(sdae_options *o) {
   o->H = pend_H_cb;
   o->grad_H = pend_grad_H;
+  o->hess_H = pend_hess_H;
   o->S = pend_S;
 }
 

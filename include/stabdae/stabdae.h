@@ -96,6 +96,10 @@ typedef struct sdae_options {
   int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
   /* instead of S, for large models: out = S(mu) v (n_mu values) */
   int (*S_apply)(double t, const double *mu, const double *v, double *out, void *params);
+  /* optional, n_mu x n_mu: the Hessian of H gives Newton the map's Jacobian in closed form
+   * instead of finite differences (dense models; exact when S is constant, otherwise the
+   * derivative of S is left out and Newton converges linearly) */
+  int (*hess_H)(double t, const double *mu, double *out, void *params);
 
   /* sdae_map_user: phi(T, mu, mu+) and optionally d phi / d mu+ (n_mu x n_mu) */
   int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
