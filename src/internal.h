@@ -72,9 +72,15 @@ int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out);
 int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out);
 /* Q(xi, mu) xi into s->Qxi and ||q_i||^2 into s->qnorm2 */
 int sdae__eval_Q(sdae_stepper *s, double t, const double *xi, const double *mu);
-/* calls a user callback of the (t, mu, out) form through the model's params, then checks it */
-int sdae__call_checked(int (*cb)(double, const double *, double *, void *), sdae_stepper *s,
-                       double t, const double *mu, double *out, size_t n_out);
+/* calls a user callback of the (t, mu, out) form through the model's params, then checks it;
+ * inline: the discrete gradient makes four such calls per evaluation */
+static inline int sdae__call_checked(int (*cb)(double, const double *, double *, void *),
+                                     sdae_stepper *s, double t, const double *mu, double *out,
+                                     size_t n_out) {
+  int rc = sdae__status_of_callback(cb(t, mu, out, s->model.params));
+  if (rc != SDAE_OK) return rc;
+  return sdae__all_finite(out, n_out) ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
 
 /* lu.c: solves A x = b for a band matrix (lb = ub = n - 1: dense) with GSL's banded LU; AB is
  * n x sdae__lu_band_cols(lb, ub), filled by sdae__lu_pack, overwritten by the factors */

@@ -4,13 +4,6 @@
 
 #include "internal.h"
 
-int sdae__call_checked(int (*cb)(double, const double *, double *, void *), sdae_stepper *s,
-                       double t, const double *mu, double *out, size_t n_out) {
-  int rc = sdae__status_of_callback(cb(t, mu, out, s->model.params));
-  if (rc != SDAE_OK) return rc;
-  return sdae__all_finite(out, n_out) ? SDAE_OK : SDAE_ERR_NONFINITE;
-}
-
 int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out) {
   return sdae__call_checked(s->model.q0, s, t, mu, out, s->model.n_mu);
 }

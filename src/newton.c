@@ -139,8 +139,7 @@ static void newton_solve(sdae_stepper *s) {
 /* One iteration from y; *done when the update is below tolerance or R(y) = 0. */
 static int iterate(sdae_stepper *s, const problem *P, int *refresh, double *y, int *done) {
   size_t n = s->model.n_mu;
-  double step; /* the update relative to 1 + ||y|| */
-  double dy_norm = 0.0, y_norm = 0.0;
+  double dy_norm = 0.0, y_norm = 0.0, scale; /* the update is measured against 1 + ||y|| */
   int rc = residual(s, P, y);
   if (rc != SDAE_OK) return rc;
   if (s->stats.newton_residual_last == 0.0) {
@@ -151,13 +150,13 @@ static int iterate(sdae_stepper *s, const problem *P, int *refresh, double *y, i
   newton_solve(s);
   for (size_t i = 0; i < n; i++) {
     y[i] -= s->dy[i];
-    if (!isfinite(y[i])) return SDAE_ERR_NONFINITE;
     dy_norm = max_abs(dy_norm, s->dy[i]);
     y_norm = max_abs(y_norm, y[i]);
   }
-  step = dy_norm / (1.0 + y_norm);
-  *done = step <= s->opt.newton_tol;
-  *refresh = step > reuse_below;
+  if (!sdae__all_finite(y, n)) return SDAE_ERR_NONFINITE;
+  scale = 1.0 + y_norm; /* multiplied, not divided: Newton's chain waits on this test */
+  *done = dy_norm <= s->opt.newton_tol * scale;
+  *refresh = dy_norm > reuse_below * scale;
   return SDAE_OK;
 }
 
