@@ -32,7 +32,7 @@
 #define MODEL_NFLAGS 5
 #define NFLAGS (MODEL_NFLAGS + CLI_RUN_NFLAGS + CERT_NFLAGS)
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", NULL};
+static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
 static const char *const q_choices[] = {"corrected", "paper", NULL};
 
 typedef struct args {

@@ -45,7 +45,9 @@ enum choice {
 
 enum choice2 {
   DG4 = 1 << 0,     /* the dgrad choice of MAP means dg4 */
-  S_APPLY = 1 << 1  /* the options give S_apply instead of S */
+  S_APPLY = 1 << 1, /* the options give S_apply instead of S */
+  DG6 = 1 << 2,     /* the dgrad choice of MAP means dg6 (before DG4) */
+  HESSIAN = 1 << 3  /* the options give hess_H */
 };
 
 typedef struct numbers {
@@ -105,6 +107,13 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   const oscillator *p = params;
   (void)t;
   out[0] = p->k * mu[0] * mu[0] * mu[0], out[1] = mu[1];
+  return 0;
+}
+
+static int hess_H(double t, const double *mu, double *out, void *params) {
+  const oscillator *p = params;
+  (void)t;
+  out[0] = 3.0 * p->k * mu[0] * mu[0], out[1] = out[2] = 0.0, out[3] = 1.0;
   return 0;
 }
 
@@ -183,7 +192,8 @@ static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x
   sdae_options_default(o);
   o->scheme = (c & EXPLICIT) ? SDAE_SCHEME_EXPLICIT : SDAE_SCHEME_SEMI_IMPLICIT;
   o->map = maps[(c & MAP) >> 1];
-  if (o->map == sdae_map_dgrad && (c2 & DG4)) o->map = sdae_map_dg4;
+  if (o->map == sdae_map_dgrad && (c2 & (DG4 | DG6)))
+    o->map = (c2 & DG6) ? sdae_map_dg6 : sdae_map_dg4;
   o->stabilizer = stabilizers[(c & STABILIZER) >> 3];
   o->delta = x->delta;
   o->epsilon = x->epsilon;
@@ -192,6 +202,7 @@ static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x
   o->baumgarte_alpha[0] = x->alpha0;
   o->baumgarte_alpha[1] = x->alpha1;
   o->H = H, o->grad_H = grad_H;
+  if (c2 & HESSIAN) o->hess_H = hess_H;
   if (c2 & S_APPLY)
     o->S_apply = S_apply;
   else

@@ -10,7 +10,7 @@ import struct
 EXPLICIT, JACOBIAN, CALLER_BLOCK, Q_APPLY = 1, 1 << 5, 1 << 6, 1 << 7
 EULER, MIDPOINT, DGRAD, USER = (m << 1 for m in range(4))
 PAPER, NONE, BAUMGARTE = (s << 3 for s in range(3))
-DG4, S_APPLY = 1, 2  # the third byte
+DG4, S_APPLY, DG6, HESSIAN = 1, 2, 4, 8  # the third byte
 
 
 def seed(choice, more=0, steps=8, max_iter=20, T=0.01, t=0.0, delta=2.0, epsilon=1.0, tol=1e-14,
@@ -25,6 +25,8 @@ SEEDS = {
     "midpoint-jacobian-block": seed(MIDPOINT | JACOBIAN | CALLER_BLOCK, T=0.1),
     "dgrad-11-qapply": seed(DGRAD | EXPLICIT | Q_APPLY, T=0.05),
     "dg4-sapply-block": seed(DGRAD | CALLER_BLOCK, DG4 | S_APPLY, T=0.1, d=0.0),
+    "dg6-hessian-block": seed(DGRAD | CALLER_BLOCK, DG6 | HESSIAN, T=0.1, d=0.0),
+    "dgrad-hessian-sapply": seed(DGRAD, HESSIAN | S_APPLY, T=0.3),
     "user-baumgarte-block": seed(USER | BAUMGARTE | CALLER_BLOCK, T=0.2),
     "none-11-large-step": seed(MIDPOINT | NONE | EXPLICIT | JACOBIAN, T=10.0, k=1e6),
     "nan-state": seed(EULER | PAPER, mu=(math.nan, 0.6)),
