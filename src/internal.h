@@ -28,6 +28,12 @@ struct sdae_map_type {
   int (*jac_given)(const sdae_model *m, const sdae_options *o);
 };
 
+/* A model with a declared bandwidth below n_mu - 1: Newton works on a band (GSL's banded LU,
+ * finite differences); a dense one keeps a full matrix and can take an analytic Jacobian. */
+static inline int sdae__banded(const sdae_model *m) {
+  return m->bandwidth > 0 && m->bandwidth < m->n_mu - 1;
+}
+
 /* ---- the stepper: one block, the struct followed by its work arrays ---- */
 
 struct sdae_stepper {

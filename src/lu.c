@@ -71,9 +71,10 @@ int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, co
  * layout: unit-lower L below the diagonal, U on and above, row i swapped with piv[i] at step i,
  * except that U's diagonal is kept as its reciprocal: the solves, two per factorization in
  * Newton, then multiply, and a division's latency (about 13 cycles) is off their critical
- * path), with the band solve's singularity test. The same arithmetic as GSL's, without its views,
- * scaling and BLAS calls, which cost about 1400 instructions per 2 x 2 solve: half of the
- * oscillator's step (callgrind). */
+ * path), with the band solve's singularity test, and a pivot below DBL_MIN (whose reciprocal
+ * would overflow) counted singular too. GSL's elimination, up to the rounding of those
+ * reciprocals, without its views, scaling and BLAS calls, which cost about 1400 instructions per
+ * 2 x 2 solve: half of the oscillator's step (callgrind). */
 
 static int small_factor(double *A, unsigned *piv, size_t n) {
   double scale = 0.0;
@@ -82,7 +83,8 @@ static int small_factor(double *A, unsigned *piv, size_t n) {
     size_t p = k;
     for (size_t i = k + 1; i < n; i++)
       if (fabs(A[i * n + k]) > fabs(A[p * n + k])) p = i;
-    if (!(fabs(A[p * n + k]) > (double)n * DBL_EPSILON * scale)) return SDAE_ERR_SINGULAR;
+    if (!(fabs(A[p * n + k]) > (double)n * DBL_EPSILON * scale) || fabs(A[p * n + k]) < DBL_MIN)
+      return SDAE_ERR_SINGULAR;
     piv[k] = (unsigned)p;
     for (size_t j = 0; p != k && j < n; j++) {
       double tmp = A[k * n + j];

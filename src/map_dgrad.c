@@ -14,6 +14,12 @@ static int dgrad_check(const sdae_model *m, const sdae_options *o) {
   return (o->H && o->grad_H && (o->S || o->S_apply)) ? SDAE_OK : SDAE_ERR_MAP;
 }
 
+/* hess_H gives the Jacobian; a banded model's Newton uses finite differences regardless (and
+ * must not be charged n^2 doubles for it) */
+static int dgrad_jac_given(const sdae_model *m, const sdae_options *o) {
+  return o->hess_H != NULL && !sdae__banded(m);
+}
+
 /* The scratch: the midpoint, grad H there, the increment, the correction c and |v|^2 (0 in
  * the small-increment branch), a dense S unless S_apply is given; with hess_H the Hessian
  * (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for the Jacobian
@@ -24,7 +30,7 @@ typedef struct parts {
 
 static size_t dgrad_scratch(const sdae_model *m, const sdae_options *o) {
   size_t n = m->n_mu;
-  return 3 * n + 2 + (o->S_apply ? 0 : n * n) + (o->hess_H ? n * n + 2 * n : 0);
+  return 3 * n + 2 + (o->S_apply ? 0 : n * n) + (dgrad_jac_given(m, o) ? n * n + 2 * n : 0);
 }
 
 static parts layout(sdae_stepper *s) {
@@ -142,11 +148,6 @@ static int dgrad_jac(sdae_stepper *s, double t, double T, const double *mu,
     for (size_t i = 0; i < n; i++) out[i * n + j] = P.w[i];
   }
   return rc;
-}
-
-static int dgrad_jac_given(const sdae_model *m, const sdae_options *o) {
-  (void)m;
-  return o->hess_H != NULL;
 }
 
 /* Newton uses dgrad_jac when the options give hess_H, finite differences otherwise. */

@@ -83,7 +83,7 @@ static unsigned *take_pivots(arena *a, size_t n) {
 
 /* the band Newton factors: the model's, or all of it (dense) */
 static size_t newton_band(const sdae_model *m) {
-  return m->bandwidth > 0 && m->bandwidth < m->n_mu - 1 ? m->bandwidth : m->n_mu - 1;
+  return sdae__banded(m) ? m->bandwidth : m->n_mu - 1;
 }
 
 static void carve(sdae_stepper *s, arena *a) {

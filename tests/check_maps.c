@@ -172,34 +172,66 @@ static int quartic_S_apply(double t, const double *mu, const double *v, double *
   return 0;
 }
 
-/* The Jacobian from hess_H (called after phi at the same point, as Newton does) against
- * central differences of phi with step h = 1e-6: far from mu (truncation h^2 phi''' about
- * 1e-12, rounding eps/h about 1e-10), and within the small-increment branch, where it is
- * (1/2) S hess H(mid) and the differences straddle increments up to h, over which the
- * Jacobian moves by about h H''' (6 k mu1 h, 5e-6 here). With S dense and with S_apply. */
+/* An H with a coupling term and time in its Hessian, so that the Jacobian's index order and
+ * time argument are exercised: H = mu2^2/2 + k mu1^4/4 + mu1^2 mu2/2 + t mu1^2/2. */
+static int coupled_H(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  double a = mu[0], b = mu[1];
+  out[0] = 0.5 * b * b + 0.25 * p->k * a * a * a * a + 0.5 * a * a * b + 0.5 * t * a * a;
+  return 0;
+}
+
+static int coupled_grad_H(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  double a = mu[0], b = mu[1];
+  out[0] = p->k * a * a * a + a * b + t * a;
+  out[1] = b + 0.5 * a * a;
+  return 0;
+}
+
+static int coupled_hess_H(double t, const double *mu, double *out, void *params) {
+  const quartic *p = params;
+  double a = mu[0], b = mu[1];
+  out[0] = 3.0 * p->k * a * a + b + t;
+  out[1] = out[2] = a;
+  out[3] = 1.0;
+  return 0;
+}
+
+/* The Jacobian from hess_H, called after phi at the same point as Newton does. Far from mu,
+ * against central differences of phi with step h = 1e-6 (truncation h^2 phi''' about 1e-12,
+ * rounding eps/h about 1e-10). Within the small-increment branch, where phi = S grad H(mid),
+ * it is (1/2) S hess H(mid) exactly (differences there would see the rounding of the
+ * quotient c, eps |H| / h^2). t = 0.3, T = 0.1: H, S and hess H at mid time 0.35. With S dense
+ * and with S_apply. */
 static void jacobian_matches_differences(int use_S_apply) {
   quartic p = {1.0, 0.1, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
-  double x[2] = {0.8, 0.3}, ys[2][2] = {{0.9, 0.1}, {0.8 + 1e-10, 0.3 - 1e-10}};
-  double tol[2] = {1e-8, 2e-5}, h = 1e-6;
-  o.hess_H = quartic_hess_H;
+  double x[2] = {0.8, 0.3}, far[2] = {0.9, 0.1}, near[2] = {0.8 + 1e-10, 0.3 - 1e-10};
+  double J[4], phi[2], plus[2], minus[2], y[2], h = 1e-6, mid[2], Hm[4];
+  o.H = coupled_H, o.grad_H = coupled_grad_H, o.hess_H = coupled_hess_H;
   if (use_S_apply) o.S = NULL, o.S_apply = quartic_S_apply;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
-  for (int k = 0; k < 2; k++) {
-    double J[4], phi[2], plus[2], minus[2], y[2];
-    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, ys[k], phi), SDAE_OK);
-    ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.0, 0.1, x, ys[k], J), SDAE_OK);
-    for (int j = 0; j < 2; j++) {
-      y[0] = ys[k][0], y[1] = ys[k][1];
-      y[j] += h;
-      ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, y, plus), SDAE_OK);
-      y[j] -= 2 * h;
-      ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, y, minus), SDAE_OK);
-      for (int i = 0; i < 2; i++)
-        ck_assert_double_le(fabs(J[i * 2 + j] - (plus[i] - minus[i]) / (2 * h)), tol[k]);
-    }
+  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, far, phi), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.3, 0.1, x, far, J), SDAE_OK);
+  for (int j = 0; j < 2; j++) {
+    y[0] = far[0], y[1] = far[1];
+    y[j] += h;
+    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, y, plus), SDAE_OK);
+    y[j] -= 2 * h;
+    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, y, minus), SDAE_OK);
+    for (int i = 0; i < 2; i++)
+      ck_assert_double_le(fabs(J[i * 2 + j] - (plus[i] - minus[i]) / (2 * h)), 1e-8);
+  }
+  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, near, phi), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.3, 0.1, x, near, J), SDAE_OK);
+  mid[0] = 0.5 * (x[0] + near[0]), mid[1] = 0.5 * (x[1] + near[1]);
+  coupled_hess_H(0.35, mid, Hm, &p);
+  for (int j = 0; j < 2; j++) { /* S = [[0, 1], [-1, -d]] */
+    ck_assert_double_eq_tol(J[j], 0.5 * Hm[2 + j], 1e-15);
+    ck_assert_double_eq_tol(J[2 + j], 0.5 * (-Hm[j] - p.d * Hm[2 + j]), 1e-15);
   }
   sdae_stepper_free(s);
 }
