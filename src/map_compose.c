@@ -61,13 +61,13 @@ static int compose(sdae_stepper *s, const double *gamma, size_t stages, double t
 static int dg4_phi(sdae_stepper *s, double t, double T, const double *mu,
                    const double *mu_next, double *out) {
   (void)mu_next;
-  return compose(s, triple_jump, 3, t, T, mu, out);
+  return compose(s, triple_jump, sizeof triple_jump / sizeof *triple_jump, t, T, mu, out);
 }
 
 static int dg6_phi(sdae_stepper *s, double t, double T, const double *mu,
                    const double *mu_next, double *out) {
   (void)mu_next;
-  return compose(s, s9odr6a, 9, t, T, mu, out);
+  return compose(s, s9odr6a, sizeof s9odr6a / sizeof *s9odr6a, t, T, mu, out);
 }
 
 static const sdae_map_type dg4_type = {
