@@ -44,26 +44,32 @@ double osc_W(const osc_params *p, const double *mu) {
   return p->m * mu[1] * mu[1] / 2 + p->k * mu1sq * mu1sq / 4;
 }
 
-double osc_c(const osc_params *p, const double *xi, const double *mu) {
+/* m c: Q's entry (2,1) times the mass */
+static double m_times_c(const osc_params *p, const double *xi, const double *mu) {
   double a = mu[0], e = xi[0];
   if (p->q == OSC_Q_PAPER) /* as printed in Section IV (erratum 1) */
-    return (p->k * (3 * a * e - 3 * a * a - e * e) + p->d * e) / p->m;
-  return (p->k * (3 * a * a - 3 * a * e + e * e) + p->d) / p->m;
+    return p->k * (3 * a * e - 3 * a * a - e * e) + p->d * e;
+  return p->k * (3 * a * a - 3 * a * e + e * e) + p->d;
+}
+
+double osc_c(const osc_params *p, const double *xi, const double *mu) {
+  return m_times_c(p, xi, mu) / p->m;
 }
 
 static int osc_q0(double t, const double *mu, double *out, void *params) {
   const osc_params *p = params;
   (void)t;
   out[0] = mu[1];
-  out[1] = (-p->k * mu[0] * mu[0] * mu[0] - p->d * mu[1]) / p->m;
+  out[1] = (-p->k * mu[0] * mu[0] * mu[0] - p->d * mu[1]) * p->inv_m;
   return 0;
 }
 
 static int osc_Q(double t, const double *xi, const double *mu, double *out, void *params) {
+  const osc_params *p = params;
   (void)t;
   out[0] = -1.0; /* rows = mu components, columns = q_1, q_2 */
   out[1] = 1.0;
-  out[2] = osc_c(params, xi, mu);
+  out[2] = m_times_c(p, xi, mu) * p->inv_m;
   out[3] = 1.0;
   return 0;
 }
@@ -73,8 +79,8 @@ static int osc_q0_jac(double t, const double *mu, double *out, void *params) {
   (void)t;
   out[0] = 0.0;
   out[1] = 1.0;
-  out[2] = -3 * p->k * mu[0] * mu[0] / p->m;
-  out[3] = -p->d / p->m;
+  out[2] = -3 * p->k * mu[0] * mu[0] * p->inv_m;
+  out[3] = -p->d * p->inv_m;
   return 0;
 }
 
@@ -88,6 +94,7 @@ void osc_model(sdae_model *model, osc_params *p) {
   model->n_constraints = 1;
   model->rel_degree = osc_rel_degree;
   model->params = p;
+  p->inv_m = 1.0 / p->m;
 }
 
 /* ---- maps --------------------------------------------------------------------------------- */
@@ -121,9 +128,9 @@ static int osc_S(double t, const double *mu, double *out, void *params) {
   (void)t;
   (void)mu;
   out[0] = 0.0;
-  out[1] = 1.0 / p->m;
-  out[2] = -1.0 / p->m;
-  out[3] = -p->d / (p->m * p->m);
+  out[1] = p->inv_m;
+  out[2] = -p->inv_m;
+  out[3] = -p->d * p->inv_m * p->inv_m;
   return 0;
 }
 
@@ -135,7 +142,7 @@ static int osc_paper_phi(double t, double T, const double *mu, const double *mu_
   (void)t;
   (void)T;
   out[0] = (mu_next[1] + mu[1]) / 2;
-  out[1] = (-p->k * (a * a * a + b * b * b + (a + b) * a * b) / 4 - p->d * mu[1]) / p->m;
+  out[1] = (-p->k * (a * a * a + b * b * b + (a + b) * a * b) / 4 - p->d * mu[1]) * p->inv_m;
   return 0;
 }
 
@@ -147,7 +154,7 @@ static int osc_paper_phi_jac(double t, double T, const double *mu, const double 
   (void)T;
   out[0] = 0.0;
   out[1] = 0.5;
-  out[2] = -p->k * (3 * a * a + 2 * a * b + b * b) / (4 * p->m);
+  out[2] = -p->k * (3 * a * a + 2 * a * b + b * b) / 4 * p->inv_m;
   out[3] = 0.0;
   return 0;
 }

@@ -14,6 +14,7 @@ typedef enum osc_q_variant {
 typedef struct osc_params {
   double k, d, m, ga;
   osc_q_variant q;
+  double inv_m; /* 1/m, set by osc_model: the step's callbacks multiply, a division costs more */
 } osc_params;
 
 /* x = (X, Y, Xdot, Ydot); z = (xi1, xi2, mu1, mu2) of eq. 21 */
@@ -25,7 +26,8 @@ double osc_energy(const osc_params *p, const double *x); /* E, total, in x */
 double osc_W(const osc_params *p, const double *mu);     /* W on the manifold, in mu */
 double osc_c(const osc_params *p, const double *xi, const double *mu); /* Q's entry (2,1) */
 
-/* The model (q0, Q, q0_jac, one constraint of relative degree 2); params = p. */
+/* The model (q0, Q, q0_jac, one constraint of relative degree 2); params = p, whose inv_m it
+ * sets (call it again after a change of m). */
 void osc_model(sdae_model *model, osc_params *p);
 /* Callbacks of the maps: H = W, grad W, S = [[0, 1/m], [-1/m, -d/m^2]] for sdae_map_dgrad, and
  * the paper's phi_T with its Jacobian for sdae_map_user; the caller picks o->map. */

@@ -99,7 +99,7 @@ END_TEST
 START_TEST(test_one_mass_is_the_oscillator) {
   gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
   chain_params p = params(1);
-  osc_params po = {p.k, p.d, p.m, p.ga, OSC_Q_CORRECTED};
+  osc_params po = {.k = p.k, .d = p.d, .m = p.m, .ga = p.ga, .q = OSC_Q_CORRECTED};
   sdae_model m;
   ck_assert_int_eq(chain_model(&m, &p), 0);
   for (int n = 0; n < 50; n++) {

@@ -8,7 +8,8 @@
 #include "oscillator_model.h"
 #include "test_util.h"
 
-static const osc_params paper = {2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED};
+static const osc_params paper = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81,
+                                   .q = OSC_Q_CORRECTED};
 
 static void random_state(gsl_rng *r, double *x) {
   x[0] = tu_flat(r, -1.5, 1.5);

@@ -125,7 +125,7 @@ static int problem_init(problem *P, const bench_case *c) {
   P->opt.map = map_named(c->map);
   switch (c->kind) {
   case OSCILLATOR:
-    P->osc = (osc_params){2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED};
+    P->osc = (osc_params){.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED};
     osc_model(&P->model, &P->osc);
     osc_map_callbacks(&P->opt);
     if (problem_arrays(P, 2, 2, 4)) return -1;
@@ -227,7 +227,7 @@ typedef struct drift {
 
 static drift w_drift(const char *map, const sdae_map_type *type, size_t steps) {
   drift r = {map, steps, 0.0, SDAE_ERR_NOMEM};
-  osc_params p = {2.0, 0.0, 1.0, 9.81, OSC_Q_CORRECTED};
+  osc_params p = {.k = 2.0, .d = 0.0, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED};
   const double x0[4] = {0.7, 0.0, 0.6, 0.0};
   double xi[2], mu[2], W0;
   sdae_model m;

@@ -107,7 +107,7 @@ typedef struct stab_map {
 
 static void stabdae_run(const study_case *c, const void *setting, double T, outcome *o) {
   const stab_map *sm = setting;
-  osc_params p = {2.0, c->d, 1.0, 9.81, OSC_Q_CORRECTED};
+  osc_params p = {.k = 2.0, .d = c->d, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED};
   sdae_model m;
   sdae_options opt;
   sdae_stepper *s = NULL;
