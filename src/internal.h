@@ -74,6 +74,12 @@ static inline int sdae__all_finite(const double *v, size_t n) {
     if (!isfinite(v[i])) return 0;
   return 1;
 }
+/* dst = src, a double at a time: a state the step has just written a double at a time is read
+ * back the same way, where memcpy's 16-byte loads would wait for the stores to reach the cache
+ * (no store forwarding across two stores) */
+static inline void sdae__copy(double *dst, const double *src, size_t n) {
+  for (size_t i = 0; i < n; i++) dst[i] = src[i];
+}
 int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out);
 int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out);
 /* Q(xi, mu) xi into s->Qxi and ||q_i||^2 into s->qnorm2 */
@@ -98,8 +104,9 @@ int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, co
 int sdae__lu_factor(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub);
 void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb,
                              size_t ub, const double *b, double *x);
-/* Dense n x n (row-major) with n <= SDAE_SMALL_DENSE: LU with partial pivoting in place, same
- * singularity test (SDAE_ERR_SINGULAR); then solves with the factors. */
+/* Dense n x n (row-major) with n <= SDAE_SMALL_DENSE: LU with partial pivoting in place (piv:
+ * row i of the factors is row piv[i] of A), same singularity test (SDAE_ERR_SINGULAR); then
+ * solves with the factors. */
 #define SDAE_SMALL_DENSE 4
 int sdae__lu_small_factor(double *A, unsigned *piv, size_t n);
 void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,

@@ -67,30 +67,40 @@ int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, co
 }
 
 /* ---- small dense systems --------------------------------------------------------------------
- * Gaussian elimination with partial pivoting in place on the row-major matrix (LAPACK's getrf
- * layout: unit-lower L below the diagonal, U on and above, row i swapped with piv[i] at step i,
- * except that U's diagonal is kept as its reciprocal: the solves, two per factorization in
- * Newton, then multiply, and a division's latency (about 13 cycles) is off their critical
- * path), with the band solve's singularity test, and a pivot below DBL_MIN (whose reciprocal
- * would overflow) counted singular too. GSL's elimination, up to the rounding of those
- * reciprocals, without its views, scaling and BLAS calls, which cost about 1400 instructions per
- * 2 x 2 solve: half of the oscillator's step (callgrind). */
+ * Gaussian elimination with partial pivoting in place on the row-major matrix: unit-lower L
+ * below the diagonal, U on and above, as LAPACK's getrf, but with
+ *  - U's diagonal kept as its reciprocal: the solves, two per factorization in Newton, then
+ *    multiply, and a division's latency (about 13 cycles) is off their critical path;
+ *  - the pivoting kept as the permutation itself: row i of the factors is row piv[i] of A, so
+ *    the solve gathers b once and works in a local array, in registers once n is a constant (in
+ *    x itself each substitution waited on the store of the one before);
+ * with the band solve's singularity test, and a pivot below DBL_MIN (whose reciprocal would
+ * overflow) counted singular too. GSL's elimination, up to the rounding of those reciprocals,
+ * without its views, scaling and BLAS calls, which cost about 1400 instructions per 2 x 2 solve:
+ * half of the oscillator's step (callgrind). */
+
+static void swap_rows(double *A, unsigned *piv, size_t n, size_t k, size_t p) {
+  unsigned r = piv[k];
+  piv[k] = piv[p];
+  piv[p] = r;
+  for (size_t j = 0; j < n; j++) {
+    double tmp = A[k * n + j];
+    A[k * n + j] = A[p * n + j];
+    A[p * n + j] = tmp;
+  }
+}
 
 static int small_factor(double *A, unsigned *piv, size_t n) {
   double scale = 0.0;
   for (size_t i = 0; i < n * n; i++) scale = fabs(A[i]) > scale ? fabs(A[i]) : scale;
+  for (size_t i = 0; i < n; i++) piv[i] = (unsigned)i;
   for (size_t k = 0; k < n; k++) {
     size_t p = k;
     for (size_t i = k + 1; i < n; i++)
       if (fabs(A[i * n + k]) > fabs(A[p * n + k])) p = i;
     if (!(fabs(A[p * n + k]) > (double)n * DBL_EPSILON * scale) || fabs(A[p * n + k]) < DBL_MIN)
       return SDAE_ERR_SINGULAR;
-    piv[k] = (unsigned)p;
-    for (size_t j = 0; p != k && j < n; j++) {
-      double tmp = A[k * n + j];
-      A[k * n + j] = A[p * n + j];
-      A[p * n + j] = tmp;
-    }
+    if (p != k) swap_rows(A, piv, n, k, p);
     A[k * n + k] = 1.0 / A[k * n + k];
     for (size_t i = k + 1; i < n; i++) {
       double l = A[i * n + k] *= A[k * n + k];
@@ -102,18 +112,15 @@ static int small_factor(double *A, unsigned *piv, size_t n) {
 
 static void small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,
                         double *x) {
-  memcpy(x, b, n * sizeof *x);
-  for (size_t k = 0; k < n; k++) {
-    double tmp = x[k];
-    x[k] = x[piv[k]];
-    x[piv[k]] = tmp;
-  }
+  double w[SDAE_SMALL_DENSE];
+  for (size_t i = 0; i < n; i++) w[i] = b[piv[i]];
   for (size_t i = 1; i < n; i++) /* L y = P b */
-    for (size_t j = 0; j < i; j++) x[i] -= LU[i * n + j] * x[j];
+    for (size_t j = 0; j < i; j++) w[i] -= LU[i * n + j] * w[j];
   for (size_t i = n; i-- > 0;) { /* U x = y */
-    for (size_t j = i + 1; j < n; j++) x[i] -= LU[i * n + j] * x[j];
-    x[i] *= LU[i * n + i];
+    for (size_t j = i + 1; j < n; j++) w[i] -= LU[i * n + j] * w[j];
+    w[i] *= LU[i * n + i];
   }
+  for (size_t i = 0; i < n; i++) x[i] = w[i];
 }
 
 /* The entry points call the loops above with n a constant for each size, so that the compiler
@@ -123,6 +130,7 @@ int sdae__lu_small_factor(double *A, unsigned *piv, size_t n) {
   case 1: return small_factor(A, piv, 1);
   case 2: return small_factor(A, piv, 2);
   case 3: return small_factor(A, piv, 3);
+  case 4: return small_factor(A, piv, 4);
   default: return small_factor(A, piv, n);
   }
 }
@@ -133,6 +141,7 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
   case 1: small_solve(LU, piv, 1, b, x); break;
   case 2: small_solve(LU, piv, 2, b, x); break;
   case 3: small_solve(LU, piv, 3, b, x); break;
+  case 4: small_solve(LU, piv, 4, b, x); break;
   default: small_solve(LU, piv, n, b, x); break;
   }
 }

@@ -11,8 +11,6 @@
  *   dg6: Kahan and Li's s9odr6a (Hairer, Lubich, Wanner, Geometric Numerical Integration,
  *        V.3.2): order 6. Its 9 stages cost 3 times dg4's, and its error constant is so much
  *        smaller that at an error of 1e-6 over a long run it needs about 4 times fewer stages. */
-#include <string.h>
-
 #include "internal.h"
 
 /* both satisfy sum g = 1 and sum g^3 = 0; s9odr6a also sum g^5 = 0 (to 1e-26) */
@@ -47,11 +45,11 @@ static int compose(sdae_stepper *s, const double *gamma, size_t stages, double t
   size_t n = s->model.n_mu;
   double *a = s->map_work + sdae_map_dgrad->scratch(&s->model, &s->opt), *b = a + n;
   int rc = SDAE_OK;
-  memcpy(a, mu, n * sizeof *mu);
+  sdae__copy(a, mu, n);
   for (size_t k = 0; k < stages && rc == SDAE_OK; k++) {
     rc = stage(s, t, gamma[k] * T, a, b);
     t += gamma[k] * T;
-    memcpy(a, b, n * sizeof *b);
+    sdae__copy(a, b, n);
   }
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) out[i] = (a[i] - mu[i]) / T;

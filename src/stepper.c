@@ -213,8 +213,8 @@ int sdae_step(sdae_stepper *s, double t, double T, double *xi, double *mu) {
   if ((rc = mu_update(s, t, T, mu)) != SDAE_OK) return rc;
   if (!sdae__all_finite(s->xi_new, s->model.n_xi) || !sdae__all_finite(s->mu_new, s->model.n_mu))
     return SDAE_ERR_NONFINITE;
-  memcpy(xi, s->xi_new, s->model.n_xi * sizeof *xi);
-  memcpy(mu, s->mu_new, s->model.n_mu * sizeof *mu);
+  sdae__copy(xi, s->xi_new, s->model.n_xi);
+  sdae__copy(mu, s->mu_new, s->model.n_mu);
   s->stats.steps++;
   return SDAE_OK;
 }
