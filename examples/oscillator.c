@@ -33,7 +33,7 @@ static const char summary[] =
 
 /* Defaults, the flag table, parsing and validation; separate from main for tests and fuzzing. */
 static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, size_t errlen) {
-  *a = (osc_args){.p = {2.0, 0.03, 1.0, 9.81, OSC_Q_CORRECTED},
+  *a = (osc_args){.p = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED},
                   .q = 0,
                   .x0 = {0.1, 0.6, 0.0, 0.0},
                   .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,

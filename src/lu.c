@@ -131,7 +131,7 @@ int sdae__lu_small_factor(double *A, unsigned *piv, size_t n) {
   case 2: return small_factor(A, piv, 2);
   case 3: return small_factor(A, piv, 3);
   case 4: return small_factor(A, piv, 4);
-  default: return small_factor(A, piv, n);
+  default: return SDAE_ERR_DIM; /* not a small system: the solve's array holds 4 */
   }
 }
 
@@ -142,6 +142,6 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
   case 2: small_solve(LU, piv, 2, b, x); break;
   case 3: small_solve(LU, piv, 3, b, x); break;
   case 4: small_solve(LU, piv, 4, b, x); break;
-  default: small_solve(LU, piv, n, b, x); break;
+  default: break; /* refused by the factorization */
   }
 }

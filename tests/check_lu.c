@@ -81,10 +81,30 @@ START_TEST(permutation_case_exact) {
 }
 END_TEST
 
+START_TEST(four_cycle_exact) {
+  /* row i of A is row (i + 1) mod 4 of I: A x = b gives x[(i + 1) % 4] = b[i] exactly, through
+   * three row swaps composed into one permutation */
+  double A[16] = {0}, b[4] = {3, 5, 7, 11}, x[4];
+  for (int i = 0; i < 4; i++) A[i * 4 + (i + 1) % 4] = 1.0;
+  ck_assert_int_eq(small_solve(A, 4, b, x), SDAE_OK);
+  for (int i = 0; i < 4; i++) ck_assert_double_eq(x[(i + 1) % 4], b[i]);
+}
+END_TEST
+
+START_TEST(larger_than_small_is_refused) {
+  double A[25] = {0};
+  unsigned piv[5];
+  for (int i = 0; i < 5; i++) A[i * 5 + i] = 1.0;
+  ck_assert_int_eq(sdae__lu_small_factor(A, piv, 5), SDAE_ERR_DIM);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("lu");
   ADD_CASE(s, same_solution_as_gsl);
   ADD_CASE(s, singular_is_reported);
   ADD_CASE(s, permutation_case_exact);
+  ADD_CASE(s, four_cycle_exact);
+  ADD_CASE(s, larger_than_small_is_refused);
   return run_suite(s);
 }

@@ -52,6 +52,7 @@ static double m_times_c(const osc_params *p, const double *xi, const double *mu)
   return p->k * (3 * a * a - 3 * a * e + e * e) + p->d;
 }
 
+/* divides, as the DAE's helpers do: it needs no osc_model (Q's entry may differ by an ulp) */
 double osc_c(const osc_params *p, const double *xi, const double *mu) {
   return m_times_c(p, xi, mu) / p->m;
 }

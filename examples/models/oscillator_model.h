@@ -30,7 +30,8 @@ double osc_c(const osc_params *p, const double *xi, const double *mu); /* Q's en
  * sets (call it again after a change of m). */
 void osc_model(sdae_model *model, osc_params *p);
 /* Callbacks of the maps: H = W, grad W, S = [[0, 1/m], [-1/m, -d/m^2]] for sdae_map_dgrad, and
- * the paper's phi_T with its Jacobian for sdae_map_user; the caller picks o->map. */
+ * the paper's phi_T with its Jacobian for sdae_map_user; the caller picks o->map. Like the
+ * model's, they read p->inv_m: osc_model must have seen the current m. */
 void osc_map_callbacks(sdae_options *o);
 
 /* The DAE (f, g), Phi and Phi^-1 as sdae_check_model wants them; params = p. */
