@@ -21,6 +21,7 @@
 
 #include <stddef.h>
 
+#include <stabdae/alloc.h>
 #include <stabdae/export.h>
 #include <stabdae/model.h>
 #include <stabdae/certify.h>
