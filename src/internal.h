@@ -40,7 +40,9 @@ static inline int sdae__banded(const sdae_model *m) {
 struct sdae_stepper {
   sdae_model model;
   sdae_options opt;
-  void *block;     /* what sdae_stepper_alloc malloc'ed, NULL for a caller's block */
+  void *block;     /* what sdae_stepper_alloc_with allocated, NULL for a caller's block */
+  size_t block_bytes;
+  sdae_allocator allocator; /* block's, and sdae_certify_box's (zero: malloc and free) */
   size_t band;     /* Newton's band: lb = ub = band (n_mu - 1 when dense) */
   sdae_stats stats;
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "alloc.h"
 #include "internal.h"
 
 void sdae_options_default(sdae_options *o) {
@@ -164,21 +165,29 @@ int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model 
   return SDAE_OK;
 }
 
-int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o) {
+int sdae_stepper_alloc_with(sdae_stepper **s, const sdae_model *m, const sdae_options *o,
+                            const sdae_allocator *a) {
   size_t bytes;
   void *mem;
   int rc;
   if (!s) return SDAE_ERR_NULL;
   if ((rc = validate(m, o)) != SDAE_OK) return rc;
   if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
-  if (!(mem = malloc(bytes))) return SDAE_ERR_NOMEM;
+  if (!(mem = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
   *s = build(mem, m, o);
   (*s)->block = mem;
+  (*s)->block_bytes = bytes;
+  if (a) (*s)->allocator = *a;
   return SDAE_OK;
 }
 
+int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o) {
+  return sdae_stepper_alloc_with(s, m, o, NULL);
+}
+
 void sdae_stepper_free(sdae_stepper *s) {
-  if (s) free(s->block); /* NULL for a stepper in the caller's memory */
+  /* block is NULL for a stepper in the caller's memory */
+  if (s) sdae__free(&s->allocator, s->block, s->block_bytes);
 }
 
 /* mu+ = mu + T (phi_T(mu, mu+) + Q xi) (eq. 11 and 15, mu row), from the explicit predictor

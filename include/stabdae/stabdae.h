@@ -140,6 +140,10 @@ SDAE_API size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o);
 SDAE_API int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model *m,
                                const sdae_options *o);
 SDAE_API int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o);
+/* As sdae_stepper_alloc, the block from the allocator a (NULL: malloc); the stepper keeps a copy
+ * of a, frees its block with it and lends it to sdae_certify_box. */
+SDAE_API int sdae_stepper_alloc_with(sdae_stepper **s, const sdae_model *m, const sdae_options *o,
+                                     const sdae_allocator *a);
 SDAE_API void sdae_stepper_free(sdae_stepper *s); /* NULL and init'ed steppers are fine */
 
 /* One step of scheme 11 or 15 from time t: xi, mu are updated in place. On error they are left
