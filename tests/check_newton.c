@@ -45,8 +45,8 @@ static int run(trace *tr, int analytic, unsigned max_iter, double T, double *mu,
   sdae_stepper *s;
   double xi[2] = {0.0, 0.0};
   m.params = tr;
-  o.user_phi = traced_phi;
-  o.user_phi_jac = analytic ? traced_jac : NULL;
+  m.user_phi = traced_phi;
+  m.user_phi_jac = analytic ? traced_jac : NULL;
   o.newton_max_iter = max_iter;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
   *status = sdae_step(s, 0.0, T, xi, mu);
