@@ -59,7 +59,7 @@ typedef struct sdae_stab_ctx {
 } sdae_stab_ctx;
 typedef struct sdae_stabilizer_type {
   const char *name;
-  int (*check)(const sdae_model *m, const sdae_options *o); /* optional */
+  int (*validate)(const sdae_model *m, const sdae_options *o); /* optional */
   void (*carve)(sdae_stab_ctx *c, sdae_arena *a);           /* optional: its workspace */
   int (*xi_update)(sdae_stab_ctx *c, double T, const double *xi, double *xi_new);
 } sdae_stabilizer_type;

@@ -25,7 +25,7 @@ struct sdae_map_type {
   int implicit;    /* phi depends on mu+: the step solves for mu+ by Newton */
   /* optional (NULL: nothing beyond q0 and Q): SDAE_OK when the model gives every callback the
    * map needs, SDAE_ERR_MAP otherwise */
-  int (*check)(const sdae_model *m);
+  int (*needs)(const sdae_model *m);
   /* optional (NULL: none): doubles of scratch the map needs */
   size_t (*scratch)(const sdae_model *m, const sdae_options *o);
   /* phi_T(mu, mu+): n_mu values into out, which is the caller's */

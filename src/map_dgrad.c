@@ -9,7 +9,7 @@
 
 #include "internal.h"
 
-static int dgrad_check(const sdae_model *m) {
+static int dgrad_needs(const sdae_model *m) {
   return (m->H && m->grad_H && (m->S || m->S_apply)) ? SDAE_OK : SDAE_ERR_MAP;
 }
 
@@ -156,7 +156,7 @@ const sdae_map_type sdae__dgrad_type = {
     .name = "dgrad",
     .order = 2,
     .implicit = 1,
-    .check = dgrad_check,
+    .needs = dgrad_needs,
     .scratch = dgrad_scratch,
     .phi = dgrad_phi,
     .jac = dgrad_jac,

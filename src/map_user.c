@@ -2,7 +2,7 @@
  * (e.g. the paper's Section IV map). */
 #include "internal.h"
 
-static int user_check(const sdae_model *m) { return m->user_phi ? SDAE_OK : SDAE_ERR_MAP; }
+static int user_needs(const sdae_model *m) { return m->user_phi ? SDAE_OK : SDAE_ERR_MAP; }
 
 static int checked(int rc, const double *out, size_t n) {
   rc = sdae__status_of_callback(rc);
@@ -30,7 +30,7 @@ static const sdae_map_type user_type = {
     .name = "user",
     .order = 0,
     .implicit = 1,
-    .check = user_check,
+    .needs = user_needs,
     .phi = user_phi,
     .jac = user_jac,
     .jac_given = user_jac_given,

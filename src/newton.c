@@ -5,8 +5,9 @@
  * (for a step of eq. 11/15: x = mu, h = T, shift = Q(xi, mu) xi; for a stage of a composed
  * map, no shift). dphi/dy is the map's own Jacobian when it has one and Newton is dense,
  * central finite differences otherwise: columns 2b + 1 apart do not share a row of a band-b
- * matrix, so each colour group of columns costs two evaluations of phi. M is factored by LU (lu.c): written out for small dense models, GSL's
- * banded LU otherwise (dense is the band n - 1).
+ * matrix, so each colour group of columns costs two evaluations of phi. M is factored by LU
+ * (lu.c): written out for small dense models, GSL's banded LU otherwise (dense is the band
+ * n - 1).
  *
  * M is rebuilt at every iterate (Newton, quadratic convergence) except after an update below
  * reuse_below (1 + ||y||): by then the iterate is within about L 1e-10 of the root (L = h times

@@ -45,13 +45,13 @@ static int rel_degree_check(const sdae_model *m) {
   return sum == m->n_xi ? SDAE_OK : SDAE_ERR_REL_DEGREE;
 }
 
-static int baumgarte_check(const sdae_model *m, const sdae_options *o) {
+static int baumgarte_validate(const sdae_model *m, const sdae_options *o) {
   for (int j = 0; j < SDAE_MAX_REL_DEGREE; j++)
     if (!isfinite(o->baumgarte_alpha[j])) return SDAE_ERR_PARAM;
   return rel_degree_check(m);
 }
 
-static int none_check(const sdae_model *m, const sdae_options *o) {
+static int none_validate(const sdae_model *m, const sdae_options *o) {
   (void)o;
   return rel_degree_check(m);
 }
@@ -108,14 +108,14 @@ static int chain_update(sdae_stab_ctx *c, double T, const double *xi, double *xi
 
 static const sdae_stabilizer_type none = {
     .name = "none",
-    .check = none_check,
+    .validate = none_validate,
     .carve = chain_carve,
     .xi_update = chain_update,
 };
 
 static const sdae_stabilizer_type baumgarte = {
     .name = "baumgarte",
-    .check = baumgarte_check,
+    .validate = baumgarte_validate,
     .carve = chain_carve,
     .xi_update = chain_update,
 };

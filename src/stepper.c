@@ -36,8 +36,8 @@ static int validate(const sdae_model *m, const sdae_options *o) {
   if (!positive_finite(o->delta) || !positive_finite(o->epsilon)) return SDAE_ERR_PARAM;
   if (!positive_finite(o->newton_tol) || o->newton_max_iter == 0) return SDAE_ERR_PARAM;
   if (!o->map) return SDAE_ERR_MAP;
-  if (o->map->check && (rc = o->map->check(m)) != SDAE_OK) return rc;
-  return stab->check ? stab->check(m, o) : SDAE_OK;
+  if (o->map->needs && (rc = o->map->needs(m)) != SDAE_OK) return rc;
+  return stab->validate ? stab->validate(m, o) : SDAE_OK;
 }
 
 /* ---- workspace: [struct][doubles][unsigned pivots], one block; each part takes its own ---- */
@@ -160,7 +160,7 @@ static void count(sdae_stepper *s) {
   s->newton.iters = 0;
 }
 
-static int check_call(const sdae_stepper *s, double t, const double *xi, const double *mu) {
+static int call_status(const sdae_stepper *s, double t, const double *xi, const double *mu) {
   if (!s || !xi || !mu) return SDAE_ERR_NULL;
   if (!isfinite(t)) return SDAE_ERR_PARAM;
   if (!sdae__all_finite(xi, s->model.n_xi) || !sdae__all_finite(mu, s->model.n_mu))
@@ -180,7 +180,7 @@ static int step(sdae_stepper *s, double t, double T, const double *xi, const dou
 }
 
 int sdae_step(sdae_stepper *s, double t, double T, double *xi, double *mu) {
-  int rc = check_call(s, t, xi, mu);
+  int rc = call_status(s, t, xi, mu);
   if (rc != SDAE_OK) return rc;
   if (!positive_finite(T)) return SDAE_ERR_STEP;
   rc = step(s, t, T, xi, mu);
@@ -194,7 +194,7 @@ int sdae_step(sdae_stepper *s, double t, double T, double *xi, double *mu) {
 
 int sdae_stepper_gains(sdae_stepper *s, double t, const double *xi, const double *mu,
                        double *k) {
-  int rc = check_call(s, t, xi, mu);
+  int rc = call_status(s, t, xi, mu);
   if (rc != SDAE_OK) return rc;
   if (!k) return SDAE_ERR_NULL;
   if ((rc = sdae__eval_Q(&s->model, s->Q, t, xi, mu, s->Qxi, s->qnorm2)) != SDAE_OK) return rc;

@@ -251,8 +251,27 @@ START_TEST(dgrad_hessian_spares_evaluations) {
 }
 END_TEST
 
+/* Every map is found by its own name, and declares the order of accuracy its construction gives
+ * (euler 1; midpoint and Gonzalez's discrete gradient 2, both symmetric; the triple jump 4;
+ * s9odr6a 6); the order tests above measure the same numbers. */
+START_TEST(maps_by_name_and_order) {
+  const sdae_map_type *maps[6] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
+                                  sdae_map_user,  sdae_map_dg4,      sdae_map_dg6};
+  const unsigned order[6] = {1, 2, 2, 0, 4, 6};
+  for (int i = 0; i < 6; i++) {
+    ck_assert_ptr_eq(sdae_map_by_name(sdae_map_name(maps[i])), maps[i]);
+    ck_assert_uint_eq(sdae_map_order(maps[i]), order[i]);
+  }
+  ck_assert_ptr_null(sdae_map_by_name("dg"));
+  ck_assert_ptr_null(sdae_map_by_name(NULL));
+  ck_assert_str_eq(sdae_map_name(NULL), "(none)");
+  ck_assert_uint_eq(sdae_map_order(NULL), 0);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("maps");
+  ADD_CASE(s, maps_by_name_and_order);
   ADD_CASE(s, order_euler_is_1);
   ADD_CASE(s, order_midpoint_is_2);
   ADD_CASE(s, order_dgrad_is_2);
