@@ -11,15 +11,11 @@
 #include "alloc.h"
 #include "internal.h"
 #include "simplex.h"
-#include "sizes.h"
 
 #define CANDIDATES 3     /* grid points refined per gain */
 #define SIMPLEX_STEP 0.2 /* the first simplex: u and u + 0.2 e_j, in the sin-mapped coordinates */
 #define SIMPLEX_SIZE 1e-12
 #define SIMPLEX_ITER 1000
-
-/* the block holds the doubles, then the size_t arrays */
-_Static_assert(sizeof(double) % _Alignof(size_t) == 0, "size_t arrays after the doubles");
 
 typedef struct search {
   sdae_stepper *s;
@@ -130,33 +126,30 @@ static int check_box(size_t dim, const double *lo, const double *hi, size_t *n_f
   return SDAE_OK;
 }
 
-/* bytes of the search's block; SIZE_MAX when they do not fit in size_t */
-static size_t block_bytes(size_t n_xi, size_t dim, size_t n_free) {
-  size_t nd = sdae__size_mad(0, 2, dim), ns = sdae__size_mad(n_free, 1, n_free + 1), work;
-  nd = sdae__size_mad(nd, 1, n_xi);
-  nd = sdae__size_mad(nd, sdae__size_mad(0, n_xi, CANDIDATES), sdae__size_mad(1, 1, dim));
-  nd = sdae__size_mad(nd, 1, n_free);
-  if (n_free > 0) {
-    if ((work = sdae__simplex_work(n_free)) == 0) return SIZE_MAX;
-    nd = sdae__size_mad(nd, 1, work);
-  }
-  return sdae__size_mad(sdae__size_mad(0, nd, sizeof(double)), ns, sizeof(size_t));
+/* the search's arrays, counted or handed out (arena.c) */
+static void carve(search *S, sdae_arena *a) {
+  size_t n_xi = S->s->model.n_xi;
+  S->z = sdae__take(a, S->dim, 1);
+  S->z0 = sdae__take(a, S->dim, 1);
+  S->k = sdae__take(a, n_xi, 1);
+  S->best = sdae__take(a, n_xi * CANDIDATES, 1 + S->dim);
+  S->u = sdae__take(a, S->n_free, 1);
+  S->simplex = sdae__take(a, S->n_free > 0 ? sdae__simplex_work(S->n_free) : 0, 1);
+  S->free = sdae__take_array(a, S->n_free, sizeof(size_t), _Alignof(size_t));
+  S->digit = sdae__take_array(a, S->n_free + 1, sizeof(size_t), _Alignof(size_t));
 }
 
-static void carve(search *S, void *block) {
-  double *p = block;
-  size_t n_xi = S->s->model.n_xi, *q;
-  S->z = p, p += S->dim;
-  S->z0 = p, p += S->dim;
-  S->k = p, p += n_xi;
-  S->best = p, p += n_xi * CANDIDATES * (1 + S->dim);
-  S->u = p, p += S->n_free;
-  S->simplex = p, p += S->n_free > 0 ? sdae__simplex_work(S->n_free) : 0;
-  q = (size_t *)p;
-  S->free = q, q += S->n_free;
-  S->digit = q;
+/* the block from the stepper's allocator, carved; the free coordinates listed */
+static int take_block(search *S, void **block, size_t *bytes) {
+  sdae_arena a = {0};
+  carve(S, &a);
+  if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(*block = sdae__alloc(&S->s->allocator, *bytes))) return SDAE_ERR_NOMEM;
+  a = (sdae_arena){*block, 0, 0};
+  carve(S, &a);
   for (size_t j = 0, f = 0; j < S->dim; j++)
     if (S->lo[j] < S->hi[j]) S->free[f++] = j;
+  return SDAE_OK;
 }
 
 static void report(const search *S, double *sup_i, double *argmax, sdae_certificate *c) {
@@ -186,9 +179,7 @@ int sdae_certify_box(sdae_stepper *s, double t, const double *lo, const double *
   S.s = s, S.t = t, S.lo = lo, S.hi = hi;
   S.dim = s->model.n_xi + s->model.n_mu;
   if ((rc = check_box(S.dim, lo, hi, &S.n_free)) != SDAE_OK) return rc;
-  if ((bytes = block_bytes(s->model.n_xi, S.dim, S.n_free)) == SIZE_MAX) return SDAE_ERR_OVERFLOW;
-  if (!(block = sdae__alloc(&s->allocator, bytes))) return SDAE_ERR_NOMEM;
-  carve(&S, block);
+  if ((rc = take_block(&S, &block, &bytes)) != SDAE_OK) return rc;
   for (size_t i = 0; i < s->model.n_xi * CANDIDATES; i++) S.best[i * (1 + S.dim)] = -INFINITY;
   scan_grid(&S, grid);
   if (S.status == SDAE_OK) refine_all(&S);

@@ -15,7 +15,6 @@
 
 #include "alloc.h"
 #include "internal.h"
-#include "sizes.h"
 
 typedef struct work {
   const sdae_model *model;
@@ -207,38 +206,31 @@ static int run(work *w, const double *lo, const double *hi, size_t npoints, unsi
   return rc;
 }
 
-/* doubles of the work arrays (z, x, z2, J, F, G, q0, Q, Qxi, qn2, LU, dx, fa, fb) */
-static size_t doubles(size_t n, size_t m, size_t n_xi, size_t n_mu) {
-  size_t nd = sdae__size_mad(0, 7, n);
-  nd = sdae__size_mad(nd, n, n);
-  nd = sdae__size_mad(nd, n, m);
-  nd = sdae__size_mad(nd, 2, n_mu);
-  nd = sdae__size_mad(nd, n_mu, n_xi);
-  nd = sdae__size_mad(nd, 1, n_xi);
-  return sdae__size_mad(nd, n, sdae__lu_band_cols(n - 1, n - 1));
-}
-
-/* One block: the generator's state, the doubles, the pivots, the chain marks; each part starts
- * aligned for any type. SIZE_MAX when it does not fit in size_t. */
-static size_t block_bytes(size_t nd, size_t n, size_t n_xi) {
-  const size_t al = _Alignof(max_align_t);
-  size_t b = sdae__size_align(gsl_rng_mt19937->size, al);
-  b = sdae__size_align(sdae__size_mad(b, nd, sizeof(double)), al);
-  b = sdae__size_align(sdae__size_mad(b, n, sizeof(unsigned)), al);
-  return sdae__size_mad(b, n_xi, 1);
-}
-
-static void carve(work *w, char *block, size_t nd) {
-  const size_t al = _Alignof(max_align_t);
+/* the generator's state and the work arrays, counted or handed out (arena.c) */
+static void carve(work *w, sdae_arena *a) {
   size_t n = w->n, n_xi = w->n_xi, n_mu = w->n_mu;
-  double *p = (double *)(block + sdae__size_align(gsl_rng_mt19937->size, al));
-  w->rng.type = gsl_rng_mt19937, w->rng.state = block;
-  w->z = p, p += n, w->x = p, p += n, w->z2 = p, p += n, w->J = p, p += n * n, w->F = p, p += n;
-  w->G = p, p += n * w->dae->m, w->q0 = p, p += n_mu, w->Q = p, p += n_mu * n_xi, w->Qxi = p;
-  p += n_mu, w->qn2 = p, p += n_xi, w->LU = p, p += n * sdae__lu_band_cols(n - 1, n - 1);
-  w->dx = p, p += n, w->fa = p, p += n, w->fb = p;
-  w->piv = (unsigned *)((char *)w->z + sdae__size_align(nd * sizeof(double), al));
-  w->chain_last = (unsigned char *)w->piv + sdae__size_align(n * sizeof(unsigned), al);
+  w->rng.type = gsl_rng_mt19937;
+  w->rng.state = sdae__take_array(a, 1, gsl_rng_mt19937->size, _Alignof(max_align_t));
+  w->z = sdae__take(a, n, 1), w->x = sdae__take(a, n, 1), w->z2 = sdae__take(a, n, 1);
+  w->J = sdae__take(a, n, n), w->F = sdae__take(a, n, 1), w->G = sdae__take(a, n, w->dae->m);
+  w->q0 = sdae__take(a, n_mu, 1), w->Q = sdae__take(a, n_mu, n_xi);
+  w->Qxi = sdae__take(a, n_mu, 1), w->qn2 = sdae__take(a, n_xi, 1);
+  w->LU = sdae__take(a, n, sdae__lu_band_cols(n - 1, n - 1));
+  w->dx = sdae__take(a, n, 1), w->fa = sdae__take(a, n, 1), w->fb = sdae__take(a, n, 1);
+  w->piv = sdae__take_pivots(a, n);
+  w->chain_last = sdae__take_array(a, n_xi, 1, 1);
+}
+
+/* the block from the allocator, zeroed and carved */
+static int take_block(work *w, const sdae_allocator *al, char **block, size_t *bytes) {
+  sdae_arena a = {0};
+  carve(w, &a);
+  if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(*block = sdae__alloc(al, *bytes))) return SDAE_ERR_NOMEM;
+  memset(*block, 0, *bytes);
+  a = (sdae_arena){*block, 0, 0};
+  carve(w, &a);
+  return SDAE_OK;
 }
 
 int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
@@ -246,18 +238,14 @@ int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t
                           unsigned long seed, double tol, const sdae_allocator *a,
                           sdae_check_report *r) {
   int rc = validate(model, dae, lo, hi, tol, r);
-  size_t nd, bytes;
+  size_t bytes;
   char *block;
   work w = {0};
   if (rc != SDAE_OK) return rc;
   if (dae->n > SIZE_MAX / 4) return SDAE_ERR_OVERFLOW; /* keeps LU's 3 n - 2 columns exact */
-  nd = doubles(dae->n, dae->m, model->n_xi, model->n_mu);
-  if ((bytes = block_bytes(nd, dae->n, model->n_xi)) == SIZE_MAX) return SDAE_ERR_OVERFLOW;
-  if (!(block = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
-  memset(block, 0, bytes);
   w.model = model, w.dae = dae, w.t = t, w.n = dae->n, w.n_xi = model->n_xi;
   w.n_mu = model->n_mu;
-  carve(&w, block, nd);
+  if ((rc = take_block(&w, a, &block, &bytes)) != SDAE_OK) return rc;
   mark_chains(model, w.chain_last);
   memset(r->residual, 0, sizeof r->residual);
   r->points = 0, r->worst_check = 0, r->worst_index = 0;

@@ -17,17 +17,18 @@ static inline int sdae__banded(const sdae_model *m, const sdae_options *o) {
   return o->bandwidth > 0 && o->bandwidth < m->n_mu - 1;
 }
 
-/* ---- workspace (arena.c): one walk over the arrays serves twice: with no base it only counts
- * (overflow-checked), with a base it hands out the pointers ---- */
+/* ---- arena.c: one block handed out array by array; the same walk, without a base, only
+ * counts (overflow-checked) ---- */
 typedef struct sdae_arena {
-  double *dbase;
-  unsigned *ubase;
-  size_t nd, nu;
+  char *base; /* NULL: count only; else aligned for any type */
+  size_t used;
   int overflow;
 } sdae_arena;
+/* n elements of size bytes, aligned to align (a power of two) */
+void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align);
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
 unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
-/* header + the counted arrays, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
+/* header + the arrays counted, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
 int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes);
 
 /* ---- newton.c: solves y = x + h (phi(x, y) + shift) for y (shift may be NULL), from y ---- */

@@ -20,7 +20,8 @@ typedef struct nm {
 } nm;
 
 size_t sdae__simplex_work(size_t n) {
-  if (n == 0 || n > SIZE_MAX / 4 - 1 || n + 1 > (SIZE_MAX - 3 * n) / (n + 1)) return 0;
+  if (n == 0) return 0;
+  if (n > SIZE_MAX / 4 - 1 || n + 1 > (SIZE_MAX - 3 * n) / (n + 1)) return SIZE_MAX;
   return (n + 1) * (n + 1) + 3 * n;
 }
 

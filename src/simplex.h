@@ -8,8 +8,8 @@
  * the search and is returned by sdae__simplex_minimize */
 typedef int (*sdae__simplex_fn)(const double *u, double *value, void *data);
 
-/* doubles of work sdae__simplex_minimize needs for n unknowns, (n + 1)^2 + 3 n, or 0 when
- * that overflows size_t */
+/* doubles of work sdae__simplex_minimize needs for n unknowns, (n + 1)^2 + 3 n (0 for n = 0),
+ * or SIZE_MAX when that overflows size_t */
 size_t sdae__simplex_work(size_t n);
 
 /* Minimizes f from the simplex u, u + step e_j (j < n) until the vertices' RMS distance from

@@ -40,7 +40,7 @@ static int validate(const sdae_model *m, const sdae_options *o) {
   return stab->validate ? stab->validate(m, o) : SDAE_OK;
 }
 
-/* ---- workspace: [struct][doubles][unsigned pivots], one block; each part takes its own ---- */
+/* ---- workspace: the struct, then its arrays, one block; each part takes its own ---- */
 
 static void carve(sdae_stepper *s, sdae_arena *a) {
   const sdae_model *m = &s->model;
@@ -91,11 +91,8 @@ size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
 static sdae_stepper *build(void *mem, const sdae_model *m, const sdae_options *o) {
   uintptr_t al = alignof(max_align_t), p = ((uintptr_t)mem + al - 1) / al * al;
   sdae_stepper *s = (sdae_stepper *)p;
-  sdae_arena count = {0}, a = {0};
+  sdae_arena a = {(char *)s + header_bytes(), 0, 0};
   wire(s, m, o);
-  carve(s, &count);
-  a.dbase = (double *)((char *)s + header_bytes());
-  a.ubase = (unsigned *)(a.dbase + count.nd);
   carve(s, &a);
   s->stab.qnorm2 = s->qnorm2;
   return s;
