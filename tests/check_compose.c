@@ -28,7 +28,10 @@ static double power_sum(const sdae_map_type *map, int k, double *bound) {
 /* c_i = sum_{j<i} g_j - sum_{j>i} g_j: where stage i sits in the step, from its centre */
 static double centre_offset(const sdae_map_type *map, size_t i) {
   double c = 0.0;
-  for (size_t j = 0; j < map->stages; j++) c += j < i ? map->gamma[j] : j > i ? -map->gamma[j] : 0.0;
+  for (size_t j = 0; j < map->stages; j++) {
+    if (j < i) c += map->gamma[j];
+    if (j > i) c -= map->gamma[j];
+  }
   return c;
 }
 
@@ -50,7 +53,8 @@ static void expect_symmetric_consistent(const sdae_map_type *map, size_t stages)
   double bound, sum;
   ck_assert_uint_eq(map->stages, stages);
   ck_assert_ptr_eq(map->base, sdae_map_dgrad); /* the symmetric discrete gradient */
-  for (size_t i = 0; i < stages; i++) ck_assert_double_eq(map->gamma[i], map->gamma[stages - 1 - i]);
+  for (size_t i = 0; i < stages; i++)
+    ck_assert_double_eq(map->gamma[i], map->gamma[stages - 1 - i]);
   sum = power_sum(map, 1, &bound);
   ck_assert_double_le(fabs(sum - 1.0), bound);
 }

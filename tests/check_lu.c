@@ -132,7 +132,8 @@ END_TEST
  * digits, so elimination leaves pivots of rounding size (about eps |A|), not exact zeros;
  * the test |u_kk| > n eps max|a_ij| must refuse them at every scale s, on both paths. */
 START_TEST(rank_one_to_rounding_is_singular) {
-  const double u[4] = {0.1, 0.7, 0.3, 0.9}, v[4] = {0.3, 0.9, 0.7, 0.1}, scale[3] = {1e-150, 1.0, 1e150};
+  const double u[4] = {0.1, 0.7, 0.3, 0.9}, v[4] = {0.3, 0.9, 0.7, 0.1};
+  const double scale[3] = {1e-150, 1.0, 1e150};
   const double b[4] = {1, 1, 1, 1};
   for (size_t n = 2; n <= NMAX; n++)
     for (int k = 0; k < 3; k++) {
