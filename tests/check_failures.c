@@ -175,6 +175,89 @@ START_TEST(user_callbacks_fail_cleanly) {
 }
 END_TEST
 
+/* ---- the banded Newton: a chain of n_mu = 6, mu' = a(t) K mu with K tridiagonal and skew
+ * (K_{i,i+1} = 1, K_{i+1,i} = -1), H = |mu|^2/2, S = a(t) K by S_apply: d phi/d mu+ has band 1,
+ * so bandwidth 1 builds Newton's matrix from 2 (2 + 1) evaluations in GSL's band storage ---- */
+enum { CHAIN = 6 };
+
+static void chain_apply(double t, const double *v, double *out) {
+  for (int i = 0; i < CHAIN; i++)
+    out[i] = (1.0 + t) * ((i + 1 < CHAIN ? v[i + 1] : 0.0) - (i > 0 ? v[i - 1] : 0.0));
+}
+static int c_q0(double t, const double *mu, double *out, void *p) {
+  (void)p;
+  chain_apply(t, mu, out);
+  return fault(Q0, 0, out);
+}
+static int c_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qn2,
+                     void *p) {
+  (void)mu, (void)p;
+  for (int i = 0; i < CHAIN; i++) Qxi[i] = i == 0 ? (1.0 + t) * xi[0] : 0.0;
+  qn2[0] = (1.0 + t) * (1.0 + t);
+  return fault(Q_APPLY, 0, Qxi);
+}
+static int c_H(double t, const double *mu, double *out, void *p) {
+  double h = 0.0;
+  (void)t, (void)p;
+  for (int i = 0; i < CHAIN; i++) h += 0.5 * mu[i] * mu[i];
+  out[0] = h;
+  return fault(H, 0, out);
+}
+static int c_grad_H(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  memcpy(out, mu, CHAIN * sizeof *mu);
+  return fault(GRAD_H, 0, out);
+}
+static int c_S_apply(double t, const double *mu, const double *v, double *out, void *p) {
+  (void)mu, (void)p;
+  chain_apply(t, v, out);
+  return fault(S_APPLY, 0, out);
+}
+
+/* every call of every callback failing each way, the state bit for bit as it was */
+static void every_fault_banded(const sdae_map_type *map, long *injected) {
+  sdae_model m = {.n_xi = 1, .n_mu = CHAIN, .q0 = c_q0, .Q_apply = c_Q_apply, .H = c_H,
+                  .grad_H = c_grad_H, .S_apply = c_S_apply};
+  sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
+  const double mu0[CHAIN] = {0.6, -0.8, 0.3, 0.1, -0.2, 0.5};
+  sdae_stepper *s;
+  double xi[1], mu[CHAIN];
+  long clean[NCB] = {0};
+  o.bandwidth = 1;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  F.which = -1;
+  for (int cb = -1; cb < NCB; cb++)
+    for (long at = 0; at < (cb < 0 ? 1 : clean[cb]); at++)
+      for (int mode = 0; mode < (cb < 0 ? 1 : NMODE); mode++) {
+        F.which = cb, F.mode = mode, F.at = at;
+        xi[0] = 0.3, memcpy(mu, mu0, sizeof mu);
+        memset(F.calls, 0, sizeof F.calls);
+        int rc = sdae_step(s, 0.5, 0.1, xi, mu);
+        if (cb < 0) { /* the clean step: count the calls */
+          ck_assert_int_eq(rc, SDAE_OK);
+          memcpy(clean, F.calls, sizeof clean);
+          continue;
+        }
+        ck_assert_msg(rc == expected[mode], "%s banded: %s call %ld mode %d gave %d",
+                      sdae_map_name(map), cb_name[cb], at, mode, rc);
+        ck_assert_int_eq(xi[0] == 0.3 && memcmp(mu, mu0, sizeof mu) == 0, 1);
+        injected[cb]++;
+      }
+  F.which = -1;
+  sdae_stepper_free(s);
+}
+
+/* midpoint, dgrad and dg4 on the band: q0 (midpoint) or H, grad_H, S_apply inside the
+ * finite-difference columns, and Q_apply */
+START_TEST(banded_callbacks_fail_cleanly) {
+  long inj[NCB] = {0};
+  every_fault_banded(sdae_map_midpoint, inj);
+  every_fault_banded(sdae_map_dgrad, inj);
+  every_fault_banded(sdae_map_dg4, inj);
+  expect_covered(inj, (const int[]){Q0, Q_APPLY, H, GRAD_H, S_APPLY}, 5);
+}
+END_TEST
+
 /* A fault in sdae_stepper_gains' only callback (Q or Q_apply) is its status too. */
 START_TEST(gains_callback_fails_cleanly) {
   for (int with = 0; with <= WITH_Q_APPLY; with += WITH_Q_APPLY)
@@ -244,6 +327,7 @@ int main(void) {
   ADD_CASE(s, dgrad_callbacks_fail_cleanly);
   ADD_CASE(s, composed_callbacks_fail_cleanly);
   ADD_CASE(s, user_callbacks_fail_cleanly);
+  ADD_CASE(s, banded_callbacks_fail_cleanly);
   ADD_CASE(s, gains_callback_fails_cleanly);
   ADD_CASE(s, infinite_gain_is_refused);
   ADD_CASE(s, overflowing_xi_scheme11);
