@@ -6,6 +6,7 @@
 #include <stabdae/stabdae.h>
 
 #include "quartic.h"
+#include "rotation.h"
 
 /* options with the map and scheme as given, the rest default */
 sdae_options quartic_options(const sdae_map_type *map, sdae_scheme scheme);
