@@ -25,8 +25,11 @@ void sdae__lu_pack(const double *A, size_t n, size_t lb, size_t ub, double *AB) 
   }
 }
 
-/* The largest |entry| of the band: the scale of the singularity test. Written out rather than
- * with fmax, which the compiler must call (NaN rules); NaN entries are skipped as fmax does. */
+/* The largest |entry| of the band: the scale of the singularity test, which is normwise. A pivot
+ * |u_kk| <= n eps max|a_ij| is zero to working precision: A is then within a relative
+ * perturbation of n eps of a singular matrix (its condition number is above about 1/(n eps)),
+ * however its rows are scaled. Written out rather than with fmax, which the compiler must call
+ * (NaN rules); NaN entries are skipped as fmax does. */
 static double band_scale(const double *AB, size_t n, size_t lb, size_t ld) {
   double scale = 0.0;
   for (size_t j = 0; j < n; j++)

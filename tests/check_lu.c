@@ -100,17 +100,24 @@ START_TEST(larger_than_small_is_refused) {
 }
 END_TEST
 
-/* Badly scaled but far from singular: A = [[1, 1], [1e10, 0]] (det = -1e10, cond_inf about
- * 1e10): partial pivoting takes the row 1e10 first, U = [[1e10, 0], [0, 1]], every operation
- * exact, so A x = (2, 1e10) gives x = (1, 1) exactly on both paths. */
+/* Badly scaled: A = [[1, 1], [s, 0]], det = -s, normwise condition number about s. Partial
+ * pivoting gives U = [[s, 0], [0, 1]] with every operation exact. The singularity test is
+ * normwise (a pivot below n eps max|a_ij| is zero to working precision: A is then within a
+ * relative perturbation n eps of a singular matrix), so A is solved exactly, x = (1, 1) from
+ * b = (2, s), while s < 1/(2 eps) = 2.3e15, and refused beyond, on both paths alike. */
 START_TEST(badly_scaled_solves_exactly) {
-  const double A[4] = {1, 1, 1e10, 0}, b[2] = {2, 1e10};
-  double x[2] = {0, 0}, y[2] = {0, 0};
-  ck_assert_int_eq(small_solve(A, 2, b, x), SDAE_OK);
-  ck_assert_int_eq(gsl_solve(A, 2, b, y), SDAE_OK);
-  for (int i = 0; i < 2; i++) {
-    ck_assert_double_eq(x[i], 1.0);
-    ck_assert_double_eq(y[i], 1.0);
+  const double s[4] = {1e10, 1e15, 1e16, 1e20};
+  const int solved[4] = {1, 1, 0, 0};
+  for (int k = 0; k < 4; k++) {
+    const double A[4] = {1, 1, s[k], 0}, b[2] = {2, s[k]};
+    double x[2] = {0, 0}, y[2] = {0, 0};
+    int want = solved[k] ? SDAE_OK : SDAE_ERR_SINGULAR;
+    ck_assert_int_eq(small_solve(A, 2, b, x), want);
+    ck_assert_int_eq(gsl_solve(A, 2, b, y), want);
+    for (int i = 0; i < 2 && solved[k]; i++) {
+      ck_assert_double_eq(x[i], 1.0);
+      ck_assert_double_eq(y[i], 1.0);
+    }
   }
 }
 END_TEST
