@@ -23,7 +23,7 @@ typedef struct search {
   const double *lo, *hi;
   size_t dim, n_free, *free; /* the coordinates with lo < hi */
   size_t *digit;             /* n_free + 1: the grid's odometer */
-  double *z, *k, *z0;        /* dim, n_xi, dim */
+  double *z, *k, *z0;        /* dim, n_xi, CANDIDATES x dim: the starts of the refinements */
   double *best;              /* n_xi x CANDIDATES x (1 + dim): value, then the point */
   double *u, *simplex;       /* n_free, sdae__simplex_work(n_free) */
   size_t i;                  /* the gain being refined */
@@ -106,14 +106,17 @@ static void refine(search *S, const double *z0) {
                                SIMPLEX_ITER, S->simplex);
 }
 
+/* from each of the grid's best points for gain i, copied first: the refinements offer their
+ * own points and would push the later starts out of the slots */
 static void refine_all(search *S) {
   if (S->n_free == 0) return;
-  for (S->i = 0; S->status == SDAE_OK && S->i < S->s->model.n_xi; S->i++)
-    for (size_t c = 0; c < CANDIDATES && S->status == SDAE_OK; c++) {
-      if (!isfinite(slot(S, S->i, c)[0])) continue;
-      memcpy(S->z0, slot(S, S->i, c) + 1, S->dim * sizeof *S->z0); /* offer() may move the slot */
-      refine(S, S->z0);
-    }
+  for (S->i = 0; S->status == SDAE_OK && S->i < S->s->model.n_xi; S->i++) {
+    size_t starts = 0;
+    for (size_t c = 0; c < CANDIDATES; c++)
+      if (isfinite(slot(S, S->i, c)[0]))
+        memcpy(S->z0 + starts++ * S->dim, slot(S, S->i, c) + 1, S->dim * sizeof *S->z0);
+    for (size_t c = 0; c < starts && S->status == SDAE_OK; c++) refine(S, S->z0 + c * S->dim);
+  }
 }
 
 /* SDAE_OK and the number of free coordinates (lo < hi), or SDAE_ERR_PARAM */
@@ -130,7 +133,7 @@ static int check_box(size_t dim, const double *lo, const double *hi, size_t *n_f
 static void carve(search *S, sdae_arena *a) {
   size_t n_xi = S->s->model.n_xi;
   S->z = sdae__take(a, S->dim, 1);
-  S->z0 = sdae__take(a, S->dim, 1);
+  S->z0 = sdae__take(a, CANDIDATES, S->dim);
   S->k = sdae__take(a, n_xi, 1);
   S->best = sdae__take(a, n_xi * CANDIDATES, 1 + S->dim);
   S->u = sdae__take(a, S->n_free, 1);

@@ -22,15 +22,16 @@ int sdae_cond18_init(sdae_cond18 *c, size_t n_mu,
   return SDAE_OK;
 }
 
-/* mean over the components that moved of (W(mu+) - W(mu)) / (mu_i+ - mu_i), eq. 16-17 */
+/* (1/n_mu) sum_i (W(mu+) - W(mu)) / (mu_i+ - mu_i), eq. 16-17: the paper divides by n - r,
+ * all of mu's components; one that did not move adds 0 (in (16) its term carries
+ * phi_T,i = 0) */
 static double mean_quotient(const sdae_cond18 *c, const double *mu, double dW) {
   double sum = 0.0;
-  size_t n = 0;
   for (size_t i = 0; i < c->n_mu; i++) {
     double d = mu[i] - c->mu_prev[i];
-    if (d != 0.0) sum += dW / d, n++;
+    if (d != 0.0) sum += dW / d;
   }
-  return n ? sum / (double)c->n_mu : 0.0;
+  return sum / (double)c->n_mu;
 }
 
 static void measure_step(sdae_cond18 *c, double t, const double *mu, double W) {

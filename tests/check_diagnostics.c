@@ -137,6 +137,28 @@ END_TEST
 /* A box that is a point: nothing to search, the sup is the value there (g = 4/(1 + q), q at
  * the corner (1, 1, 1, 1) by hand: d = (0.7, 1.4, 0.85, 0.45), q = d^T A d = 6.07325,
  * -k = 2/(1 + q) + 1), after at least one evaluation (grid^0). */
+/* h (1 - ((x - c)/w)^2)^2 on |x - c| < w, 0 outside: C1, maximum h at c */
+static double bump(double x, double c, double w, double h) {
+  double u = (x - c) / w;
+  return fabs(u) < 1.0 ? h * (1.0 - u * u) * (1.0 - u * u) : 0.0;
+}
+
+/* mu in [0, 1]: a broad bump of height 1 at 0.25 and a narrow one of 1.5 at 0.6. The 5-point
+ * grid (0, 0.25, 0.5, 0.75, 1) sees 1 at 0.25 (the lower peak is its best point) and only
+ * 1.5 (1 - (0.1/0.15)^2)^2 = 0.463 at 0.5, on the higher one's slope: the sup -k_1 = 1.5/2 + 1
+ * = 1.75 at mu = 0.6 is for the refinement from the second-best point to find. */
+static double two_peaks(const double *z) {
+  return bump(z[1], 0.25, 0.2, 1.0) + bump(z[1], 0.6, 0.15, 1.5);
+}
+
+START_TEST(certify_finds_higher_of_two_peaks) {
+  double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 1.0}, argmax[2];
+  sdae_certificate c = certify(two_peaks, 1, lo, hi, 5, 1, argmax);
+  ck_assert_double_le(fabs(c.sup_neg_k - 1.75), 1e-8); /* the value is second order in mu */
+  ck_assert_double_le(fabs(argmax[1] - 0.6), 1e-4);
+}
+END_TEST
+
 START_TEST(certify_point_box) {
   double lo[4] = {1, 1, 1, 1}, argmax[4];
   sdae_certificate c = certify(interior_peak, 3, lo, lo, 3, 0, argmax);
@@ -214,6 +236,7 @@ int main(void) {
   ADD_CASE(s, cond17_divides_by_n_mu);
   ADD_CASE(s, cond17_both_components_and_zero_W);
   ADD_CASE(s, certify_interior_sup_in_4d);
+  ADD_CASE(s, certify_finds_higher_of_two_peaks);
   ADD_CASE(s, certify_point_box);
   ADD_CASE(s, check_model_inverts_nonlinear_Phi);
   return run_suite(s);
