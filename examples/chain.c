@@ -12,8 +12,8 @@
 #include "chain_model.h"
 #include "cli.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4, MAP_DG6 };
+/* the model has no user map (user_phi) */
+static const char *const map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
 /* keeps 4N doubles of state far inside size_t and memory on any machine that runs this */
 #define CHAIN_MAX_N 100000000u
 
@@ -42,7 +42,7 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
   *a = (chain_args){.p = {10, 2.0, 1.0, 0.03, 1.0, 9.81, NULL},
                     .seed = 1,
                     .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
-                          .scheme = 1, .map = MAP_EULER, .every = 1}};
+                          .scheme = 1, .map = sdae_map_euler, .every = 1}};
   const cli_flag model_flags[8] = {
       {"N", CLI_COUNT, &a->p.N, NULL, 0, "number of masses"},
       {"k", CLI_REAL, &a->p.k, NULL, 0, "anchor spring constant (force -k X_i^3)"},
@@ -56,7 +56,7 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
   };
   for (size_t i = 0; i < 8; i++) a->flags[i] = model_flags[i];
   a->nflags = 8 + cli_run_flags(a->flags + 8, &a->run, map_choices,
-                                "mu-map (midpoint and dg use dense N x N algebra)");
+                                "mu-map (midpoint and dgrad use dense N x N algebra)");
   int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
   if (rc != CLI_OK) return rc;
   if (a->p.N > CHAIN_MAX_N) {
@@ -80,16 +80,6 @@ static int chain_row(FILE *f, double t, const double *xi, const double *mu, unsi
   return cli_csv_row(f, v, 4, iters);
 }
 
-static const sdae_map_type *chain_map(int map) {
-  switch (map) {
-  case MAP_EULER: return sdae_map_euler;
-  case MAP_MIDPOINT: return sdae_map_midpoint;
-  case MAP_DG4: return sdae_map_dg4;
-  case MAP_DG6: return sdae_map_dg6;
-  default: return sdae_map_dgrad;
-  }
-}
-
 /* x from --x0 (bad input: exit 2) or the seeded random start (out of memory: exit 1) */
 static int chain_start(const chain_args *a, double *x) {
   char err[CLI_ERR_LEN];
@@ -111,7 +101,7 @@ static int run(chain_args *a, double *x, double *xi, double *mu) {
   }
   sdae_options_default(&opt);
   cli_run_options(&a->run, &opt);
-  opt.map = chain_map(a->run.map);
+  opt.map = a->run.map;
   opt.bandwidth = CHAIN_BANDWIDTH;
   chain_to_coords(&a->p, x, xi, mu);
   chain_row_ctx ctx = {&a->p, x};

@@ -91,17 +91,45 @@ int cli_parse_vector(const char *s, double *out, size_t n, const char *name, cha
   return CLI_OK;
 }
 
-static int parse_choice(const char *s, const cli_flag *fl, char *err, size_t errlen) {
-  for (int i = 0; fl->choices[i]; i++)
-    if (strcmp(s, fl->choices[i]) == 0) {
-      *(int *)fl->target = i;
-      return CLI_OK;
-    }
-  char list[128] = "";
-  for (int i = 0; fl->choices[i]; i++) {
-    if (i) strncat(list, "|", sizeof list - strlen(list) - 1);
-    strncat(list, fl->choices[i], sizeof list - strlen(list) - 1);
+static int find_choice(const char *s, const char *const *choices) {
+  for (int i = 0; choices[i]; i++)
+    if (strcmp(s, choices[i]) == 0) return i;
+  return -1;
+}
+
+/* "a|b|c" */
+static void choice_list(const char *const *choices, char *list, size_t len) {
+  list[0] = '\0';
+  for (int i = 0; choices[i]; i++) {
+    if (i) strncat(list, "|", len - strlen(list) - 1);
+    strncat(list, choices[i], len - strlen(list) - 1);
   }
+}
+
+static int parse_choice(const char *s, const cli_flag *fl, char *err, size_t errlen) {
+  int i = find_choice(s, fl->choices);
+  if (i >= 0) {
+    *(int *)fl->target = i;
+    return CLI_OK;
+  }
+  char list[128];
+  choice_list(fl->choices, list, sizeof list);
+  return cli_fail(err, errlen, "--%s: unknown value '%s' (expected %s)", fl->name, s, list);
+}
+
+/* A map by the library's name; the program's choices are the maps its model can serve. */
+static int parse_map(const char *s, const cli_flag *fl, char *err, size_t errlen) {
+  const sdae_map_type *map = sdae_map_by_name(s);
+  if (map && find_choice(s, fl->choices) >= 0) {
+    *(const sdae_map_type **)fl->target = map;
+    return CLI_OK;
+  }
+  char list[128];
+  choice_list(fl->choices, list, sizeof list);
+  if (map)
+    return cli_fail(err, errlen,
+                    "--%s: '%s' needs callbacks this program's model does not give (expected %s)",
+                    fl->name, s, list);
   return cli_fail(err, errlen, "--%s: unknown value '%s' (expected %s)", fl->name, s, list);
 }
 
@@ -140,6 +168,8 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
   }
   case CLI_CHOICE:
     return parse_choice(s, fl, err, errlen);
+  case CLI_MAP:
+    return parse_map(s, fl, err, errlen);
   case CLI_VECTOR:
     return cli_parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
   case CLI_LIST:
@@ -198,7 +228,8 @@ static const char *kind_hint(const cli_flag *fl) {
   case CLI_NONNEG: return "X>=0";
   case CLI_COUNT: return "N>=1";
   case CLI_SEED: return "N";
-  case CLI_CHOICE: return "CHOICE";
+  case CLI_CHOICE:
+  case CLI_MAP: return "CHOICE";
   case CLI_VECTOR:
   case CLI_LIST: return "X,X,..";
   case CLI_PATH: return "FILE";
@@ -217,6 +248,9 @@ static void print_default(FILE *f, const cli_flag *fl) {
   case CLI_COUNT: fprintf(f, " [%zu]", *(const size_t *)fl->target); break;
   case CLI_SEED: fprintf(f, " [%lu]", *(const unsigned long *)fl->target); break;
   case CLI_CHOICE: fprintf(f, " [%s]", fl->choices[*(const int *)fl->target]); break;
+  case CLI_MAP:
+    fprintf(f, " [%s]", sdae_map_name(*(const sdae_map_type *const *)fl->target));
+    break;
   case CLI_VECTOR: {
     const double *v = fl->target;
     if (isnan(v[0])) break; /* a default computed from other flags, told in the help text */
@@ -243,7 +277,7 @@ void cli_usage(FILE *f, const char *prog, const char *summary, const cli_flag *f
     char head[48];
     snprintf(head, sizeof head, "--%s %s", flags[i].name, kind_hint(&flags[i]));
     fprintf(f, "  %-22s %s", head, flags[i].help);
-    if (flags[i].kind == CLI_CHOICE) {
+    if (flags[i].kind == CLI_CHOICE || flags[i].kind == CLI_MAP) {
       fputs(" (", f);
       for (int j = 0; flags[i].choices[j]; j++)
         fprintf(f, "%s%s", j ? "|" : "", flags[i].choices[j]);
@@ -279,7 +313,7 @@ size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices
       {"tf", CLI_NONNEG, &run->tf, NULL, 0, "final time (ceil(tf/T - 1e-9) steps)"},
       {"scheme", CLI_CHOICE, &run->scheme, cli_scheme_choices, 0,
        "discretization: eq. 11 explicit, eq. 15 semi-implicit"},
-      {"map", CLI_CHOICE, &run->map, map_choices, 0, map_help},
+      {"map", CLI_MAP, &run->map, map_choices, 0, map_help},
       {"stabilizer", CLI_CHOICE, &run->stabilizer, cli_stabilizer_choices, 0,
        "xi update: eq. 6, index reduction, Baumgarte (alpha 1,2)"},
       {"every", CLI_COUNT, &run->every, NULL, 0, "a row every N steps (t = 0 and the end too)"},

@@ -24,14 +24,15 @@ typedef enum cli_kind {
   CLI_LIST,     /* const char *: a list whose length the program checks (cli_parse_vector) */
   CLI_PATH,     /* const char *, non-empty */
   CLI_TEXT,     /* const char *, non-empty, parsed by the program (e.g. --box) */
-  CLI_SWITCH    /* int set to 1, takes no value */
+  CLI_SWITCH,   /* int set to 1, takes no value */
+  CLI_MAP       /* const sdae_map_type *: a library map name (sdae_map_by_name) among choices */
 } cli_kind;
 
 typedef struct cli_flag {
   const char *name; /* without the leading "--" */
   cli_kind kind;
   void *target;                /* double *, size_t *, unsigned long *, int *, const char ** */
-  const char *const *choices;  /* CLI_CHOICE: NULL-terminated list */
+  const char *const *choices;  /* CLI_CHOICE, CLI_MAP: NULL-terminated list */
   size_t n;                    /* CLI_VECTOR: number of values */
   const char *help;
 } cli_flag;
@@ -63,7 +64,7 @@ extern const char *const cli_stabilizer_choices[];
 typedef struct cli_run {
   double delta, eps, T, tf;
   int scheme;       /* index into cli_scheme_choices */
-  int map;          /* index into the program's map choices */
+  const sdae_map_type *map; /* one of the program's map choices */
   size_t every;     /* a CSV row every `every` steps, plus t = 0 and the last step */
   const char *out;  /* NULL: stdout */
   size_t nsteps;    /* set by cli_run_finish */
@@ -71,7 +72,9 @@ typedef struct cli_run {
 } cli_run;
 
 /* Appends the shared flags (--delta --eps --T --tf --scheme --map --stabilizer --every --out)
- * to dst, which has room for CLI_RUN_NFLAGS entries; returns the number appended. */
+ * to dst, which has room for CLI_RUN_NFLAGS entries; returns the number appended. map_choices
+ * are the library's names (sdae_map_name) of the maps the program's model can serve: another
+ * library map, or a name the library does not know, is bad input. */
 #define CLI_RUN_NFLAGS 9
 size_t cli_run_flags(cli_flag *dst, cli_run *run, const char *const *map_choices,
                      const char *map_help);

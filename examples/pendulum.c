@@ -11,8 +11,8 @@
 #include "cli.h"
 #include "pendulum_model.h"
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
-enum { MAP_EULER, MAP_MIDPOINT, MAP_DG, MAP_DG4, MAP_DG6 };
+/* the model has no user map (user_phi) */
+static const char *const map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
 
 typedef struct pend_args {
   pend_params p;
@@ -33,7 +33,7 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
   *a = (pend_args){.p = {1.0, 1.0, 9.81},
                    .x0 = {NAN, NAN, 0.0, 0.0},
                    .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
-                          .scheme = 1, .map = MAP_DG, .every = 1},
+                          .scheme = 1, .map = sdae_map_dgrad, .every = 1},
                    .cert = {.grid = 41,
                             .lo = {-0.1, -0.5, -3.14159, -2.0},
                             .hi = {0.1, 0.5, 3.14159, 2.0}}};
@@ -46,7 +46,7 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
   };
   for (size_t i = 0; i < 4; i++) a->flags[i] = model_flags[i];
   a->nflags = 4 + cli_run_flags(a->flags + 4, &a->run, map_choices,
-                                "mu-map: dg = Gonzalez with the pendulum's energy");
+                                "mu-map: dgrad = Gonzalez with the pendulum's energy");
   a->nflags += cli_certify_flags(a->flags + a->nflags, &a->cert,
                                  "box of (xi, mu) "
                                  "[xi1=-0.1:0.1,xi2=-0.5:0.5,mu1=-3.14159:3.14159,mu2=-2:2]");
@@ -78,16 +78,6 @@ static int pend_row(FILE *f, double t, const double *xi, const double *mu, unsig
   return cli_csv_row(f, v, 10, iters);
 }
 
-static const sdae_map_type *pend_map(int map) {
-  switch (map) {
-  case MAP_EULER: return sdae_map_euler;
-  case MAP_MIDPOINT: return sdae_map_midpoint;
-  case MAP_DG4: return sdae_map_dg4;
-  case MAP_DG6: return sdae_map_dg6;
-  default: return sdae_map_dgrad;
-  }
-}
-
 int main(int argc, char **argv) {
   pend_args a;
   char err[CLI_ERR_LEN] = "";
@@ -101,7 +91,7 @@ int main(int argc, char **argv) {
   pend_model(&model, &a.p);
   sdae_options_default(&opt);
   cli_run_options(&a.run, &opt);
-  opt.map = pend_map(a.run.map);
+  opt.map = a.run.map;
   if (a.cert.certify) return cli_certify_run("pendulum", &a.cert, &model, &opt);
   if (a.cert.check_model) {
     sdae_dae dae;

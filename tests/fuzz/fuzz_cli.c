@@ -8,7 +8,8 @@
  *   - bad input comes with one non-empty line of message, even when an argument holds a
  *     newline (the messages escape control characters: corpus/cli/newline-in-argument);
  *   - parsed values obey their kind: reals finite, positive > 0, non-negative >= 0, counts
- *     >= 1, vectors finite, choices in range, paths and texts non-empty;
+ *     >= 1, vectors finite, choices in range, maps the library's and among the table's,
+ *     paths and texts non-empty;
  *   - the step count is ceil(tf/T - 1e-9), at most 2^53; the box has finite lo <= hi. */
 #define _POSIX_C_SOURCE 200809L /* strnlen */
 #include <math.h>
@@ -32,7 +33,9 @@
 #define MODEL_NFLAGS 5
 #define NFLAGS (MODEL_NFLAGS + CLI_RUN_NFLAGS + CERT_NFLAGS)
 
-static const char *const map_choices[] = {"euler", "midpoint", "dg", "dg4", "dg6", NULL};
+/* the library's names of the maps a model without a user map serves (the pendulum's, the
+ * chain's): "user" is a library map this table refuses, "rk4" a name the library does not know */
+static const char *const map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
 static const char *const q_choices[] = {"corrected", "paper", NULL};
 
 typedef struct args {
@@ -51,7 +54,7 @@ static void table(args *a) {
   *a = (args){.k = 2.0,
               .x0 = {0.1, 0.6, 0.0, 0.0},
               .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,
-                          .scheme = 1, .map = 0, .every = 1},
+                          .scheme = 1, .map = sdae_map_euler, .every = 1},
               .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model[MODEL_NFLAGS] = {
       {"k", CLI_REAL, &a->k, NULL, 0, "a real"},
@@ -116,6 +119,16 @@ static void require_kind(const cli_flag *fl) {
     break;
   }
   case CLI_SWITCH: REQUIRE(*(const int *)fl->target == 0 || *(const int *)fl->target == 1); break;
+  case CLI_MAP: {
+    /* a map of the library, one of the table's, found again by its name */
+    const sdae_map_type *map = *(const sdae_map_type *const *)fl->target;
+    const char *name = sdae_map_name(map);
+    size_t j = 0;
+    REQUIRE(map != NULL && sdae_map_by_name(name) == map);
+    while (fl->choices[j] && strcmp(fl->choices[j], name) != 0) j++;
+    REQUIRE(fl->choices[j] != NULL);
+    break;
+  }
   }
 }
 

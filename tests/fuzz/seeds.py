@@ -41,12 +41,14 @@ def argv(*args):
 
 
 CLI_SEEDS = {
-    "run-flags": argv("--T", "0.01", "--tf", "5", "--scheme", "11", "--map=dg", "--every", "10",
+    "run-flags": argv("--T", "0.01", "--tf", "5", "--scheme", "11", "--map=dgrad", "--every", "10",
                       "--out", "run.csv", "--delta", "2", "--eps=1"),
     "model-flags": argv("--k", "-3.5", "--x0", "0.1,0.6,0,0", "--q", "paper", "--seed",
                         "18446744073709551615", "--name", "x"),
     "certify-box": argv("--certify", "--box", "xi1=-0.7:0.7,xi2=0,mu1=-0.9:0.9", "--grid", "5"),
     "bad-number": argv("--T", "1e400"),
+    # a map of the library that the table (a model without a user map) does not serve
+    "map-not-served": argv("--map", "user", "--T", "0.01"),
     "help-late": argv("--k", "1", "--help"),
     # the messages quote arguments verbatim: this one gives a message of two lines
     "newline-in-argument": argv("--T", "1e400\n"),

@@ -8,7 +8,7 @@ float64 and mpmath) and the SUNDIALS IDA reference (build/tools/ida_reference), 
      references, and IDA against the exact solutions
   c  decay of xi off the manifold (scheme 15) and scheme 11's          (check_offmanifold)
      step bound on a constant gain
-  d  conservation of W by dg over 1e6 steps, IDA's energy drift       (check_energy)
+  d  conservation of W by dgrad over 1e6 steps, IDA's energy drift       (check_energy)
   e  constraint drift: index reduction, Baumgarte, the paper          (check_drift)
 
 and writes a Markdown report with PNG plots (report). Modules: runs (running the three

@@ -19,7 +19,7 @@ ALPHA = (1.0, 2.0)        # the library's and the reference's default Baumgarte 
 
 def run(ctx, x0, stabilizer):
     return runs.run_c(ctx.build, "oscillator", dict(P.OSCILLATOR, **P.METHOD, x0=x0, T=T,
-                                                    tf=TF, scheme=15, map="dg-paper",
+                                                    tf=TF, scheme=15, map="user",
                                                     stabilizer=stabilizer, every=EVERY))
 
 

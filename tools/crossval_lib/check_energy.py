@@ -41,12 +41,12 @@ def check(ctx, section):
     nsteps = runs.nsteps_for(T, tf)
     section.text(__doc__.split(". ", 1)[1] + """
 The oscillator with k 2, m 1, d 0, from rest at X = 1 on the floor, scheme 15, T = %g,
-%d steps (tf = %g). Tolerance for dg: %g relative. Shown without a tolerance: dg4 (three dg
+%d steps (tf = %g). Tolerance for dgrad: %g relative. Shown without a tolerance: dg4 (three dgrad
 stages per step, each conserving W; its rounding error grows about linearly in time, some
 4e-18 relative per step, 3.6e-12 over 1e6 steps) and the midpoint map, which conserves only
 quadratic invariants.""" % (T, nsteps, tf, TOL))
     curves, rows = [], []
-    for map_name, checked in (("dg", True), ("dg4", False), ("midpoint", False)):
+    for map_name, checked in (("dgrad", True), ("dg4", False), ("midpoint", False)):
         runs.log("d: C %s, %d steps" % (map_name, nsteps))
         t, rel = c_run(ctx, map_name)
         drift = float(np.max(rel))
@@ -71,13 +71,13 @@ quadratic invariants.""" % (T, nsteps, tf, TOL))
 
 def plot(outdir, curves, tf):
     fig, (ax,) = plots.figure(width=7.5, height=4.5)
-    styles = {"C dg": ("tab:green", "-"), "C dg4": ("tab:purple", "--"),
+    styles = {"C dgrad": ("tab:green", "-"), "C dg4": ("tab:purple", "--"),
               "C midpoint": ("tab:orange", "-"), "IDA index1": ("tab:red", "-"),
               "IDA ggl": ("tab:brown", ":")}
     for name, t, rel in curves:
         colour, ls = styles[name]
         ax.semilogy(t, np.maximum(rel, 1e-18), color=colour, ls=ls, label=name)
-    ax.axhline(TOL, color="k", ls="--", lw=1, label="tolerance for dg")
+    ax.axhline(TOL, color="k", ls="--", lw=1, label="tolerance for dgrad")
     ax.set_xlim(0, tf)
     ax.set_ylim(1e-18, 1e-1)
     ax.set_xlabel("t")

@@ -71,15 +71,15 @@ def decay_cases(build):
     osc = dict(P.OSCILLATOR)
     return [
         decay_case(build, "oscillator, Q corrected, T = 0.01", "oscillator", osc, OSC_X0,
-                   0.01, 10.0, "dg-paper", "corrected"),
+                   0.01, 10.0, "user", "corrected"),
         decay_case(build, "oscillator, Q as printed, T = 0.01", "oscillator", osc, OSC_X0,
-                   0.01, 10.0, "dg-paper", "paper"),
+                   0.01, 10.0, "user", "paper"),
         decay_case(build, "oscillator, Q corrected, T = 0.5 (beyond Theorem 3)", "oscillator",
-                   osc, OSC_X0, 0.5, 20.0, "dg-paper", "corrected"),
+                   osc, OSC_X0, 0.5, 20.0, "user", "corrected"),
         decay_case(build, "pendulum, T = 0.01", "pendulum", P.PENDULUM, P.PENDULUM_X0, 0.01,
-                   10.0, "dg"),
+                   10.0, "dgrad"),
         decay_case(build, "pendulum, T = 0.1", "pendulum", P.PENDULUM, P.PENDULUM_X0, 0.1,
-                   10.0, "dg"),
+                   10.0, "dgrad"),
     ]
 
 
@@ -87,7 +87,7 @@ def threshold_run(build, T, scheme):
     """The oscillator from (0.1, 0, 0, 0.1): xi1 = 0, xi2 = 0.1; a growing xi2 may end the
     run early (exit 1, rows kept)."""
     options = dict(P.OSCILLATOR, **P.METHOD, x0=(0.1, 0.0, 0.0, 0.1), T=T, tf=C2_STEPS * T,
-                   scheme=scheme, map="dg-paper", every=1)
+                   scheme=scheme, map="user", every=1)
     return runs.run_c(build, "oscillator", options, allow_failure=True)
 
 

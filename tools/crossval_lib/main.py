@@ -18,7 +18,7 @@ CHECKS = collections.OrderedDict([
     ("a", ("same discrete scheme: C against mpmath", check_scheme.check)),
     ("b", ("orders on the manifold; IDA against exact solutions", check_order.check)),
     ("c", ("off the manifold: decay of xi, scheme 11's step bound", check_offmanifold.check)),
-    ("d", ("energy: dg over many steps, IDA's drift", check_energy.check)),
+    ("d", ("energy: dgrad over many steps, IDA's drift", check_energy.check)),
     ("e", ("constraint drift: index reduction, Baumgarte, the paper", check_drift.check)),
 ])
 

@@ -3,7 +3,7 @@
   run_c        a C example program (build/examples/NAME), CSV through --out
   run_ida      the SUNDIALS IDA reference (build/tools/ida_reference)
   run_reference the Python reference stabdae_ref in float64 or mpmath, in this process;
-               the map dg4 (not in stabdae_ref) is composed here from its dg map exactly as
+               the map dg4 (not in stabdae_ref) is composed here from its dgrad map exactly as
                the C library composes it (Yoshida's triple jump, see dg4_map)
   parallel     runs jobs in worker processes with progress on stderr
 """
@@ -125,12 +125,12 @@ def run_reference(spec):
     every). Returns a Table of floats (mpmath numbers rounded to the nearest double)."""
     map_name = spec["map"]
     mdl, st, xi, mu = api.setup(spec["model"], spec["params"], spec["x0"], spec["scheme"],
-                                "dg" if map_name == "dg4" else map_name,
+                                "dgrad" if map_name == "dg4" else map_name,
                                 spec.get("stabilizer", "paper"), spec["arithmetic"],
                                 spec.get("dps", 40))
     T = mdl.a.num(float(spec["T"]))
     if map_name == "dg4":
-        # the stages use the reference's dg Newton; a copy keeps the dg map for them
+        # the stages use the reference's dgrad Newton; a copy keeps the dgrad map for them
         st.map = dg4_map(copy.copy(st), T)
     rows = [[float(v) for v in row]
             for row in api.rows(mdl, st, xi, mu, T, spec["nsteps"], spec.get("every", 1))]

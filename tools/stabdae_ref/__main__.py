@@ -1,5 +1,9 @@
 """Command line: python -m stabdae_ref MODEL [options] writes the run as CSV (the C examples'
-columns, see models.py), %.17g in float64, all dps digits in mpmath.
+columns, see models.py), %.17g in float64, all dps digits in mpmath. The steps are
+ceil(tf/T - 1e-9) (at least 1), as the C programs count them.
+
+python -m stabdae_ref expected [--outdir DIR] writes the answers of the C examples' regression
+tests (expected.py).
 
 Bad input: one line on stderr, exit 2, no output file. A step that fails: the rows computed so
 far stay written, one line on stderr says where it stopped, exit 1.
@@ -8,7 +12,7 @@ import argparse
 import math
 import sys
 
-from . import api, stepper
+from . import api, expected, stepper
 
 # model -> options that apply to it (besides the method's)
 MODEL_OPTIONS = {
@@ -16,7 +20,7 @@ MODEL_OPTIONS = {
     "pendulum": ("L", "m", "ga"),
     "chain": ("N", "k", "d", "m", "ga", "kc"),
 }
-DEFAULT_MAP = {"oscillator": "dg-paper", "pendulum": "dg", "chain": "dg"}
+DEFAULT_MAP = {"oscillator": "user", "pendulum": "dgrad", "chain": "dgrad"}
 DEFAULT_TF = {"oscillator": 50.0, "pendulum": 10.0, "chain": 10.0}
 
 
@@ -40,17 +44,20 @@ def number_list(text):
 
 
 def parser():
-    p = Parser(prog="python -m stabdae_ref", description="stabdae reference run, CSV out.")
+    p = Parser(prog="python -m stabdae_ref", description="stabdae reference run, CSV out "
+                                 "(python -m stabdae_ref expected: the examples' answers).")
     p.add_argument("model", choices=sorted(MODEL_OPTIONS))
     for name in ("k", "d", "m", "ga", "L", "kc", "delta", "eps", "T", "tf"):
         p.add_argument("--" + name, type=float)
     p.add_argument("--N", type=int)
+    p.add_argument("--seed", type=int,
+                   help="the chain's random start of the C program's --seed (without --x0)")
     p.add_argument("--steps", type=int)
     p.add_argument("--x0", type=number_list, help="X,Y,Xdot,Ydot (4 N values for the chain)")
     p.add_argument("--alpha", type=number_list, help="Baumgarte gains (default 1,2)")
     p.add_argument("--scheme", type=int, choices=stepper.SCHEMES, default=15)
-    p.add_argument("--map", choices=("euler", "midpoint", "dg", "dg-paper"),
-                   help="default dg-paper for the oscillator, dg otherwise")
+    p.add_argument("--map", choices=("euler", "midpoint", "dgrad", "user"),
+                   help="default user for the oscillator, dgrad otherwise")
     p.add_argument("--q", choices=("corrected", "paper"))
     p.add_argument("--stabilizer", choices=stepper.STABILIZERS, default="paper")
     p.add_argument("--every", type=int, default=1)
@@ -84,7 +91,7 @@ def step_count(args, T):
     tf = DEFAULT_TF[args.model] if args.tf is None else args.tf
     if not (math.isfinite(tf) and tf > 0):
         raise BadInput("--tf must be finite and > 0")
-    return max(1, int(round(tf / T)))
+    return max(1, math.ceil(tf / T - 1e-9))
 
 
 def write_rows(out, a, rows):
@@ -94,6 +101,9 @@ def write_rows(out, a, rows):
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["expected"]:
+        return expected.main(argv[1:])
     try:
         args = parser().parse_args(argv)
         T = 0.001 if args.T is None else args.T
@@ -103,7 +113,7 @@ def main(argv=None):
             raise BadInput("--every must be >= 1")
         mdl, st, xi, mu = api.setup(args.model, params_of(args), args.x0, args.scheme,
                                     args.map or DEFAULT_MAP[args.model], args.stabilizer,
-                                    args.arith, args.dps)
+                                    args.arith, args.dps, args.seed)
     except (BadInput, ValueError, ArithmeticError) as exc:
         print("stabdae_ref: %s" % exc, file=sys.stderr)
         return 2

@@ -3,10 +3,10 @@ Jacobian d phi / d mu+ for Newton:
 
   euler     q0(mu)                              explicit, order 1
   midpoint  q0((mu + mu+)/2)                    symmetric, order 2
-  dg        S(m) gradbar H(mu, mu+)             Gonzalez's midpoint discrete gradient (paper
+  dgrad     S(m) gradbar H(mu, mu+)             Gonzalez's midpoint discrete gradient (paper
                                                 ref. 18), symmetric, order 2; H(mu+) = H(mu)
                                                 when S is skew and xi = 0
-  dg-paper  the paper's Section IV map           oscillator only (a model's user map)
+  user      the model's user map (user_map)     the oscillator's: the paper's Section IV map
 
 Gonzalez: gradbar H(x, y) = grad H(m) + [(H(y) - H(x) - grad H(m).v)/|v|^2] v with
 m = (x + y)/2, v = y - x, and grad H(m) alone when |v|^2 <= eps (1 + |m|^2), eps the
@@ -71,18 +71,19 @@ def discrete_gradient(model):
         gbar, J = gonzalez(model, mu, mu_next)
         return vec.matvec(S, gbar), vec.matmul(S, J)
 
-    return Map("dg", lambda mu, mu_next: phi_jac(mu, mu_next)[0],
+    return Map("dgrad", lambda mu, mu_next: phi_jac(mu, mu_next)[0],
                lambda mu, mu_next: phi_jac(mu, mu_next)[1], phi_jac)
 
 
-BUILTIN = {"euler": euler, "midpoint": midpoint, "dg": discrete_gradient}
+BUILTIN = {"euler": euler, "midpoint": midpoint, "dgrad": discrete_gradient}
 
 
 def make(name, model):
+    """The map of the library's name `name` for `model`: 'user' is the model's user_map."""
     if name in BUILTIN:
         return BUILTIN[name](model)
-    if name in model.user_maps:
-        return Map(name, *model.user_maps[name])
-    known = sorted(BUILTIN) + sorted(model.user_maps)
+    if name == "user" and model.user_map is not None:
+        return Map("user", *model.user_map)
+    known = sorted(BUILTIN) + (["user"] if model.user_map is not None else [])
     raise ValueError("map %r is not available for model %s (%s)"
                      % (name, model.name, ", ".join(known)))

@@ -7,7 +7,8 @@ Each model gives, in one arithmetic (see arith.py):
   Q(xi, mu)                 n_mu x n_xi, column i = q_i, with q0 + Q xi = mu' of the DAE
   H, grad_H, hess_H, S      q0 = S grad H (for the discrete-gradient map); S is constant here
   row(xi, mu)               the physical CSV columns between t and newton_iters
-  user_maps                 extra maps phi_T(mu, mu+) with their Jacobian d phi / d mu+
+  user_map                  the model's own map phi_T(mu, mu+) with its Jacobian d phi / d mu+
+                            (the map 'user'), or None
 
 The sign convention for the multiplier is Ydd = -ga - lambda/m (oscillator, chain) and
 Xdd = -lambda X/m, Ydd = -ga - lambda Y/m (pendulum).
@@ -59,7 +60,7 @@ class Oscillator:
         self.k, self.d, self.ga = checked(a, "k", k), checked(a, "d", d), checked(a, "ga", ga)
         self.m = checked(a, "m", m, positive=True)
         self.q = q
-        self.user_maps = {"dg-paper": (self.phi_paper, self.phi_paper_jac)}
+        self.user_map = (self.phi_paper, self.phi_paper_jac)  # the paper's Section IV map
 
     def default_x0(self):
         return [0.1, 0.6, 0.0, 0.0]
@@ -136,7 +137,7 @@ class Pendulum:
         self.a = a
         self.L, self.m = checked(a, "L", L, positive=True), checked(a, "m", m, positive=True)
         self.ga = checked(a, "ga", ga)
-        self.user_maps = {}
+        self.user_map = None
 
     def default_x0(self):
         """At rest on the circle, 0.5 rad from the downward vertical (as doubles)."""
@@ -219,7 +220,7 @@ class Chain:
         self.kc, self.m = checked(a, "kc", kc), checked(a, "m", m, positive=True)
         self.n_xi = self.n_mu = 2 * self.N
         self.rel_degree = (2,) * self.N
-        self.user_maps = {}
+        self.user_map = None
 
     def default_x0(self):
         """Every mass 0.6 above the floor at rest, X alternating +-0.1."""

@@ -31,7 +31,7 @@ class StepFailure(Exception):
 class Stepper:
     """The step of one model with one scheme, map and stabilizer (see the module docstring)."""
 
-    def __init__(self, model, scheme=15, map="dg", stabilizer="paper", delta=2.0, eps=1.0,
+    def __init__(self, model, scheme=15, map="dgrad", stabilizer="paper", delta=2.0, eps=1.0,
                  alpha=(1.0, 2.0)):
         a = model.a
         if scheme not in SCHEMES:

@@ -49,13 +49,13 @@ def test_mpmath_csv_has_all_digits(tmp_path):
     last = read(out)[-1]
     mantissa = last[1].lstrip("-").split("e")[0].replace(".", "").lstrip("0")
     assert len(mantissa) >= 20
-    ref = simulate("pendulum", {}, None, 1e-3, 10, 15, "dg").rows[-1]
+    ref = simulate("pendulum", {}, None, 1e-3, 10, 15, "dgrad").rows[-1]
     assert float(last[1]) == pytest.approx(ref[1], rel=1e-13)
 
 
 @pytest.mark.parametrize("argv", [
     ["pendulum", "--k", "3"],
-    ["pendulum", "--map", "dg-paper"],
+    ["pendulum", "--map", "user"],
     ["oscillator", "--T", "-1"],
     ["oscillator", "--T", "nan"],
     ["oscillator", "--tf", "1", "--steps", "3"],
@@ -71,6 +71,10 @@ def test_mpmath_csv_has_all_digits(tmp_path):
     ["oscillator", "--bogus"],
     ["rod"],
     ["pendulum", "--x0", "0,0,1,1"],
+    ["oscillator", "--seed", "3"],
+    ["chain", "--seed", "-1"],
+    ["pendulum", "--map", "dg"],
+    ["oscillator", "--map", "dg-paper"],
 ])
 def test_bad_input_exits_2_without_a_file(argv, tmp_path, capsys):
     out = tmp_path / "run.csv"
@@ -96,3 +100,23 @@ def test_module_entry_point():
                          cwd=tools, capture_output=True, text=True, check=True)
     lines = run.stdout.splitlines()
     assert lines[0] == HEADERS["oscillator"] and len(lines) == 6
+
+
+def test_steps_are_counted_as_the_c_programs_count_them(tmp_path):
+    """ceil(tf/T - 1e-9): 0.2/0.001 is 200.00000000000003 in doubles, 200 steps."""
+    out = tmp_path / "run.csv"
+    assert main(["pendulum", "--tf", "0.2", "--every", "200", "--out", str(out)]) == 0
+    assert [r[0] for r in read(out)[1:]] == ["0", "0.20000000000000001"]
+
+
+def test_chain_seed_is_the_random_start(tmp_path):
+    out = tmp_path / "run.csv"
+    assert main(["chain", "--N", "2", "--seed", "5", "--steps", "3", "--out", str(out)]) == 0
+    res = simulate("chain", {"N": 2}, None, 1e-3, 3, seed=5)
+    assert [[float(v) for v in r[:-1]] + [int(r[-1])] for r in read(out)[1:]] == \
+        [list(r) for r in res.rows]
+
+
+def test_expected_subcommand_writes_the_files(tmp_path):
+    assert main(["expected", "--outdir", str(tmp_path)]) == 0
+    assert len(list(tmp_path.glob("*.csv"))) == 10

@@ -35,7 +35,7 @@ def xi_rows(res):
 def test_each_step_scales_xi_by_the_scheme_factor(model, gains, z0, scheme):
     """xi_i+ = xi_i / (1 - T k_i) (eq. 15) or (1 + T k_i) xi_i (eq. 11), k_i at (xi, mu)."""
     T = 1e-3
-    res = simulate(model, {}, None, T, 50, scheme, "dg", z0=z0)
+    res = simulate(model, {}, None, T, 50, scheme, "dgrad", z0=z0)
     rows = xi_rows(res)
     for (_, x1, x2, m1, m2), (_, y1, y2, _, _) in zip(rows, rows[1:]):
         k = gains((x1, x2), (m1, m2))
@@ -180,4 +180,4 @@ def test_bad_arguments():
         with pytest.raises(ValueError):
             simulate(**args)
     with pytest.raises(ValueError):
-        stepper.Stepper(models.make("pendulum", arith.Float64()), map="dg-paper")
+        stepper.Stepper(models.make("pendulum", arith.Float64()), map="user")
