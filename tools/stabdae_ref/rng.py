@@ -1,46 +1,20 @@
-"""The chain example's random start: the Mersenne Twister MT19937 (Matsumoto and Nishimura,
-1998, with their 2002 seeding init_genrand) and uniform numbers in [a, b), written from the
-generator's definition. GSL's gsl_rng_mt19937 is this generator (GSL seeds 0 as 4357), its
-gsl_rng_uniform is the 32-bit output divided by 2^32 and gsl_ran_flat(a, b) is
-a (1 - u) + b u, so the C program `chain --seed S` and chain_x0(N, S) start from the same
-state.
+"""The chain example's random start, drawn as the C program draws it: GSL's gsl_rng_mt19937 is
+the Mersenne Twister MT19937 seeded by init_genrand (GSL seeds 0 as 4357), gsl_rng_uniform is
+its 32-bit output over 2^32 and gsl_ran_flat(a, b) is a (1 - u) + b u. numpy's RandomState is
+the same generator with the same seeding, and randint over [0, 2^32) returns its raw outputs, so
+the C program `chain --seed S` and chain_x0(N, S) start from the same state.
 """
-
-N_STATE, M_SHIFT = 624, 397
-MASK32, UPPER, LOWER = 0xFFFFFFFF, 0x80000000, 0x7FFFFFFF
-MATRIX_A = 0x9908B0DF
+import numpy as np
 
 
 class MT19937:
     """next32() gives the generator's 32-bit outputs in order."""
 
     def __init__(self, seed):
-        s = seed & MASK32
-        if s == 0:
-            s = 4357  # GSL's choice for seed 0
-        self.mt = [s]
-        for i in range(1, N_STATE):
-            prev = self.mt[-1]
-            self.mt.append((1812433253 * (prev ^ (prev >> 30)) + i) & MASK32)
-        self.index = N_STATE
-
-    def twist(self):
-        mt = self.mt
-        for k in range(N_STATE):
-            y = (mt[k] & UPPER) | (mt[(k + 1) % N_STATE] & LOWER)
-            mt[k] = mt[(k + M_SHIFT) % N_STATE] ^ (y >> 1) ^ (MATRIX_A if y & 1 else 0)
-        self.index = 0
+        self.state = np.random.RandomState((seed & 0xFFFFFFFF) or 4357)  # GSL's 0 is 4357
 
     def next32(self):
-        if self.index >= N_STATE:
-            self.twist()
-        y = self.mt[self.index]
-        self.index += 1
-        y ^= y >> 11  # tempering
-        y ^= (y << 7) & 0x9D2C5680
-        y ^= (y << 15) & 0xEFC60000
-        y ^= y >> 18
-        return y
+        return int(self.state.randint(0, 2**32, dtype=np.uint32))
 
     def uniform(self):
         """u in [0, 1): the output over 2^32 (exact in a double)."""
