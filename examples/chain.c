@@ -112,7 +112,7 @@ static int run(chain_args *a, double *x, double *xi, double *mu) {
   sdae_options_default(&opt);
   cli_run_options(&a->run, &opt);
   opt.map = chain_map(a->run.map);
-  chain_map_callbacks(&opt);
+  opt.bandwidth = CHAIN_BANDWIDTH;
   chain_to_coords(&a->p, x, xi, mu);
   chain_row_ctx ctx = {&a->p, x};
   const cli_program prog = {"chain", "t,max_abs_Y,max_abs_Ydot,E,newton_iters", &model, &opt,

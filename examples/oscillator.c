@@ -96,7 +96,6 @@ int main(int argc, char **argv) {
   sdae_options_default(&opt);
   cli_run_options(&a.run, &opt);
   opt.map = osc_map(a.run.map);
-  osc_map_callbacks(&opt);
   if (a.cert.certify) return cli_certify_run("oscillator", &a.cert, &model, &opt);
   if (a.cert.check_model) {
     sdae_dae dae;

@@ -102,7 +102,6 @@ int main(int argc, char **argv) {
   sdae_options_default(&opt);
   cli_run_options(&a.run, &opt);
   opt.map = pend_map(a.run.map);
-  pend_map_callbacks(&opt);
   if (a.cert.certify) return cli_certify_run("pendulum", &a.cert, &model, &opt);
   if (a.cert.check_model) {
     sdae_dae dae;

@@ -1,25 +1,31 @@
 /* Step-size certificates. Theorem 3: scheme 11 drives xi to 0 from a compact box B when
  * T < 2 / max_i sup_B (-k_i) (eq. 14); Theorem 5 keeps the equilibrium's stability for
  * T <= (sqrt(5) - 1)/4 T_bar (scheme 15) and T <= T_bar/2 (scheme 11). The sup is found by a
- * grid over the box and a Nelder-Mead refinement (GSL multimin) from the best grid points, in
- * coordinates z_j = lo_j + (hi_j - lo_j)(1 + sin u_j)/2 that keep every probe inside B. */
+ * grid over the box and a Nelder-Mead refinement (src/simplex.c) from the best grid points, in
+ * coordinates z_j = lo_j + (hi_j - lo_j)(1 + sin u_j)/2 that keep every probe inside B. All the
+ * search's memory is one block from the stepper's allocator. */
 #include <math.h>
-#include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 
-#include <gsl/gsl_multimin.h>
-
+#include "alloc.h"
 #include "internal.h"
+#include "simplex.h"
 
-#define CANDIDATES 3 /* grid points refined per gain */
+#define CANDIDATES 3     /* grid points refined per gain */
+#define SIMPLEX_STEP 0.2 /* the first simplex: u and u + 0.2 e_j, in the sin-mapped coordinates */
+#define SIMPLEX_SIZE 1e-12
+#define SIMPLEX_ITER 1000
 
 typedef struct search {
   sdae_stepper *s;
   double t;
   const double *lo, *hi;
   size_t dim, n_free, *free; /* the coordinates with lo < hi */
-  double *z, *k;             /* dim, n_xi */
+  size_t *digit;             /* n_free + 1: the grid's odometer */
+  double *z, *k, *z0;        /* dim, n_xi, dim */
   double *best;              /* n_xi x CANDIDATES x (1 + dim): value, then the point */
+  double *u, *simplex;       /* n_free, sdae__simplex_work(n_free) */
   size_t i;                  /* the gain being refined */
   size_t evals;
   int status;
@@ -55,11 +61,8 @@ static void offer_all(search *S, const double *z) {
 
 /* every point of the grid: an odometer over the free coordinates */
 static void scan_grid(search *S, unsigned grid) {
-  size_t *digit = calloc(S->n_free + 1, sizeof *digit);
-  if (!digit) {
-    S->status = SDAE_ERR_NOMEM;
-    return;
-  }
+  size_t *digit = S->digit;
+  memset(digit, 0, (S->n_free + 1) * sizeof *digit);
   memcpy(S->z, S->lo, S->dim * sizeof(double));
   while (S->status == SDAE_OK) {
     for (size_t f = 0; f < S->n_free; f++) {
@@ -71,74 +74,81 @@ static void scan_grid(search *S, unsigned grid) {
     while (f < S->n_free && ++digit[f] == grid) digit[f++] = 0;
     if (f == S->n_free) break;
   }
-  free(digit);
 }
 
-static void from_u(const search *S, const gsl_vector *u, double *z) {
+static void from_u(const search *S, const double *u, double *z) {
   memcpy(z, S->lo, S->dim * sizeof(double));
   for (size_t f = 0; f < S->n_free; f++) {
     size_t j = S->free[f];
-    z[j] = S->lo[j] + (S->hi[j] - S->lo[j]) * 0.5 * (1.0 + sin(gsl_vector_get(u, f)));
+    z[j] = S->lo[j] + (S->hi[j] - S->lo[j]) * 0.5 * (1.0 + sin(u[f]));
   }
 }
 
-/* the minimizer's objective: k_i (so -k_i is maximized); always finite, so GSL never raises */
-static double objective(const gsl_vector *u, void *data) {
+/* the minimizer's objective: k_i (so -k_i is maximized); a failed gain stops the search */
+static int objective(const double *u, double *value, void *data) {
   search *S = data;
+  int rc;
   from_u(S, u, S->z);
-  if (evaluate(S, S->z) != SDAE_OK) return 0.0;
+  if ((rc = evaluate(S, S->z)) != SDAE_OK) return rc;
   offer(S, S->i, -S->k[S->i], S->z);
-  return S->k[S->i];
+  *value = S->k[S->i];
+  return 0;
 }
 
-static void refine(search *S, const double *z0, gsl_multimin_fminimizer *mz, gsl_vector *u,
-                   gsl_vector *step) {
-  gsl_multimin_function fn = {objective, S->n_free, S};
+static void refine(search *S, const double *z0) {
   for (size_t f = 0; f < S->n_free; f++) {
     size_t j = S->free[f];
     double r = 2.0 * (z0[j] - S->lo[j]) / (S->hi[j] - S->lo[j]) - 1.0;
-    gsl_vector_set(u, f, asin(fmax(-1.0, fmin(1.0, r))));
-    gsl_vector_set(step, f, 0.2);
+    S->u[f] = asin(fmax(-1.0, fmin(1.0, r)));
   }
-  gsl_multimin_fminimizer_set(mz, &fn, u, step);
-  for (int it = 0; it < 1000 && S->status == SDAE_OK; it++) {
-    if (gsl_multimin_fminimizer_iterate(mz) != GSL_SUCCESS) break;
-    if (gsl_multimin_test_size(gsl_multimin_fminimizer_size(mz), 1e-12) == GSL_SUCCESS) break;
-  }
+  /* a failure is in S->status already */
+  (void)sdae__simplex_minimize(objective, S, S->n_free, S->u, SIMPLEX_STEP, SIMPLEX_SIZE,
+                               SIMPLEX_ITER, S->simplex);
 }
 
 static void refine_all(search *S) {
-  gsl_multimin_fminimizer *mz;
-  gsl_vector *u, *step;
-  double *z0 = malloc(S->dim * sizeof *z0);
-  if (S->n_free == 0 || !z0) {
-    if (!z0) S->status = SDAE_ERR_NOMEM;
-    free(z0);
-    return;
-  }
-  mz = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, S->n_free);
-  u = gsl_vector_alloc(S->n_free);
-  step = gsl_vector_alloc(S->n_free);
-  if (!mz || !u || !step) S->status = SDAE_ERR_NOMEM;
+  if (S->n_free == 0) return;
   for (S->i = 0; S->status == SDAE_OK && S->i < S->s->model.n_xi; S->i++)
     for (size_t c = 0; c < CANDIDATES && S->status == SDAE_OK; c++) {
       if (!isfinite(slot(S, S->i, c)[0])) continue;
-      memcpy(z0, slot(S, S->i, c) + 1, S->dim * sizeof *z0); /* offer() may move the slot */
-      refine(S, z0, mz, u, step);
+      memcpy(S->z0, slot(S, S->i, c) + 1, S->dim * sizeof *S->z0); /* offer() may move the slot */
+      refine(S, S->z0);
     }
-  if (mz) gsl_multimin_fminimizer_free(mz);
-  if (u) gsl_vector_free(u);
-  if (step) gsl_vector_free(step);
-  free(z0);
 }
 
-static int check_box(size_t dim, const double *lo, const double *hi, size_t *free_idx,
-                     size_t *n_free) {
+/* SDAE_OK and the number of free coordinates (lo < hi), or SDAE_ERR_PARAM */
+static int check_box(size_t dim, const double *lo, const double *hi, size_t *n_free) {
   *n_free = 0;
   for (size_t j = 0; j < dim; j++) {
     if (!isfinite(lo[j]) || !isfinite(hi[j]) || lo[j] > hi[j]) return SDAE_ERR_PARAM;
-    if (lo[j] < hi[j]) free_idx[(*n_free)++] = j;
+    if (lo[j] < hi[j]) (*n_free)++;
   }
+  return SDAE_OK;
+}
+
+/* the search's arrays, counted or handed out (arena.c) */
+static void carve(search *S, sdae_arena *a) {
+  size_t n_xi = S->s->model.n_xi;
+  S->z = sdae__take(a, S->dim, 1);
+  S->z0 = sdae__take(a, S->dim, 1);
+  S->k = sdae__take(a, n_xi, 1);
+  S->best = sdae__take(a, n_xi * CANDIDATES, 1 + S->dim);
+  S->u = sdae__take(a, S->n_free, 1);
+  S->simplex = sdae__take(a, S->n_free > 0 ? sdae__simplex_work(S->n_free) : 0, 1);
+  S->free = sdae__take_array(a, S->n_free, sizeof(size_t), _Alignof(size_t));
+  S->digit = sdae__take_array(a, S->n_free + 1, sizeof(size_t), _Alignof(size_t));
+}
+
+/* the block from the stepper's allocator, carved; the free coordinates listed */
+static int take_block(search *S, void **block, size_t *bytes) {
+  sdae_arena a = {0};
+  carve(S, &a);
+  if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(*block = sdae__alloc(&S->s->allocator, *bytes))) return SDAE_ERR_NOMEM;
+  a = (sdae_arena){*block, 0, 0};
+  carve(S, &a);
+  for (size_t j = 0, f = 0; j < S->dim; j++)
+    if (S->lo[j] < S->hi[j]) S->free[f++] = j;
   return SDAE_OK;
 }
 
@@ -161,23 +171,19 @@ static void report(const search *S, double *sup_i, double *argmax, sdae_certific
 int sdae_certify_box(sdae_stepper *s, double t, const double *lo, const double *hi,
                      unsigned grid, double *sup_i, double *argmax, sdae_certificate *c) {
   search S = {0};
+  size_t bytes;
+  void *block;
   int rc;
   if (!s || !lo || !hi || !c) return SDAE_ERR_NULL;
   if (grid < 2 || !isfinite(t)) return SDAE_ERR_PARAM;
   S.s = s, S.t = t, S.lo = lo, S.hi = hi;
   S.dim = s->model.n_xi + s->model.n_mu;
-  S.free = malloc(S.dim * sizeof *S.free);
-  S.z = malloc(S.dim * sizeof *S.z);
-  S.k = malloc(s->model.n_xi * sizeof *S.k);
-  S.best = malloc(s->model.n_xi * CANDIDATES * (1 + S.dim) * sizeof *S.best);
-  if (!S.free || !S.z || !S.k || !S.best) {
-    rc = SDAE_ERR_NOMEM;
-  } else if ((rc = check_box(S.dim, lo, hi, S.free, &S.n_free)) == SDAE_OK) {
-    for (size_t i = 0; i < s->model.n_xi * CANDIDATES; i++) S.best[i * (1 + S.dim)] = -INFINITY;
-    scan_grid(&S, grid);
-    if (S.status == SDAE_OK) refine_all(&S);
-    if ((rc = S.status) == SDAE_OK) report(&S, sup_i, argmax, c);
-  }
-  free(S.free), free(S.z), free(S.k), free(S.best);
+  if ((rc = check_box(S.dim, lo, hi, &S.n_free)) != SDAE_OK) return rc;
+  if ((rc = take_block(&S, &block, &bytes)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < s->model.n_xi * CANDIDATES; i++) S.best[i * (1 + S.dim)] = -INFINITY;
+  scan_grid(&S, grid);
+  if (S.status == SDAE_OK) refine_all(&S);
+  if ((rc = S.status) == SDAE_OK) report(&S, sup_i, argmax, c);
+  sdae__free(&s->allocator, block, bytes);
   return rc;
 }

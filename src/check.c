@@ -7,11 +7,13 @@
  * Jacobians, good to ~1e-10 of those terms, pass a tolerance like 1e-6). */
 #include <float.h>
 #include <math.h>
-#include <stdlib.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <string.h>
 
 #include <gsl/gsl_rng.h>
 
+#include "alloc.h"
 #include "internal.h"
 
 typedef struct work {
@@ -22,6 +24,7 @@ typedef struct work {
   double *z, *x, *z2, *J, *F, *G, *q0, *Q, *Qxi, *qn2, *LU, *dx, *fa, *fb;
   unsigned *piv;
   unsigned char *chain_last; /* n_xi: 1 for the last coordinate of a chain (L_g may be != 0) */
+  gsl_rng rng;               /* mt19937, its state in the block (gsl_rng_alloc would malloc) */
 } work;
 
 static int call(int (*cb)(double, const double *, double *, void *), double t, const double *in,
@@ -192,48 +195,69 @@ static int validate(const sdae_model *m, const sdae_dae *d, const double *lo, co
 
 static int run(work *w, const double *lo, const double *hi, size_t npoints, unsigned long seed,
                sdae_check_report *r) {
-  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   int rc = SDAE_OK;
-  if (!rng) return SDAE_ERR_NOMEM;
-  gsl_rng_set(rng, seed);
+  gsl_rng_set(&w->rng, seed);
   for (size_t p = 0; p < npoints && rc == SDAE_OK; p++) {
-    for (size_t j = 0; j < w->n; j++) w->z[j] = lo[j] + (hi[j] - lo[j]) * gsl_rng_uniform(rng);
+    for (size_t j = 0; j < w->n; j++)
+      w->z[j] = lo[j] + (hi[j] - lo[j]) * gsl_rng_uniform(&w->rng);
     rc = check_point(w, r);
     if (rc == SDAE_OK) r->points++;
   }
-  gsl_rng_free(rng);
+  return rc;
+}
+
+/* the generator's state and the work arrays, counted or handed out (arena.c) */
+static void carve(work *w, sdae_arena *a) {
+  size_t n = w->n, n_xi = w->n_xi, n_mu = w->n_mu;
+  w->rng.type = gsl_rng_mt19937;
+  w->rng.state = sdae__take_array(a, 1, gsl_rng_mt19937->size, _Alignof(max_align_t));
+  w->z = sdae__take(a, n, 1), w->x = sdae__take(a, n, 1), w->z2 = sdae__take(a, n, 1);
+  w->J = sdae__take(a, n, n), w->F = sdae__take(a, n, 1), w->G = sdae__take(a, n, w->dae->m);
+  w->q0 = sdae__take(a, n_mu, 1), w->Q = sdae__take(a, n_mu, n_xi);
+  w->Qxi = sdae__take(a, n_mu, 1), w->qn2 = sdae__take(a, n_xi, 1);
+  w->LU = sdae__take(a, n, sdae__lu_band_cols(n - 1, n - 1));
+  w->dx = sdae__take(a, n, 1), w->fa = sdae__take(a, n, 1), w->fb = sdae__take(a, n, 1);
+  w->piv = sdae__take_pivots(a, n);
+  w->chain_last = sdae__take_array(a, n_xi, 1, 1);
+}
+
+/* the block from the allocator, zeroed and carved */
+static int take_block(work *w, const sdae_allocator *al, char **block, size_t *bytes) {
+  sdae_arena a = {0};
+  carve(w, &a);
+  if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(*block = sdae__alloc(al, *bytes))) return SDAE_ERR_NOMEM;
+  memset(*block, 0, *bytes);
+  a = (sdae_arena){*block, 0, 0};
+  carve(w, &a);
+  return SDAE_OK;
+}
+
+int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
+                          const double *lo, const double *hi, size_t npoints,
+                          unsigned long seed, double tol, const sdae_allocator *a,
+                          sdae_check_report *r) {
+  int rc = validate(model, dae, lo, hi, tol, r);
+  size_t bytes;
+  char *block;
+  work w = {0};
+  if (rc != SDAE_OK) return rc;
+  if (dae->n > SIZE_MAX / 4) return SDAE_ERR_OVERFLOW; /* keeps LU's 3 n - 2 columns exact */
+  w.model = model, w.dae = dae, w.t = t, w.n = dae->n, w.n_xi = model->n_xi;
+  w.n_mu = model->n_mu;
+  if ((rc = take_block(&w, a, &block, &bytes)) != SDAE_OK) return rc;
+  mark_chains(model, w.chain_last);
+  memset(r->residual, 0, sizeof r->residual);
+  r->points = 0, r->worst_check = 0, r->worst_index = 0;
+  rc = run(&w, lo, hi, npoints, seed, r);
+  r->consistent = rc == SDAE_OK;
+  for (int k = 0; k < 4; k++) r->consistent = r->consistent && r->residual[k] <= tol;
+  sdae__free(a, block, bytes);
   return rc;
 }
 
 int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t, const double *lo,
                      const double *hi, size_t npoints, unsigned long seed, double tol,
                      sdae_check_report *r) {
-  int rc = validate(model, dae, lo, hi, tol, r);
-  if (rc != SDAE_OK) return rc;
-  size_t n = dae->n, n_mu = model->n_mu, n_xi = model->n_xi;
-  size_t nd = 3 * n + n * n + n + n * dae->m + n_mu + n_mu * n_xi + n_mu + n_xi +
-              n * sdae__lu_band_cols(n - 1, n - 1) + 3 * n;
-  double *block = calloc(nd, sizeof *block);
-  unsigned *piv = calloc(n, sizeof *piv);
-  unsigned char *last = calloc(n_xi, 1);
-  work w = {0};
-  if (!block || !piv || !last) {
-    rc = SDAE_ERR_NOMEM;
-  } else {
-    double *p = block;
-    w.model = model, w.dae = dae, w.t = t, w.n = n, w.n_xi = n_xi, w.n_mu = n_mu;
-    w.z = p, p += n, w.x = p, p += n, w.z2 = p, p += n, w.J = p, p += n * n, w.F = p, p += n;
-    w.G = p, p += n * dae->m, w.q0 = p, p += n_mu, w.Q = p, p += n_mu * n_xi, w.Qxi = p;
-    p += n_mu, w.qn2 = p, p += n_xi, w.LU = p, p += n * sdae__lu_band_cols(n - 1, n - 1);
-    w.dx = p, p += n, w.fa = p, p += n, w.fb = p;
-    w.piv = piv, w.chain_last = last;
-    mark_chains(model, last);
-    memset(r->residual, 0, sizeof r->residual);
-    r->points = 0, r->worst_check = 0, r->worst_index = 0;
-    rc = run(&w, lo, hi, npoints, seed, r);
-    r->consistent = rc == SDAE_OK;
-    for (int k = 0; k < 4; k++) r->consistent = r->consistent && r->residual[k] <= tol;
-  }
-  free(block), free(piv), free(last);
-  return rc;
+  return sdae_check_model_with(model, dae, t, lo, hi, npoints, seed, tol, NULL, r);
 }

@@ -8,61 +8,84 @@
 
 #include <stabdae/stabdae.h>
 
-/* ---- maps: one static table per map type, one file per map (map_*.c) ---- */
+#include "alloc.h"
+#include "map.h"
 
-struct sdae_map_type {
-  const char *name;
-  int implicit;    /* phi depends on mu+: the step solves for mu+ by Newton */
-  int uses_newton; /* the map or the step needs the Newton workspace */
-  /* SDAE_OK when the options give every callback the map needs, SDAE_ERR_MAP otherwise */
-  int (*check)(const sdae_model *m, const sdae_options *o);
-  /* doubles of scratch the map needs */
-  size_t (*scratch)(const sdae_model *m, const sdae_options *o);
-  /* phi_T(mu, mu+): n_mu values */
-  int (*phi)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
-             double *out);
-  /* d phi_T / d mu+ (n_mu x n_mu), or NULL; used only when jac_given says so. Newton calls it
-   * right after phi at the same arguments (as IDA hands its Jacobian the residual just
-   * computed), so it may reuse what that call left in the map's scratch. */
-  int (*jac)(sdae_stepper *s, double t, double T, const double *mu, const double *mu_next,
-             double *out);
-  int (*jac_given)(const sdae_model *m, const sdae_options *o);
-};
-
-/* A model with a declared bandwidth below n_mu - 1: Newton works on a band (GSL's banded LU,
- * finite differences); a dense one keeps a full matrix and can take an analytic Jacobian. */
-static inline int sdae__banded(const sdae_model *m) {
-  return m->bandwidth > 0 && m->bandwidth < m->n_mu - 1;
+/* Newton on a band narrower than the matrix (the options' bandwidth): GSL's banded LU and
+ * finite differences; a dense Newton keeps a full matrix and can take an analytic Jacobian. */
+static inline int sdae__banded(const sdae_model *m, const sdae_options *o) {
+  return o->bandwidth > 0 && o->bandwidth < m->n_mu - 1;
 }
 
-/* ---- the stepper: one block, the struct followed by its work arrays ---- */
+/* ---- arena.c: one block handed out array by array; the same walk, without a base, only
+ * counts (overflow-checked) ---- */
+typedef struct sdae_arena {
+  char *base; /* NULL: count only; else aligned for any type */
+  size_t used;
+  int overflow;
+} sdae_arena;
+/* n elements of size bytes, aligned to align (a power of two) */
+void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align);
+double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
+unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
+/* header + the arrays counted, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
+int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes);
 
+/* ---- newton.c: solves y = x + h (phi(x, y) + shift) for y (shift may be NULL), from y ---- */
+typedef struct sdae_newton {
+  size_t n, band;     /* the band of the Newton matrix: n - 1 when dense */
+  double tol;
+  unsigned max_iter;
+  double *R, *dy, *phi, *fd_y, *fd_plus, *fd_minus; /* n each */
+  double *J;          /* n x n, dense only: an analytic dphi/dy, then I - h dphi/dy */
+  double *LU;         /* n x (3 band + 1): I - h dphi/dy in band format, then its factors */
+  unsigned *piv;      /* n */
+  unsigned iters;     /* iterations, counted here alone; the stepper reads and clears them */
+  double residual_last; /* ||R||_inf at the last iterate evaluated */
+} sdae_newton;
+/* its workspace for the model and options (counted, or handed out) */
+void sdae__newton_carve(sdae_newton *nw, const sdae_model *m, const sdae_options *o,
+                        sdae_arena *a);
+int sdae__newton_solve(sdae_newton *nw, const sdae_map_type *map, sdae_map_ctx *c, double t,
+                       double h, const double *x, const double *shift, double *y);
+
+/* ---- stabilizer.c: the xi update of the paper's stabilizer or a baseline; a table each ---- */
+typedef struct sdae_stab_ctx {
+  const sdae_model *model;
+  const sdae_options *opt;
+  const double *qnorm2;     /* ||q_i||^2 at (xi, mu), n_xi */
+  double *k;                /* the paper's: the gains (eq. 6), n_xi */
+  double *blk, *blk_LU;     /* the baselines': one chain's (I - T A) and its factors */
+  unsigned *blk_piv;
+} sdae_stab_ctx;
+typedef struct sdae_stabilizer_type {
+  const char *name;
+  int (*validate)(const sdae_model *m, const sdae_options *o); /* optional */
+  void (*carve)(sdae_stab_ctx *c, sdae_arena *a);           /* optional: its workspace */
+  int (*xi_update)(sdae_stab_ctx *c, double T, const double *xi, double *xi_new);
+} sdae_stabilizer_type;
+/* the table of a stabilizer, NULL for an unknown one */
+const sdae_stabilizer_type *sdae__stabilizer_type(sdae_stabilizer which);
+/* k_i = -(delta^2/2) ||q_i||^2 - epsilon (eq. 6), n values */
+void sdae__gains(const sdae_options *o, const double *qnorm2, size_t n, double *k);
+
+/* ---- the stepper: one block, the struct followed by its work arrays ---- */
 struct sdae_stepper {
   sdae_model model;
   sdae_options opt;
-  void *block;     /* what sdae_stepper_alloc_with allocated, NULL for a caller's block */
+  const sdae_stabilizer_type *stabilizer;
+  void *block;              /* what sdae_stepper_alloc_with allocated, NULL for a caller's */
   size_t block_bytes;
   sdae_allocator allocator; /* block's, and sdae_certify_box's (zero: malloc and free) */
-  size_t band;     /* Newton's band: lb = ub = band (n_mu - 1 when dense) */
   sdae_stats stats;
-
-  double *Q;      /* n_mu x n_xi (dense models only) */
+  sdae_map_ctx map;         /* the map's context: model, scratch, Newton */
+  sdae_newton newton;
+  sdae_stab_ctx stab;
+  double *Q;      /* n_mu x n_xi (dense Q only) */
   double *Qxi;    /* n_mu: Q(xi, mu) xi */
   double *qnorm2; /* n_xi: ||q_i||^2 */
-  double *k;      /* n_xi: the gains (eq. 6) */
   double *xi_new, *mu_new; /* n_xi, n_mu: the step's result before it is accepted */
-  double *phi;    /* n_mu */
-  double *map_work; /* the map's scratch */
-
-  /* Newton (implicit maps only) */
-  double *R, *dy, *fd_y, *fd_plus, *fd_minus; /* n_mu each */
-  double *J;      /* n_mu x n_mu, dense models: an analytic dphi/dmu+, then I - T dphi/dmu+ */
-  double *LU;     /* n_mu x (3 band + 1): I - T dphi/dmu+ in band format, then its factors */
-  unsigned *piv;  /* n_mu */
-
-  /* baselines (none, Baumgarte): one r x r block at a time */
-  double *blk, *blk_LU;   /* SDAE_MAX_REL_DEGREE^2 and SDAE_MAX_REL_DEGREE (3 MAX - 2) */
-  unsigned *blk_piv;      /* SDAE_MAX_REL_DEGREE */
+  double *phi;    /* n_mu: the map's value at the predictor */
 };
 
 /* model.c: callbacks with their status and their outputs checked */
@@ -80,7 +103,7 @@ static inline int sdae__all_finite(const double *v, size_t n) {
 /* dst = src. A small model's state, just written a double at a time by the step, is read back
  * the same way: memcpy's 16-byte loads would wait for those stores to reach the cache (a load
  * spanning two stores is not forwarded). A large one goes to memcpy, whose wide loads then win
- * (the chain's euler step at N = 100 is 7% slower with the loop). */
+ * (docs/performance.md). */
 enum { SDAE_COPY_BY_LOOP = 8 };
 static inline void sdae__copy(double *dst, const double *src, size_t n) {
   if (n > SDAE_COPY_BY_LOOP) {
@@ -89,19 +112,20 @@ static inline void sdae__copy(double *dst, const double *src, size_t n) {
   }
   for (size_t i = 0; i < n; i++) dst[i] = src[i];
 }
-int sdae__eval_q0(sdae_stepper *s, double t, const double *mu, double *out);
-int sdae__eval_q0_jac(sdae_stepper *s, double t, const double *mu, double *out);
-/* Q(xi, mu) xi into s->Qxi and ||q_i||^2 into s->qnorm2 */
-int sdae__eval_Q(sdae_stepper *s, double t, const double *xi, const double *mu);
-/* calls a user callback of the (t, mu, out) form through the model's params, then checks it;
+/* calls a user callback of the (t, mu, out) form with the model's params, then checks it;
  * inline: the discrete gradient makes four such calls per evaluation */
 static inline int sdae__call_checked(int (*cb)(double, const double *, double *, void *),
-                                     sdae_stepper *s, double t, const double *mu, double *out,
-                                     size_t n_out) {
-  int rc = sdae__status_of_callback(cb(t, mu, out, s->model.params));
+                                     const sdae_model *m, double t, const double *mu,
+                                     double *out, size_t n_out) {
+  int rc = sdae__status_of_callback(cb(t, mu, out, m->params));
   if (rc != SDAE_OK) return rc;
   return sdae__all_finite(out, n_out) ? SDAE_OK : SDAE_ERR_NONFINITE;
 }
+int sdae__eval_q0(const sdae_model *m, double t, const double *mu, double *out);
+int sdae__eval_q0_jac(const sdae_model *m, double t, const double *mu, double *out);
+/* Q(xi, mu) xi into Qxi and ||q_i||^2 into qnorm2; Q_dense: n_mu x n_xi scratch for a dense Q */
+int sdae__eval_Q(const sdae_model *m, double *Q_dense, double t, const double *xi,
+                 const double *mu, double *Qxi, double *qnorm2);
 
 /* lu.c: solves A x = b for a band matrix (lb = ub = n - 1: dense) with GSL's banded LU; AB is
  * n x sdae__lu_band_cols(lb, ub), filled by sdae__lu_pack, overwritten by the factors */
@@ -120,15 +144,5 @@ void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, si
 int sdae__lu_small_factor(double *A, unsigned *piv, size_t n);
 void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,
                           double *x);
-
-/* newton.c: solves y = x + h (map's phi(x, y) + shift) for y (shift may be NULL), starting
- * from y; adds its iterations to the stats' newton_iters_last */
-int sdae__newton(sdae_stepper *s, const sdae_map_type *map, double t, double h, const double *x,
-                 const double *shift, double *y);
-
-/* stabilizer.c: the xi update of the chosen stabilizer and scheme, into s->xi_new */
-int sdae__stabilizer_check(const sdae_model *m, const sdae_options *o);
-void sdae__gains(const sdae_stepper *s, double *k);
-int sdae__xi_update(sdae_stepper *s, double T, const double *xi);
 
 #endif /* STABDAE_INTERNAL_H */

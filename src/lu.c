@@ -70,14 +70,13 @@ int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, co
  * Gaussian elimination with partial pivoting in place on the row-major matrix: unit-lower L
  * below the diagonal, U on and above, as LAPACK's getrf, but with
  *  - U's diagonal kept as its reciprocal: the solves, two per factorization in Newton, then
- *    multiply, and a division's latency (about 13 cycles) is off their critical path;
+ *    multiply, and a division's latency is off their critical path;
  *  - the pivoting kept as the permutation itself: row i of the factors is row piv[i] of A, so
  *    the solve gathers b once and works in a local array, in registers once n is a constant (in
  *    x itself each substitution waited on the store of the one before);
  * with the band solve's singularity test, and a pivot below DBL_MIN (whose reciprocal would
  * overflow) counted singular too. GSL's elimination, up to the rounding of those reciprocals,
- * without its views, scaling and BLAS calls, which cost about 1400 instructions per 2 x 2 solve:
- * half of the oscillator's step (callgrind). */
+ * without its views, scaling and BLAS calls, which dominate a 2 x 2 solve (docs/performance.md). */
 
 static void swap_rows(double *A, unsigned *piv, size_t n, size_t k, size_t p) {
   unsigned r = piv[k];

@@ -9,8 +9,8 @@
  *
  *   dg4: Yoshida's triple jump, g = (g1, 1 - 2 g1, g1), g1 = 1/(2 - 2^(1/3)): order 4;
  *   dg6: Kahan and Li's s9odr6a (Hairer, Lubich, Wanner, Geometric Numerical Integration,
- *        V.3.2): order 6. Its 9 stages cost 3 times dg4's, and its error constant is so much
- *        smaller that at an error of 1e-6 over a long run it needs about 4 times fewer stages. */
+ *        V.3.2): order 6, 9 stages, with an error constant so much smaller than dg4's that it is
+ *        the cheaper of the two for tight tolerances (docs/performance.md). */
 #include "internal.h"
 
 /* both satisfy sum g = 1 and sum g^3 = 0; s9odr6a also sum g^5 = 0 (to 1e-26) */
@@ -21,69 +21,75 @@ static const double s9odr6a[9] = {
     0.08221359629355080023, 0.79854399093482996340, 0.08221359629355080023,
     -0.70624617255763935981, 0.33259913678935943860, 0.39216144400731413928};
 
-static int compose_check(const sdae_model *m, const sdae_options *o) {
-  return sdae_map_dgrad->check(m, o);
-}
+static int compose_needs(const sdae_model *m) { return sdae__dgrad_type.needs(m); }
 
-/* the discrete gradient's scratch, then the stage's start and end */
+/* the stage's start and end, then the discrete gradient's scratch */
 static size_t compose_scratch(const sdae_model *m, const sdae_options *o) {
-  return sdae_map_dgrad->scratch(m, o) + 2 * m->n_mu;
+  return 2 * m->n_mu + sdae__dgrad_type.scratch(m, o);
 }
 
-/* one stage y = Psi_h(x): Newton on y = x + h S gradbar H(x, y) from x + h q0(x) */
-static int stage(sdae_stepper *s, double t, double h, const double *x, double *y) {
-  size_t n = s->model.n_mu;
-  int rc = sdae_map_dgrad->phi(s, t, h, x, x, s->phi);
-  s->stats.phi_evals++;
-  if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++) y[i] = x[i] + h * s->phi[i];
-  return sdae__newton(s, sdae_map_dgrad, t, h, x, NULL, y);
-}
-
-static int compose(sdae_stepper *s, const double *gamma, size_t stages, double t, double T,
+/* Psi_T(mu) by the map's stages, each y = Psi_h(x): Newton on y = x + h phi(x, y) from the
+ * predictor x + h phi(x, x); phi_T = (Psi_T(mu) - mu) / T. The stages see the context with
+ * the base map's part of the scratch. */
+static int compose(const sdae_map_type *map, sdae_map_ctx *c, double t, double T,
                    const double *mu, double *out) {
-  size_t n = s->model.n_mu;
-  double *a = s->map_work + sdae_map_dgrad->scratch(&s->model, &s->opt), *b = a + n;
+  const sdae_map_type *base = map->base;
+  size_t n = c->model->n_mu;
+  double *x = c->work, *y = x + n;
+  sdae_map_ctx stage = *c;
   int rc = SDAE_OK;
-  sdae__copy(a, mu, n);
-  for (size_t k = 0; k < stages && rc == SDAE_OK; k++) {
-    rc = stage(s, t, gamma[k] * T, a, b);
-    t += gamma[k] * T;
-    sdae__copy(a, b, n);
+  stage.work = y + n;
+  sdae__copy(x, mu, n);
+  for (size_t k = 0; k < map->stages && rc == SDAE_OK; k++) {
+    double h = map->gamma[k] * T;
+    rc = sdae__map_phi(base, &stage, t, h, x, x, y);
+    for (size_t i = 0; i < n; i++) y[i] = x[i] + h * y[i];
+    if (rc == SDAE_OK) rc = sdae__newton_solve(c->newton, base, &stage, t, h, x, NULL, y);
+    t += h;
+    sdae__copy(x, y, n);
   }
+  c->phi_evals = stage.phi_evals;
   if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++) out[i] = (a[i] - mu[i]) / T;
+  for (size_t i = 0; i < n; i++) out[i] = (x[i] - mu[i]) / T;
   return SDAE_OK;
 }
 
-static int dg4_phi(sdae_stepper *s, double t, double T, const double *mu,
+static int dg4_phi(sdae_map_ctx *c, double t, double T, const double *mu,
                    const double *mu_next, double *out) {
   (void)mu_next;
-  return compose(s, triple_jump, sizeof triple_jump / sizeof *triple_jump, t, T, mu, out);
+  return compose(sdae_map_dg4, c, t, T, mu, out);
 }
 
-static int dg6_phi(sdae_stepper *s, double t, double T, const double *mu,
+static int dg6_phi(sdae_map_ctx *c, double t, double T, const double *mu,
                    const double *mu_next, double *out) {
   (void)mu_next;
-  return compose(s, s9odr6a, sizeof s9odr6a / sizeof *s9odr6a, t, T, mu, out);
+  return compose(sdae_map_dg6, c, t, T, mu, out);
 }
+
+#define STAGES(g) (sizeof(g) / sizeof *(g))
 
 static const sdae_map_type dg4_type = {
     .name = "dg4",
+    .order = 4,
     .implicit = 0,
-    .uses_newton = 1,
-    .check = compose_check,
+    .needs = compose_needs,
     .scratch = compose_scratch,
     .phi = dg4_phi,
+    .base = &sdae__dgrad_type,
+    .gamma = triple_jump,
+    .stages = STAGES(triple_jump),
 };
 
 static const sdae_map_type dg6_type = {
     .name = "dg6",
+    .order = 6,
     .implicit = 0,
-    .uses_newton = 1,
-    .check = compose_check,
+    .needs = compose_needs,
     .scratch = compose_scratch,
     .phi = dg6_phi,
+    .base = &sdae__dgrad_type,
+    .gamma = s9odr6a,
+    .stages = STAGES(s9odr6a),
 };
 
 const sdae_map_type *const sdae_map_dg4 = &dg4_type;

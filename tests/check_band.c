@@ -58,12 +58,13 @@ static int S(double t, const double *mu, double *out, void *params) {
 }
 
 static void run(const sdae_map_type *map, size_t bandwidth, double *mu, int steps) {
-  sdae_model m = {.n_xi = 1, .n_mu = 2 * N, .q0 = q0, .Q_apply = Q_apply, .bandwidth = bandwidth};
+  sdae_model m = {.n_xi = 1, .n_mu = 2 * N, .q0 = q0, .Q_apply = Q_apply, .H = H,
+                  .grad_H = grad_H, .S = S};
   sdae_options o;
   sdae_stepper *s;
   double xi[1] = {0.0};
   sdae_options_default(&o);
-  o.map = map, o.H = H, o.grad_H = grad_H, o.S = S;
+  o.map = map, o.bandwidth = bandwidth;
   for (size_t i = 0; i < N; i++) mu[2 * i] = 0.5 * sin(1.0 + i), mu[2 * i + 1] = 0.1 * cos(2.0 * i);
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
   ck_assert_int_eq(sdae_integrate(s, 0.0, 0.05, (size_t)steps, 1, xi, mu, NULL, NULL, NULL),

@@ -120,17 +120,6 @@ static int W(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-/* The paper's map for k = 2, m = 1 */
-static int paper_phi(double t, double T, const double *x, const double *y, double *out,
-                     void *params) {
-  const quartic *p = params;
-  (void)t, (void)T;
-  out[0] = 0.5 * (y[1] + x[1]);
-  out[1] = -p->k * (y[0] * y[0] * y[0] + x[0] * x[0] * x[0] + (y[0] + x[0]) * y[0] * x[0]) / 4.0 -
-           p->d * x[1];
-  return 0;
-}
-
 /* By hand: the paper's map makes W's difference quotient gradbar W = (k (x1^3 + x1^2 y1 +
  * x1 y1^2 + y1^3)/4, (x2 + y2)/2), so on the manifold W(mu+) - W(mu) = T gradbar . phi
  * = -T d x2 (x2 + y2)/2: the ratio of (18) is -d x2 (x2 + y2) / (2 W(x)). */
@@ -158,7 +147,6 @@ START_TEST(cond18_matches_energy_balance) {
   sdae_stepper *s;
   double xi[2] = {0, 0}, mu[2] = {0.7, 0.0}, store[2];
   both b = {.worst = -INFINITY};
-  o.user_phi = paper_phi;
   o.delta = 2.0;
   ck_assert_int_eq(sdae_cond18_init(&b.c, 2, W, NULL, store), SDAE_OK);
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);

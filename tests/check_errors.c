@@ -67,11 +67,11 @@ END_TEST
 START_TEST(map_without_callbacks) {
   reset();
   opt.map = NULL, expect_config(SDAE_ERR_MAP);
-  opt.map = sdae_map_dgrad, opt.H = NULL, expect_config(SDAE_ERR_MAP);
-  opt.map = sdae_map_dgrad, opt.grad_H = NULL, expect_config(SDAE_ERR_MAP);
-  opt.map = sdae_map_dgrad, opt.S = NULL, expect_config(SDAE_ERR_MAP);
-  opt.map = sdae_map_dg4, opt.S = NULL, expect_config(SDAE_ERR_MAP); /* nor S_apply */
-  opt.map = sdae_map_user, expect_config(SDAE_ERR_MAP); /* no user_phi */
+  opt.map = sdae_map_dgrad, model.H = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dgrad, model.grad_H = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dgrad, model.S = NULL, expect_config(SDAE_ERR_MAP);
+  opt.map = sdae_map_dg4, model.S = NULL, expect_config(SDAE_ERR_MAP); /* nor S_apply */
+  opt.map = sdae_map_user, model.user_phi = NULL, expect_config(SDAE_ERR_MAP);
   ck_assert_str_eq(sdae_map_name(sdae_map_dgrad), "dgrad");
 }
 END_TEST
@@ -150,7 +150,7 @@ static void expect_step(const sdae_map_type *map, fault f, double t, double T, d
   double xi_copy[2], mu_copy[2];
   reset();
   model.q0 = faulty_q0, model.Q = faulty_Q;
-  opt.map = map, opt.H = faulty_H, opt.user_phi = faulty_phi;
+  opt.map = map, model.H = faulty_H, model.user_phi = faulty_phi;
   memcpy(xi_copy, xi, sizeof xi), memcpy(mu_copy, mu, sizeof mu);
   ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
   inject = f;
@@ -212,7 +212,7 @@ START_TEST(energy_callback_nan) {
   double xi[2] = {0.1, 0.25}, mu[2] = {0.2, -0.5};
   reset();
   model.q0 = faulty_q0, model.Q = faulty_Q;
-  opt.map = sdae_map_dgrad, opt.H = faulty_H, opt.grad_H = unit_grad, opt.S = skew;
+  opt.map = sdae_map_dgrad, model.H = faulty_H, model.grad_H = unit_grad, model.S = skew;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
   inject = H_NAN;
   ck_assert_int_eq(sdae_step(s, 0.0, 0.1, xi, mu), SDAE_ERR_NONFINITE);

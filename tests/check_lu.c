@@ -1,6 +1,7 @@
 /* The small dense LU of Newton (n <= SDAE_SMALL_DENSE) against GSL's banded LU on the same
  * matrices: the same solution to rounding, pivoting where the first pivot is zero, and the same
  * singularity verdicts. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -99,6 +100,76 @@ START_TEST(larger_than_small_is_refused) {
 }
 END_TEST
 
+/* Badly scaled but far from singular: A = [[1, 1], [1e10, 0]] (det = -1e10, cond_inf about
+ * 1e10): partial pivoting takes the row 1e10 first, U = [[1e10, 0], [0, 1]], every operation
+ * exact, so A x = (2, 1e10) gives x = (1, 1) exactly on both paths. */
+START_TEST(badly_scaled_solves_exactly) {
+  const double A[4] = {1, 1, 1e10, 0}, b[2] = {2, 1e10};
+  double x[2] = {0, 0}, y[2] = {0, 0};
+  ck_assert_int_eq(small_solve(A, 2, b, x), SDAE_OK);
+  ck_assert_int_eq(gsl_solve(A, 2, b, y), SDAE_OK);
+  for (int i = 0; i < 2; i++) {
+    ck_assert_double_eq(x[i], 1.0);
+    ck_assert_double_eq(y[i], 1.0);
+  }
+}
+END_TEST
+
+/* [1e-310]: a subnormal pivot. The small LU keeps U's diagonal as its reciprocal, and
+ * 1/1e-310 overflows (DBL_MAX is 1.8e308): by its DBL_MIN rule it is singular. GSL's path
+ * divides instead, so there the matrix is what it is, invertible: x = b / a, one rounding
+ * (about 1e10: the stored subnormal 1e-310 carries only 44 bits). */
+START_TEST(subnormal_pivot) {
+  const double A[1] = {1e-310}, b[1] = {1e-300};
+  double x[1] = {0};
+  ck_assert_int_eq(small_solve(A, 1, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(gsl_solve(A, 1, b, x), SDAE_OK);
+  ck_assert_double_eq(x[0], b[0] / A[0]);
+}
+END_TEST
+
+/* Singular to rounding: A = s u v^T formed in floating point, u, v without exact binary
+ * digits, so elimination leaves pivots of rounding size (about eps |A|), not exact zeros;
+ * the test |u_kk| > n eps max|a_ij| must refuse them at every scale s, on both paths. */
+START_TEST(rank_one_to_rounding_is_singular) {
+  const double u[4] = {0.1, 0.7, 0.3, 0.9}, v[4] = {0.3, 0.9, 0.7, 0.1};
+  const double scale[3] = {1e-150, 1.0, 1e150};
+  const double b[4] = {1, 1, 1, 1};
+  for (size_t n = 2; n <= NMAX; n++)
+    for (int k = 0; k < 3; k++) {
+      double A[NMAX * NMAX], x[NMAX];
+      for (size_t i = 0; i < n; i++)
+        for (size_t j = 0; j < n; j++) A[i * n + j] = scale[k] * u[i] * v[j];
+      ck_assert_int_eq(small_solve(A, n, b, x), SDAE_ERR_SINGULAR);
+      ck_assert_int_eq(gsl_solve(A, n, b, x), SDAE_ERR_SINGULAR);
+    }
+}
+END_TEST
+
+/* The band path with a real band (lb = ub = 1 on n = 6): a tridiagonal matrix whose rows 2
+ * and 3 (from 0) are equal to rounding (0.1 + 0.2 and 0.3) is refused; the same with row 3 made
+ * [.., 2, 5, 1, ..] solves, to the residual bound of backward-stable LU. */
+START_TEST(banded_singular_to_rounding) {
+  enum { N = 6 };
+  double A[N * N] = {0}, AB[N * 4], b[N] = {1, 2, 3, 4, 5, 6}, x[N];
+  unsigned piv[N];
+  for (int i = 0; i < N; i++) {
+    A[i * N + i] = 4.0;
+    if (i > 0) A[i * N + i - 1] = 1.0;
+    if (i + 1 < N) A[i * N + i + 1] = 1.0;
+  }
+  /* rows 2 and 3 restricted to columns 2, 3: [a, c; a, c] up to rounding, zero elsewhere */
+  A[2 * N + 1] = 0.0, A[2 * N + 2] = 0.1 + 0.2, A[2 * N + 3] = 0.7;
+  A[3 * N + 2] = 0.3, A[3 * N + 3] = 0.7, A[3 * N + 4] = 0.0;
+  sdae__lu_pack(A, N, 1, 1, AB);
+  ck_assert_int_eq(sdae__lu_solve(AB, piv, N, 1, 1, b, x), SDAE_ERR_SINGULAR);
+  A[3 * N + 2] = 2.0, A[3 * N + 3] = 5.0, A[3 * N + 4] = 1.0;
+  sdae__lu_pack(A, N, 1, 1, AB);
+  ck_assert_int_eq(sdae__lu_solve(AB, piv, N, 1, 1, b, x), SDAE_OK);
+  check_residual(A, N, b, x);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("lu");
   ADD_CASE(s, same_solution_as_gsl);
@@ -106,5 +177,9 @@ int main(void) {
   ADD_CASE(s, permutation_case_exact);
   ADD_CASE(s, four_cycle_exact);
   ADD_CASE(s, larger_than_small_is_refused);
+  ADD_CASE(s, badly_scaled_solves_exactly);
+  ADD_CASE(s, subnormal_pivot);
+  ADD_CASE(s, rank_one_to_rounding_is_singular);
+  ADD_CASE(s, banded_singular_to_rounding);
   return run_suite(s);
 }

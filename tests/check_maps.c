@@ -48,19 +48,10 @@ START_TEST(order_dg6_is_6) {
 }
 END_TEST
 
-/* The paper's Section IV map for k = 1, d = 0 is the coordinate discrete gradient of H:
- * symmetric, so order 2. */
-static int paper_phi(double t, double T, const double *mu, const double *y, double *out,
-                     void *params) {
-  (void)t, (void)T, (void)params;
-  out[0] = 0.5 * (y[1] + mu[1]);
-  out[1] = -(y[0] * y[0] * y[0] + mu[0] * mu[0] * mu[0] + (y[0] + mu[0]) * y[0] * mu[0]) / 4.0;
-  return 0;
-}
-
+/* The paper's Section IV map (the model's user map) for k = 1, d = 0 is the coordinate discrete
+ * gradient of H: symmetric, so order 2. */
 START_TEST(order_user_paper_map_is_2) {
   sdae_options o = quartic_options(sdae_map_user, SDAE_SCHEME_SEMI_IMPLICIT);
-  o.user_phi = paper_phi;
   expect_order(&o, 2, 0.02);
 }
 END_TEST
@@ -134,6 +125,13 @@ START_TEST(dgrad_dissipates_monotonically) {
 }
 END_TEST
 
+/* A map's context as the stepper hands it over, with scratch for a model of n_mu = 2. */
+static sdae_map_ctx map_ctx(const sdae_model *m, const sdae_options *o) {
+  static double work[64];
+  ck_assert_uint_le(o->map->scratch(m, o), sizeof work / sizeof *work);
+  return (sdae_map_ctx){m, work, NULL, 0};
+}
+
 /* The map itself, through the internal table: when |mu+ - mu| is below sqrt(eps), gradbar H
  * is grad H(mid) (H is not called, phi = S grad H(mid) = q0(mid)); otherwise the difference
  * quotient makes gradbar . v = H(mu+) - H(mu), with gradbar = S^-1 phi = J^T phi for S = J. */
@@ -141,36 +139,24 @@ START_TEST(dgrad_small_increment_branch) {
   quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
-  sdae_stepper *s;
   double x[2] = {0.8, 0.3}, near[2] = {0.8 + 1e-10, 0.3 - 1e-10}, far[2] = {0.9, 0.1};
   double phi[2], q0mid[2], Hx, Hy;
-  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
-  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, near, phi), SDAE_OK);
+  sdae_map_ctx c = map_ctx(&m, &o);
+  ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.0, 0.1, x, near, phi), SDAE_OK);
   ck_assert_int_eq(p.H_calls, 0);
   double mid[2] = {0.5 * (x[0] + near[0]), 0.5 * (x[1] + near[1])};
   ck_assert_int_eq(m.q0(0.0, mid, q0mid, &p), 0);
   ck_assert_double_eq(phi[0], q0mid[0]);
   ck_assert_double_eq(phi[1], q0mid[1]);
 
-  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.0, 0.1, x, far, phi), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.0, 0.1, x, far, phi), SDAE_OK);
   ck_assert_int_eq(p.H_calls, 2);
   double gradbar_v = -phi[1] * (far[0] - x[0]) + phi[0] * (far[1] - x[1]);
   quartic_H(0.0, x, &Hx, &p);
   quartic_H(0.0, far, &Hy, &p);
   ck_assert_double_le(fabs(gradbar_v - (Hy - Hx)), 1e-16);
-  sdae_stepper_free(s);
 }
 END_TEST
-
-/* S = [[0, 1], [-1, -d]] applied, as a large model gives it */
-static int quartic_S_apply(double t, const double *mu, const double *v, double *out,
-                           void *params) {
-  const quartic *p = params;
-  (void)t, (void)mu;
-  out[0] = v[1];
-  out[1] = -v[0] - p->d * v[1];
-  return 0;
-}
 
 /* An H with a coupling term and time in its Hessian, so that the Jacobian's index order and
  * time argument are exercised: H = mu2^2/2 + k mu1^4/4 + mu1^2 mu2/2 + t mu1^2/2. */
@@ -208,32 +194,30 @@ static void jacobian_matches_differences(int use_S_apply) {
   quartic p = {1.0, 0.1, 0, 0};
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
-  sdae_stepper *s;
   double x[2] = {0.8, 0.3}, far[2] = {0.9, 0.1}, near[2] = {0.8 + 1e-10, 0.3 - 1e-10};
   double J[4], phi[2], plus[2], minus[2], y[2], h = 1e-6, mid[2], Hm[4];
-  o.H = coupled_H, o.grad_H = coupled_grad_H, o.hess_H = coupled_hess_H;
-  if (use_S_apply) o.S = NULL, o.S_apply = quartic_S_apply;
-  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
-  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, far, phi), SDAE_OK);
-  ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.3, 0.1, x, far, J), SDAE_OK);
+  m.H = coupled_H, m.grad_H = coupled_grad_H, m.hess_H = coupled_hess_H;
+  if (use_S_apply) m.S = NULL, m.S_apply = quartic_S_apply;
+  sdae_map_ctx c = map_ctx(&m, &o);
+  ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.3, 0.1, x, far, phi), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->jac(&c, 0.3, 0.1, x, far, J), SDAE_OK);
   for (int j = 0; j < 2; j++) {
     y[0] = far[0], y[1] = far[1];
     y[j] += h;
-    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, y, plus), SDAE_OK);
+    ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.3, 0.1, x, y, plus), SDAE_OK);
     y[j] -= 2 * h;
-    ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, y, minus), SDAE_OK);
+    ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.3, 0.1, x, y, minus), SDAE_OK);
     for (int i = 0; i < 2; i++)
       ck_assert_double_le(fabs(J[i * 2 + j] - (plus[i] - minus[i]) / (2 * h)), 1e-8);
   }
-  ck_assert_int_eq(sdae_map_dgrad->phi(s, 0.3, 0.1, x, near, phi), SDAE_OK);
-  ck_assert_int_eq(sdae_map_dgrad->jac(s, 0.3, 0.1, x, near, J), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.3, 0.1, x, near, phi), SDAE_OK);
+  ck_assert_int_eq(sdae_map_dgrad->jac(&c, 0.3, 0.1, x, near, J), SDAE_OK);
   mid[0] = 0.5 * (x[0] + near[0]), mid[1] = 0.5 * (x[1] + near[1]);
   coupled_hess_H(0.35, mid, Hm, &p);
   for (int j = 0; j < 2; j++) { /* S = [[0, 1], [-1, -d]] */
     ck_assert_double_eq_tol(J[j], 0.5 * Hm[2 + j], 1e-15);
     ck_assert_double_eq_tol(J[2 + j], 0.5 * (-Hm[j] - p.d * Hm[2 + j]), 1e-15);
   }
-  sdae_stepper_free(s);
 }
 
 START_TEST(dgrad_jacobian_matches_differences) { jacobian_matches_differences(0); }
@@ -251,7 +235,7 @@ START_TEST(dgrad_hessian_spares_evaluations) {
   sdae_stepper *fd, *an;
   double xi[2] = {0.1, -0.2}, mu[2] = {0.8, 0.3}, xi2[2] = {0.1, -0.2}, mu2[2] = {0.8, 0.3};
   ck_assert_int_eq(sdae_stepper_alloc(&fd, &m, &o), SDAE_OK);
-  o.hess_H = quartic_hess_H;
+  m.hess_H = quartic_hess_H;
   ck_assert_int_eq(sdae_stepper_alloc(&an, &m, &o), SDAE_OK);
   for (int n = 0; n < 100; n++) {
     ck_assert_int_eq(sdae_step(fd, n * 0.05, 0.05, xi, mu), SDAE_OK);
@@ -267,8 +251,27 @@ START_TEST(dgrad_hessian_spares_evaluations) {
 }
 END_TEST
 
+/* Every map is found by its own name, and declares the order of accuracy its construction gives
+ * (euler 1; midpoint and Gonzalez's discrete gradient 2, both symmetric; the triple jump 4;
+ * s9odr6a 6); the order tests above measure the same numbers. */
+START_TEST(maps_by_name_and_order) {
+  const sdae_map_type *maps[6] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
+                                  sdae_map_user,  sdae_map_dg4,      sdae_map_dg6};
+  const unsigned order[6] = {1, 2, 2, 0, 4, 6};
+  for (int i = 0; i < 6; i++) {
+    ck_assert_ptr_eq(sdae_map_by_name(sdae_map_name(maps[i])), maps[i]);
+    ck_assert_uint_eq(sdae_map_order(maps[i]), order[i]);
+  }
+  ck_assert_ptr_null(sdae_map_by_name("dg"));
+  ck_assert_ptr_null(sdae_map_by_name(NULL));
+  ck_assert_str_eq(sdae_map_name(NULL), "(none)");
+  ck_assert_uint_eq(sdae_map_order(NULL), 0);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("maps");
+  ADD_CASE(s, maps_by_name_and_order);
   ADD_CASE(s, order_euler_is_1);
   ADD_CASE(s, order_midpoint_is_2);
   ADD_CASE(s, order_dgrad_is_2);

@@ -3,8 +3,11 @@
 #include <math.h>
 #include <string.h>
 
+#include <stdlib.h>
+
 #include <gsl/gsl_errno.h>
 
+#include "../src/internal.h"
 #include "testmodels.h"
 
 /* The midpoint map of x'' = -x^3 as a user map that records every mu+ it is called with. */
@@ -45,8 +48,8 @@ static int run(trace *tr, int analytic, unsigned max_iter, double T, double *mu,
   sdae_stepper *s;
   double xi[2] = {0.0, 0.0};
   m.params = tr;
-  o.user_phi = traced_phi;
-  o.user_phi_jac = analytic ? traced_jac : NULL;
+  m.user_phi = traced_phi;
+  m.user_phi_jac = analytic ? traced_jac : NULL;
   o.newton_max_iter = max_iter;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
   *status = sdae_step(s, 0.0, T, xi, mu);
@@ -72,6 +75,44 @@ START_TEST(quadratic_convergence_analytic) {
   ck_assert_double_gt(e[0], 1e-2);
   int checked = 0;
   for (int k = 0; k + 1 < n; k++)
+    if (e[k] > 1e-7) {
+      ck_assert_double_le(e[k + 1], 5.0 * e[k] * e[k]);
+      checked++;
+    }
+  ck_assert_int_ge(checked, 2);
+}
+END_TEST
+
+/* The same for the midpoint map with q0_jac on x'' = -x^3: the errors of the iterates
+ * y_k = 2 m_k - mu, read from the midpoints m_k that q0 is called at, satisfy
+ * e_{k+1} <= C e_k^2. C = (T/2) sup|d2 phi/dy2| ||M^-1|| = 0.4 (1.5 |m_1|) ||M^-1||, below 2
+ * on this step: 5 leaves room. A chord iteration (M kept from the first iterate) converges
+ * only linearly. */
+static int traced_q0(double t, const double *mu, double *out, void *params) {
+  trace *tr = params;
+  (void)t;
+  if (tr->n < 64) memcpy(tr->y[tr->n++], mu, sizeof tr->y[0]);
+  out[0] = mu[1];
+  out[1] = -mu[0] * mu[0] * mu[0];
+  return 0;
+}
+
+START_TEST(quadratic_convergence_midpoint_q0_jac) {
+  trace tr = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0};
+  sdae_model m = quartic_model(&tr.q);
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double xi[2] = {0.0, 0.0}, mu[2] = {1.5, 0.5}, e[64];
+  int checked = 0;
+  m.params = &tr, m.q0 = traced_q0; /* q0_jac reads the quartic at the head of the trace */
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.8, xi, mu), SDAE_OK);
+  sdae_stepper_free(s);
+  /* tr.y[0] is the predictor's midpoint (mu itself); tr.y[1..] those of the Newton iterates */
+  for (int k = 1; k < tr.n; k++)
+    e[k] = fmax(fabs(2.0 * tr.y[k][0] - 1.5 - mu[0]), fabs(2.0 * tr.y[k][1] - 0.5 - mu[1]));
+  ck_assert_double_gt(e[1], 1e-2);
+  for (int k = 1; k + 1 < tr.n; k++)
     if (e[k] > 1e-7) {
       ck_assert_double_le(e[k + 1], 5.0 * e[k] * e[k]);
       checked++;
@@ -176,13 +217,168 @@ START_TEST(stale_memory_is_never_read) {
 }
 END_TEST
 
+/* ---- Newton's cost, fixed by its definition (src/newton.c) ----
+ * A step of an implicit map costs one evaluation of phi for the predictor mu + T (phi(mu, mu) +
+ * Q xi); each Newton iteration one for the residual R(y), plus, when M = I - T dphi/dmu+ is
+ * rebuilt, 2 per colour group of columns with finite differences (n groups dense, 2b + 1 for a
+ * band b) or none with an analytic Jacobian. An iteration stops at once when R(y) = 0 exactly,
+ * else after the update that is below newton_tol (1 + ||y||). */
+
+/* The step count of a stepper over n steps of the rotation fixture (linear in mu, a(t) = 1 + t)
+ * from t = 0.3 with xi = 0.3 != 0 (the shift Q xi in Newton's right-hand side). */
+static void per_step_cost(const sdae_map_type *map, const sdae_model *m, unsigned iters,
+                          unsigned long evals) {
+  sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double xi[1] = {0.3}, mu[2] = {0.6, -0.8};
+  ck_assert_int_eq(sdae_stepper_alloc(&s, m, &o), SDAE_OK);
+  for (int n = 0; n < 20; n++) {
+    unsigned long before = sdae_stepper_stats(s)->phi_evals;
+    ck_assert_int_eq(sdae_step(s, 0.3 + 0.1 * n, 0.1, xi, mu), SDAE_OK);
+    ck_assert_uint_eq(sdae_stepper_stats(s)->newton_iters_last, iters);
+    ck_assert_uint_eq(sdae_stepper_stats(s)->phi_evals - before, evals);
+  }
+  sdae_stepper_free(s);
+}
+
+/* q0 = a(t) J mu is linear in mu, so with the exact Jacobian (q0_jac) the first Newton update
+ * lands on the root to rounding and the second, of a few ulps, confirms it: 2 iterations, and
+ * 3 evaluations of phi (predictor and two residuals). A Jacobian off by any factor makes
+ * Newton linear: more iterations. */
+START_TEST(linear_midpoint_one_iteration_plus_confirm) {
+  sdae_model m = rotation_model(NULL);
+  per_step_cost(sdae_map_midpoint, &m, 2, 3);
+}
+END_TEST
+
+/* The same for the discrete gradient of H = |mu|^2/2 with hess_H (exact: S depends on t only),
+ * with S and with S_apply, and the user map with user_phi_jac. */
+START_TEST(linear_dgrad_and_user_one_iteration_plus_confirm) {
+  sdae_model m = rotation_model(NULL);
+  per_step_cost(sdae_map_dgrad, &m, 2, 3);
+  m.S = NULL, m.S_apply = rotation_S_apply;
+  per_step_cost(sdae_map_dgrad, &m, 2, 3);
+  m = rotation_model(NULL);
+  m.user_phi_jac = rotation_user_phi_jac;
+  per_step_cost(sdae_map_user, &m, 2, 3);
+}
+END_TEST
+
+/* dg4 and dg6: explicit to the stepper (no predictor, no Newton of its own: one evaluation of
+ * the composed phi), each of the s stages a dgrad solve of 2 iterations and 3 evaluations:
+ * iterations 2 s, evaluations 1 + 3 s (s = 3: 6 and 10; s = 9: 18 and 28). */
+START_TEST(linear_composed_stages_cost) {
+  sdae_model m = rotation_model(NULL);
+  per_step_cost(sdae_map_dg4, &m, 6, 10);
+  per_step_cost(sdae_map_dg6, &m, 18, 28);
+}
+END_TEST
+
+/* An explicit map: one evaluation of phi per step and no Newton iteration. */
+START_TEST(explicit_map_one_evaluation) {
+  sdae_model m = rotation_model(NULL);
+  per_step_cost(sdae_map_euler, &m, 0, 1);
+}
+END_TEST
+
+/* A user map independent of mu+ with dyadic numbers (mu, T, phi, Q xi exact in binary): the
+ * predictor is the root exactly, R = 0 at the first iterate, and Newton stops there without a
+ * Jacobian: 1 iteration, 2 evaluations (predictor, residual). Computing M anyway would cost
+ * 2 n = 4 more by finite differences; a predictor off the root, an iteration and 5 more. */
+static int constant_phi(double t, double T, const double *mu, const double *y, double *out,
+                        void *params) {
+  (void)t, (void)T, (void)mu, (void)y, (void)params;
+  out[0] = 0.5, out[1] = -0.25;
+  return 0;
+}
+
+START_TEST(exact_predictor_stops_at_zero_residual) {
+  sdae_model m = rotation_model(NULL);
+  sdae_options o = quartic_options(sdae_map_user, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double xi[1] = {0.5}, mu[2] = {1.0, 0.5};
+  m.user_phi = constant_phi;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.25, xi, mu), SDAE_OK); /* Q xi = (1 + 0) 0.5 */
+  ck_assert_uint_eq(sdae_stepper_stats(s)->newton_iters_last, 1);
+  ck_assert_uint_eq(sdae_stepper_stats(s)->phi_evals, 2);
+  ck_assert_double_eq(mu[0], 1.0 + 0.25 * (0.5 + 0.5)); /* exact in binary */
+  ck_assert_double_eq(mu[1], 0.5 + 0.25 * -0.25);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+/* ---- the finite-difference Jacobian's cost, through sdae__newton_solve itself ---- */
+
+typedef struct fd_case {
+  size_t n, band; /* band 0: dense */
+} fd_case;
+
+/* phi = (1/2, -1/4, 1/2, ...): independent of y, so its differences are exactly 0 and M = I. */
+static int const_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                     const double *mu_next, double *out) {
+  (void)t, (void)T, (void)mu, (void)mu_next;
+  for (size_t i = 0; i < c->model->n_mu; i++) out[i] = i % 2 ? -0.25 : 0.5;
+  return SDAE_OK;
+}
+
+static const sdae_map_type const_map = {.name = "const", .order = 1, .implicit = 1,
+                                        .phi = const_phi};
+
+/* Newton from y = x = (1, 1, ...) with h = 1/4: R(x) = -h phi != 0, so iteration 1 evaluates R
+ * (1), builds M by finite differences (2 w, w the colour groups) and lands exactly (dyadic) on
+ * y = x + h phi; iteration 2 finds R = 0 exactly and stops (1). Total 2 + 2 w, 2 iterations,
+ * with w = n dense and w = 2b + 1 for a band b < n - 1. */
+static void fd_cost(fd_case fc, unsigned long groups) {
+  sdae_model m = {.n_xi = 1, .n_mu = fc.n};
+  sdae_options o;
+  sdae_newton nw;
+  sdae_arena count = {0}, a = {0};
+  sdae_options_default(&o);
+  o.bandwidth = fc.band;
+  sdae__newton_carve(&nw, &m, &o, &count);
+  a.base = calloc(count.used, 1); /* calloc: aligned for any type */
+  sdae__newton_carve(&nw, &m, &o, &a);
+  nw.iters = 0;
+  sdae_map_ctx c = {&m, NULL, &nw, 0};
+  double x[16], y[16];
+  for (size_t i = 0; i < fc.n; i++) x[i] = y[i] = 1.0;
+  ck_assert_int_eq(sdae__newton_solve(&nw, &const_map, &c, 0.0, 0.25, x, NULL, y), SDAE_OK);
+  ck_assert_uint_eq(c.phi_evals, 2 + 2 * groups);
+  ck_assert_uint_eq(nw.iters, 2);
+  for (size_t i = 0; i < fc.n; i++) ck_assert_double_eq(y[i], 1.0 + 0.25 * (i % 2 ? -0.25 : 0.5));
+  free(a.base);
+}
+
+START_TEST(fd_jacobian_costs_2n_dense) {
+  fd_cost((fd_case){2, 0}, 2);  /* the small dense LU */
+  fd_cost((fd_case){4, 0}, 4);
+  fd_cost((fd_case){6, 0}, 6);  /* GSL's LU on the full band */
+}
+END_TEST
+
+START_TEST(fd_jacobian_costs_2_times_2b_plus_1_banded) {
+  fd_cost((fd_case){12, 1}, 3);
+  fd_cost((fd_case){12, 2}, 5);
+  fd_cost((fd_case){16, 4}, 9);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("newton");
   ADD_CASE(s, quadratic_convergence_analytic);
+  ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);
   ADD_CASE(s, singular_matrix_is_reported);
   ADD_CASE(s, iteration_cap_is_reported);
   ADD_CASE(s, statistics_add_up);
   ADD_CASE(s, stale_memory_is_never_read);
+  ADD_CASE(s, linear_midpoint_one_iteration_plus_confirm);
+  ADD_CASE(s, linear_dgrad_and_user_one_iteration_plus_confirm);
+  ADD_CASE(s, linear_composed_stages_cost);
+  ADD_CASE(s, explicit_map_one_evaluation);
+  ADD_CASE(s, exact_predictor_stops_at_zero_residual);
+  ADD_CASE(s, fd_jacobian_costs_2n_dense);
+  ADD_CASE(s, fd_jacobian_costs_2_times_2b_plus_1_banded);
   return run_suite(s);
 }

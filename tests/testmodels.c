@@ -5,102 +5,11 @@
 
 #include <gsl/gsl_sf_elljac.h>
 
-static int q0(double t, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  out[0] = mu[1];
-  out[1] = -p->k * mu[0] * mu[0] * mu[0] - p->d * mu[1];
-  return 0;
-}
-
-int quartic_q0_jac(double t, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  out[0] = 0.0;
-  out[1] = 1.0;
-  out[2] = -3.0 * p->k * mu[0] * mu[0];
-  out[3] = -p->d;
-  return 0;
-}
-
-static int Q(double t, const double *xi, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  out[0] = -1.0;
-  out[1] = 1.0;
-  if (p->printed)
-    out[2] = p->k * (3 * mu[0] * xi[0] - 3 * mu[0] * mu[0] - xi[0] * xi[0]) + p->d * xi[0];
-  else
-    out[2] = p->k * (3 * mu[0] * mu[0] - 3 * mu[0] * xi[0] + xi[0] * xi[0]) + p->d;
-  out[3] = 1.0;
-  return 0;
-}
-
-int quartic_const_Q(double t, const double *xi, const double *mu, double *out, void *params) {
-  (void)t, (void)xi, (void)mu, (void)params;
-  out[0] = 2.0, out[1] = 0.0, out[2] = 0.0, out[3] = 0.0;
-  return 0;
-}
-
-int quartic_H(double t, const double *mu, double *out, void *params) {
-  quartic *p = params;
-  (void)t;
-  p->H_calls++;
-  out[0] = 0.5 * mu[1] * mu[1] + 0.25 * p->k * mu[0] * mu[0] * mu[0] * mu[0];
-  return 0;
-}
-
-static int grad_H(double t, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  out[0] = p->k * mu[0] * mu[0] * mu[0];
-  out[1] = mu[1];
-  return 0;
-}
-
-int quartic_hess_H(double t, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  out[0] = 3.0 * p->k * mu[0] * mu[0];
-  out[1] = out[2] = 0.0;
-  out[3] = 1.0;
-  return 0;
-}
-
-static int S(double t, const double *mu, double *out, void *params) {
-  const quartic *p = params;
-  (void)t;
-  (void)mu;
-  out[0] = 0.0;
-  out[1] = 1.0;
-  out[2] = -1.0;
-  out[3] = -p->d;
-  return 0;
-}
-
-static const unsigned rel_degree_2[1] = {2};
-
-sdae_model quartic_model(quartic *p) {
-  sdae_model m = {0};
-  m.n_xi = 2;
-  m.n_mu = 2;
-  m.q0 = q0;
-  m.Q = Q;
-  m.q0_jac = quartic_q0_jac;
-  m.n_constraints = 1;
-  m.rel_degree = rel_degree_2;
-  m.params = p;
-  return m;
-}
-
 sdae_options quartic_options(const sdae_map_type *map, sdae_scheme scheme) {
   sdae_options o;
   sdae_options_default(&o);
   o.map = map;
   o.scheme = scheme;
-  o.H = quartic_H;
-  o.grad_H = grad_H;
-  o.S = S;
   return o;
 }
 

@@ -176,22 +176,6 @@ static int chain_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-int chain_model(sdae_model *model, chain_params *p) {
-  *model = (sdae_model){0};
-  p->rel_degree = malloc(p->N * sizeof *p->rel_degree);
-  if (!p->rel_degree) return SDAE_ERR_NOMEM;
-  for (size_t i = 0; i < p->N; i++) p->rel_degree[i] = 2;
-  model->n_xi = 2 * p->N;
-  model->n_mu = 2 * p->N;
-  model->q0 = chain_q0;
-  model->Q_apply = chain_Q_apply;
-  model->q0_jac = chain_q0_jac;
-  model->bandwidth = 3; /* mu_{i,2}' couples to mu_{i-1,1}, mu_{i+1,1}: offsets -3..+1 */
-  model->n_constraints = p->N;
-  model->rel_degree = p->rel_degree;
-  model->params = p;
-  return 0;
-}
 
 void chain_model_free(chain_params *p) {
   free(p->rel_degree);
@@ -231,10 +215,23 @@ static int chain_S_apply(double t, const double *mu, const double *v, double *ou
   return 0;
 }
 
-void chain_map_callbacks(sdae_options *o) {
-  o->H = chain_H_cb;
-  o->grad_H = chain_grad_H;
-  o->S_apply = chain_S_apply;
+int chain_model(sdae_model *model, chain_params *p) {
+  *model = (sdae_model){0};
+  p->rel_degree = malloc(p->N * sizeof *p->rel_degree);
+  if (!p->rel_degree) return SDAE_ERR_NOMEM;
+  for (size_t i = 0; i < p->N; i++) p->rel_degree[i] = 2;
+  model->n_xi = 2 * p->N;
+  model->n_mu = 2 * p->N;
+  model->q0 = chain_q0;
+  model->Q_apply = chain_Q_apply;
+  model->q0_jac = chain_q0_jac;
+  model->H = chain_H_cb;
+  model->grad_H = chain_grad_H;
+  model->S_apply = chain_S_apply;
+  model->n_constraints = p->N;
+  model->rel_degree = p->rel_degree;
+  model->params = p;
+  return 0;
 }
 
 int chain_random_start(const chain_params *p, unsigned long seed, double *x) {

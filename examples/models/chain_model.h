@@ -29,14 +29,17 @@ void chain_dae_rhs(const chain_params *p, const double *x, const double *lambda,
 double chain_energy(const chain_params *p, const double *x); /* E in x */
 double chain_H(const chain_params *p, const double *mu);     /* E on the manifold, in mu */
 
-/* The model; allocates p->rel_degree (0, or SDAE_ERR_NOMEM). chain_model_free releases it. */
+/* The model (with H, grad H and the block-diagonal S = diag([[0, 1/m], [-1/m, -d/m^2]]) as S v,
+ * O(N), for sdae_map_dgrad); allocates p->rel_degree (0, or SDAE_ERR_NOMEM).
+ * chain_model_free releases it. */
 int chain_model(sdae_model *model, chain_params *p);
 void chain_model_free(chain_params *p);
 /* dq0/dmu in band storage: band[r * CHAIN_JAC_WIDTH + (c - r + CHAIN_JAC_LOWER)] is entry
  * (r, c); entries outside the matrix are 0. 2N rows. */
 void chain_q0_jac_band(const chain_params *p, const double *mu, double *band);
-/* H, grad H and the block-diagonal S = diag([[0, 1/m], [-1/m, -d/m^2]]) (as S v, O(N)). */
-void chain_map_callbacks(sdae_options *o);
+/* The bandwidth of d phi / d mu+ for the midpoint and discrete-gradient maps, for the options'
+ * banded Newton: mu_{i,2}' couples to mu_{i-1,1} and mu_{i+1,1}, offsets -3..+1. */
+#define CHAIN_BANDWIDTH 3
 
 /* A reproducible start off the manifold from GSL's MT19937 seeded with seed: for each mass in
  * turn X_i in [-0.5, 0.5], Y_i in [-0.2, 0.2], Xdot_i and Ydot_i in [-0.1, 0.1] (gsl_ran_flat,

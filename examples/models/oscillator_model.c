@@ -85,18 +85,6 @@ static int osc_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void osc_model(sdae_model *model, osc_params *p) {
-  *model = (sdae_model){0};
-  model->n_xi = 2;
-  model->n_mu = 2;
-  model->q0 = osc_q0;
-  model->Q = osc_Q;
-  model->q0_jac = osc_q0_jac;
-  model->n_constraints = 1;
-  model->rel_degree = osc_rel_degree;
-  model->params = p;
-  p->inv_m = 1.0 / p->m;
-}
 
 /* ---- maps --------------------------------------------------------------------------------- */
 
@@ -160,13 +148,23 @@ static int osc_paper_phi_jac(double t, double T, const double *mu, const double 
   return 0;
 }
 
-void osc_map_callbacks(sdae_options *o) {
-  o->H = osc_H;
-  o->grad_H = osc_grad_H;
-  o->hess_H = osc_hess_H;
-  o->S = osc_S;
-  o->user_phi = osc_paper_phi;
-  o->user_phi_jac = osc_paper_phi_jac;
+void osc_model(sdae_model *model, osc_params *p) {
+  *model = (sdae_model){0};
+  model->n_xi = 2;
+  model->n_mu = 2;
+  model->q0 = osc_q0;
+  model->Q = osc_Q;
+  model->q0_jac = osc_q0_jac;
+  model->H = osc_H;
+  model->grad_H = osc_grad_H;
+  model->hess_H = osc_hess_H;
+  model->S = osc_S;
+  model->user_phi = osc_paper_phi;
+  model->user_phi_jac = osc_paper_phi_jac;
+  model->n_constraints = 1;
+  model->rel_degree = osc_rel_degree;
+  model->params = p;
+  p->inv_m = 1.0 / p->m;
 }
 
 /* ---- the DAE for sdae_check_model --------------------------------------------------------- */

@@ -1,6 +1,6 @@
 /* The nonlinear oscillator of the paper's Section IV: a mass m on a cubic spring k with damping
  * d, held on the floor Y = 0 (one constraint of relative degree 2). With m = 1 it is the
- * paper's model; the mass enters as in the erratum 3 of DESIGN.md. */
+ * paper's model; the mass enters as in erratum 3 of the README. */
 #ifndef STABDAE_EXAMPLES_OSCILLATOR_MODEL_H
 #define STABDAE_EXAMPLES_OSCILLATOR_MODEL_H
 
@@ -26,13 +26,10 @@ double osc_energy(const osc_params *p, const double *x); /* E, total, in x */
 double osc_W(const osc_params *p, const double *mu);     /* W on the manifold, in mu */
 double osc_c(const osc_params *p, const double *xi, const double *mu); /* Q's entry (2,1) */
 
-/* The model (q0, Q, q0_jac, one constraint of relative degree 2); params = p, whose inv_m it
- * sets (call it again after a change of m). */
+/* The model: q0, Q, q0_jac, one constraint of relative degree 2; for sdae_map_dgrad H = W,
+ * grad W, hess W and S = [[0, 1/m], [-1/m, -d/m^2]]; for sdae_map_user the paper's phi_T with
+ * its Jacobian. params = p, whose inv_m it sets (call it again after a change of m). */
 void osc_model(sdae_model *model, osc_params *p);
-/* Callbacks of the maps: H = W, grad W, S = [[0, 1/m], [-1/m, -d/m^2]] for sdae_map_dgrad, and
- * the paper's phi_T with its Jacobian for sdae_map_user; the caller picks o->map. Like the
- * model's, they read p->inv_m: osc_model must have seen the current m. */
-void osc_map_callbacks(sdae_options *o);
 
 /* The DAE (f, g), Phi and Phi^-1 as sdae_check_model wants them; params = p. */
 void osc_dae_spec(sdae_dae *d, osc_params *p);

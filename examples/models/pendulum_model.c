@@ -103,17 +103,6 @@ static int pend_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void pend_model(sdae_model *model, pend_params *p) {
-  *model = (sdae_model){0};
-  model->n_xi = 2;
-  model->n_mu = 2;
-  model->q0 = pend_q0;
-  model->Q = pend_Q;
-  model->q0_jac = pend_q0_jac;
-  model->n_constraints = 1;
-  model->rel_degree = pend_rel_degree;
-  model->params = p;
-}
 
 static int pend_H_cb(double t, const double *mu, double *out, void *params) {
   (void)t;
@@ -149,11 +138,20 @@ static int pend_S(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void pend_map_callbacks(sdae_options *o) {
-  o->H = pend_H_cb;
-  o->grad_H = pend_grad_H;
-  o->hess_H = pend_hess_H;
-  o->S = pend_S;
+void pend_model(sdae_model *model, pend_params *p) {
+  *model = (sdae_model){0};
+  model->n_xi = 2;
+  model->n_mu = 2;
+  model->q0 = pend_q0;
+  model->Q = pend_Q;
+  model->q0_jac = pend_q0_jac;
+  model->H = pend_H_cb;
+  model->grad_H = pend_grad_H;
+  model->hess_H = pend_hess_H;
+  model->S = pend_S;
+  model->n_constraints = 1;
+  model->rel_degree = pend_rel_degree;
+  model->params = p;
 }
 
 /* ---- the DAE for sdae_check_model --------------------------------------------------------- */

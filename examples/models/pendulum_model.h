@@ -18,9 +18,9 @@ void pend_dae(const pend_params *p, const double *x, double *f, double *g);
 double pend_energy(const pend_params *p, const double *x); /* E in x */
 double pend_H(const pend_params *p, const double *mu);     /* E on the manifold, in mu */
 
+/* The model: q0, Q, q0_jac, one constraint of relative degree 2, and for sdae_map_dgrad H,
+ * grad H, hess H and S = [[0, 1/m], [-1/m, 0]] (S grad H = q0, S skew). */
 void pend_model(sdae_model *model, pend_params *p);
-/* H, grad H and S = [[0, 1/m], [-1/m, 0]] for sdae_map_dgrad (S grad H = q0, S skew). */
-void pend_map_callbacks(sdae_options *o);
 
 /* The DAE (f, g), Phi and Phi^-1 as sdae_check_model wants them; params = p. */
 void pend_dae_spec(sdae_dae *d, pend_params *p);

@@ -81,7 +81,7 @@ START_TEST(test_normal_form_fails_with_printed_q) {
 END_TEST
 
 /* eq. 24: max over B of -k_i with delta 2, epsilon 1. The printed Q gives the paper's 188.9 at
- * (xi1, mu1) = (-0.7, 0.9); the corrected one 189.245 at (0.7, -0.9) (DESIGN.md erratum 1).
+ * (xi1, mu1) = (-0.7, 0.9); the corrected one 189.245 at (0.7, -0.9) (erratum 1 of the README).
  * Both c are even in (xi1, mu1) -> (-xi1, -mu1), so either corner of the pair is a maximizer. */
 static double sup_minus_gain(osc_params *p, double *at_xi1, double *at_mu1) {
   sdae_model m;
@@ -127,27 +127,24 @@ START_TEST(test_map_callbacks) {
   osc_params p = paper;
   p.m = 1.7;
   sdae_model m;
-  sdae_options o;
   osc_model(&m, &p);
-  sdae_options_default(&o);
-  osc_map_callbacks(&o);
   for (int n = 0; n < 50; n++) {
     double mu[2] = {tu_flat(r, -1, 1), tu_flat(r, -1, 1)}, q0[2], gH[2], S[4], phi[2];
     m.q0(0, mu, q0, &p);
-    o.grad_H(0, mu, gH, &p);
-    o.S(0, mu, S, &p);
+    m.grad_H(0, mu, gH, &p);
+    m.S(0, mu, S, &p);
     for (int i = 0; i < 2; i++) /* S grad W = q0 */
       ck_assert_double_eq_tol(S[2 * i] * gH[0] + S[2 * i + 1] * gH[1], q0[i], 1e-14);
-    o.user_phi(0, 0.01, mu, mu, phi, &p); /* the paper's map is consistent: phi(mu, mu) = q0 */
+    m.user_phi(0, 0.01, mu, mu, phi, &p); /* the paper's map is consistent: phi(mu, mu) = q0 */
     for (int i = 0; i < 2; i++) ck_assert_double_eq_tol(phi[i], q0[i], 1e-14);
     double nx[2] = {tu_flat(r, -1, 1), tu_flat(r, -1, 1)}, J[4], pp[2], pm[2], h = 1e-6;
-    o.user_phi_jac(0, 0.01, mu, nx, J, &p);
+    m.user_phi_jac(0, 0.01, mu, nx, J, &p);
     for (int c = 0; c < 2; c++) { /* the Jacobian against central differences */
       double a[2] = {nx[0], nx[1]}, b[2] = {nx[0], nx[1]};
       a[c] += h;
       b[c] -= h;
-      o.user_phi(0, 0.01, mu, a, pp, &p);
-      o.user_phi(0, 0.01, mu, b, pm, &p);
+      m.user_phi(0, 0.01, mu, a, pp, &p);
+      m.user_phi(0, 0.01, mu, b, pm, &p);
       for (int i = 0; i < 2; i++)
         ck_assert_double_eq_tol(J[2 * i + c], (pp[i] - pm[i]) / (2 * h), 1e-8);
     }
@@ -164,7 +161,6 @@ static double step_W_change(osc_params *p, const sdae_map_type *map) {
   osc_model(&m, p);
   sdae_options_default(&o);
   o.map = map;
-  osc_map_callbacks(&o);
   double xi[2] = {0, 0}, mu[2] = {0.7, -0.4};
   double W0 = osc_W(p, mu);
   ck_assert_int_eq(tu_integrate(&m, &o, 0.05, 20, xi, mu), SDAE_OK);
@@ -193,7 +189,6 @@ START_TEST(test_paper_run_constraint) {
   o.delta = 2.0;
   o.epsilon = 1.0;
   o.map = sdae_map_user;
-  osc_map_callbacks(&o);
   double x0[4] = {0.1, 0.6, 0, 0}, xi[2], mu[2];
   osc_to_coords(&p, x0, xi, mu);
   ck_assert_int_eq(tu_integrate(&m, &o, 0.001, 5000, xi, mu), SDAE_OK);

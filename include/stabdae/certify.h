@@ -24,9 +24,12 @@ typedef struct sdae_certificate {
 
 /* sup over the box lo <= (xi, mu) <= hi (n_xi + n_mu bounds each; lo = hi fixes a coordinate)
  * of -k_i for every i, by a grid of `grid` >= 2 points per free coordinate and a Nelder-Mead
- * refinement (GSL multimin) from the best grid points. sup_i (n_xi values) and argmax (n_xi
- * rows of n_xi + n_mu: where each sup is attained) may be NULL. The gains use the stepper's
- * model, delta and epsilon at time t. A reversed or non-finite bound is SDAE_ERR_PARAM. */
+ * refinement from the best grid points. sup_i (n_xi values) and argmax (n_xi rows of
+ * n_xi + n_mu: where each sup is attained) may be NULL. The gains use the stepper's model,
+ * delta and epsilon at time t. A reversed or non-finite bound is SDAE_ERR_PARAM. The search's
+ * workspace comes from the stepper's allocator (sdae_stepper_alloc_with; malloc otherwise) and
+ * is given back before the call returns; SDAE_ERR_NOMEM when there is none, and then *c, sup_i
+ * and argmax are untouched (as on every failure). */
 SDAE_API int sdae_certify_box(struct sdae_stepper *s, double t, const double *lo,
                               const double *hi, unsigned grid, double *sup_i, double *argmax,
                               sdae_certificate *c);

@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 
+#include <stabdae/alloc.h>
 #include <stabdae/export.h>
 #include <stabdae/model.h>
 
@@ -47,6 +48,14 @@ typedef struct sdae_check_report {
 SDAE_API int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t,
                               const double *lo, const double *hi, size_t npoints,
                               unsigned long seed, double tol, sdae_check_report *r);
+
+/* sdae_check_model with its workspace (one block, given back before the call returns) from the
+ * allocator a; NULL means malloc and free. SDAE_ERR_NOMEM when there is no room, and then *r is
+ * untouched. */
+SDAE_API int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
+                                   const double *lo, const double *hi, size_t npoints,
+                                   unsigned long seed, double tol, const sdae_allocator *a,
+                                   sdae_check_report *r);
 
 #ifdef __cplusplus
 }

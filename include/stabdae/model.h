@@ -1,4 +1,6 @@
-/* stabdae model: the stabilized normal form (paper eq. 5) given as callbacks. */
+/* stabdae model: the whole problem, the stabilized normal form (paper eq. 5) given as callbacks,
+ * with the energy structure its discrete gradients use and an optional user map. How it is
+ * solved (scheme, gains, map, Newton) is in sdae_options. */
 #ifndef STABDAE_MODEL_H
 #define STABDAE_MODEL_H
 
@@ -8,29 +10,45 @@
 extern "C" {
 #endif
 
+/* Every callback returns 0 on success, > 0 for a recoverable failure and < 0 for a fatal one
+ * (the SUNDIALS rule), and receives the model's params. Matrices are row-major flat arrays. */
 typedef struct sdae_model {
   size_t n_xi, n_mu; /* p = dim xi, n - p = dim mu */
   /* q0(mu): the constrained dynamics (eq. 9), n_mu values */
   int (*q0)(double t, const double *mu, double *out, void *params);
-  /* Q(xi, mu): n_mu x n_xi, row-major; column i is q_i */
+  /* Q(xi, mu): n_mu x n_xi; column i is q_i */
   int (*Q)(double t, const double *xi, const double *mu, double *out, void *params);
   /* instead of Q, for large models: the product Q(xi, mu) xi (n_mu values) and the squared
    * column norms ||q_i||^2 (n_xi values, the gains' input) in one call; used when Q is NULL */
   int (*Q_apply)(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
                  void *params);
-  /* optional, for large models: 0 (dense), or b > 0 when d phi/d mu+ has at most b sub- and b
-   * super-diagonals (true of the midpoint and discrete-gradient maps when q0, S and grad H
-   * couple mu_i only to mu_j with |i - j| <= b). Newton then factors a band, O(n b^2), and
-   * builds its matrix from 2 (2b + 1) evaluations of phi whatever n; analytic Jacobians
-   * (q0_jac, user_phi_jac) are dense and are not used then. */
-  size_t bandwidth;
-  /* optional: dq0/dmu, n_mu x n_mu row-major (midpoint Newton); finite differences otherwise */
+  /* optional: dq0/dmu, n_mu x n_mu (the midpoint map's Newton); finite differences otherwise */
   int (*q0_jac)(double t, const double *mu, double *out, void *params);
+
+  /* The energy structure q0 = S(mu) grad H(mu), for the discrete-gradient maps (sdae_map_dgrad,
+   * sdae_map_dg4, sdae_map_dg6): H conserved when S is skew, dissipated when S = J - R, R >= 0 */
+  int (*H)(double t, const double *mu, double *out, void *params);      /* 1 value */
+  int (*grad_H)(double t, const double *mu, double *out, void *params); /* n_mu values */
+  int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
+  /* instead of S, for large models: out = S(mu) v (n_mu values) */
+  int (*S_apply)(double t, const double *mu, const double *v, double *out, void *params);
+  /* optional, n_mu x n_mu: the Hessian of H gives Newton the map's Jacobian in closed form
+   * instead of finite differences (dense Newton; exact when S is constant, otherwise the
+   * derivative of S is left out and Newton converges linearly) */
+  int (*hess_H)(double t, const double *mu, double *out, void *params);
+
+  /* A map of the user's own, for sdae_map_user: phi(T, mu, mu+) -> q0 as T -> 0 (eq. 13), and
+   * optionally d phi / d mu+ (n_mu x n_mu) */
+  int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
+                  void *params);
+  int (*user_phi_jac)(double t, double T, const double *mu, const double *mu_next,
+                      double *out, void *params);
+
   /* optional, needed by the baselines: the constraints and the relative degree of each; xi
    * holds (h_c, L_f h_c, ..., L_f^{r_c - 1} h_c) for c = 1..n_constraints, one after another */
   size_t n_constraints;
   const unsigned *rel_degree;
-  void *params; /* passed to every callback, the options' ones included */
+  void *params; /* passed to every callback */
 } sdae_model;
 
 #ifdef __cplusplus

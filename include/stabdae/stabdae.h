@@ -53,9 +53,9 @@ typedef enum sdae_status {
   SDAE_ERR_NONFINITE = -9,      /* a callback wrote NaN/Inf, or the new state is not finite */
   SDAE_ERR_SINGULAR = -10,      /* the Newton matrix I - T dphi/dmu+ is singular */
   SDAE_ERR_NEWTON = -11,        /* Newton did not converge within the iteration cap */
-  SDAE_ERR_MAP = -12,           /* the map needs callbacks the options do not give */
+  SDAE_ERR_MAP = -12,           /* no map, or the map needs callbacks the model does not give */
   SDAE_ERR_BUFFER = -13,        /* the caller's memory block is too small */
-  SDAE_ERR_NOMEM = -14,         /* allocation failed (sdae_stepper_alloc only) */
+  SDAE_ERR_NOMEM = -14,         /* an allocation failed */
   SDAE_ERR_REL_DEGREE = -15,    /* the baselines need rel_degree, summing to n_xi */
   SDAE_ERR_OVERFLOW = -16       /* the workspace size does not fit in size_t */
 } sdae_status;
@@ -73,46 +73,42 @@ typedef enum sdae_stabilizer {
   SDAE_STAB_BAUMGARTE = 2 /* as none, last = -sum_j alpha_j xi_j */
 } sdae_stabilizer;
 
-/* A map phi_T(mu, mu+) for the constrained motion: a static table, see map.h in src/. */
+/* A map phi_T(mu, mu+) for the constrained motion: a static table of functions (src/map.h), one
+ * file per map. Each needs of the model what its comment says. */
 typedef struct sdae_map_type sdae_map_type;
 
-SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* phi = q0(mu), explicit */
-SDAE_API extern const sdae_map_type *const sdae_map_midpoint; /* phi = q0((mu + mu+)/2) */
-SDAE_API extern const sdae_map_type *const sdae_map_dgrad;    /* phi = S(mid) gradbar H */
-SDAE_API extern const sdae_map_type *const sdae_map_user;     /* phi = options.user_phi */
-/* dgrad composed symmetrically, H conserved for skew S (dgrad's callbacks): by Yoshida's triple
- * jump (order 4, 3 stages), by Kahan and Li's s9odr6a (order 6, 9 stages) */
+SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* "euler": q0(mu), explicit */
+SDAE_API extern const sdae_map_type *const sdae_map_midpoint; /* "midpoint": q0((mu + mu+)/2) */
+/* "dgrad": S(mid) gradbar H, Gonzalez's discrete gradient (H, grad_H, S or S_apply) */
+SDAE_API extern const sdae_map_type *const sdae_map_dgrad;
+SDAE_API extern const sdae_map_type *const sdae_map_user; /* "user": the model's user_phi */
+/* dgrad composed symmetrically, H conserved for skew S (dgrad's callbacks): "dg4" by Yoshida's
+ * triple jump (order 4, 3 stages), "dg6" by Kahan and Li's s9odr6a (order 6, 9 stages) */
 SDAE_API extern const sdae_map_type *const sdae_map_dg4;
 SDAE_API extern const sdae_map_type *const sdae_map_dg6;
 
+/* The map's name ("(none)" for NULL), and the map of a name (NULL when there is none). */
 SDAE_API const char *sdae_map_name(const sdae_map_type *map);
+SDAE_API const sdae_map_type *sdae_map_by_name(const char *name);
+/* The map's order of accuracy as T -> 0 (0 for sdae_map_user: the user's map decides). */
+SDAE_API unsigned sdae_map_order(const sdae_map_type *map);
 
+/* The method: how the model is solved. The problem itself is the sdae_model. */
 typedef struct sdae_options {
   sdae_scheme scheme;         /* default SDAE_SCHEME_SEMI_IMPLICIT */
   double delta, epsilon;      /* eq. 6, both > 0; default 1, 1 */
   const sdae_map_type *map;   /* default sdae_map_euler */
 
-  /* sdae_map_dgrad: q0 = S(mu) grad H(mu); Gonzalez's midpoint discrete gradient */
-  int (*H)(double t, const double *mu, double *out, void *params);      /* 1 value */
-  int (*grad_H)(double t, const double *mu, double *out, void *params); /* n_mu values */
-  int (*S)(double t, const double *mu, double *out, void *params);      /* n_mu x n_mu */
-  /* instead of S, for large models: out = S(mu) v (n_mu values) */
-  int (*S_apply)(double t, const double *mu, const double *v, double *out, void *params);
-  /* optional, n_mu x n_mu: the Hessian of H gives Newton the map's Jacobian in closed form
-   * instead of finite differences (dense models; exact when S is constant, otherwise the
-   * derivative of S is left out and Newton converges linearly) */
-  int (*hess_H)(double t, const double *mu, double *out, void *params);
-
-  /* sdae_map_user: phi(T, mu, mu+) and optionally d phi / d mu+ (n_mu x n_mu) */
-  int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
-                  void *params);
-  int (*user_phi_jac)(double t, double T, const double *mu, const double *mu_next,
-                      double *out, void *params);
-
   /* Newton on R(mu+) = mu+ - mu - T (phi_T + Q xi): stop when the update is at most
    * newton_tol * (1 + ||mu+||_inf); at most newton_max_iter iterations */
   double newton_tol;           /* default 1e-14 */
   unsigned newton_max_iter;    /* default 20 */
+  /* 0 (default: dense), or b > 0 when d phi/d mu+ has at most b sub- and b super-diagonals
+   * (true of the midpoint and discrete-gradient maps when q0, S and grad H couple mu_i only to
+   * mu_j with |i - j| <= b). Newton then factors a band, O(n b^2), and builds its matrix from
+   * 2 (2b + 1) evaluations of phi whatever n; the analytic Jacobians (q0_jac, hess_H,
+   * user_phi_jac) are dense and are not used then. */
+  size_t bandwidth;
 
   sdae_stabilizer stabilizer;  /* default SDAE_STAB_PAPER */
   /* Baumgarte: L_f^{r} h_c = -sum_{j<r} baumgarte_alpha[j] L_f^j h_c for every constraint;

@@ -1,9 +1,9 @@
 /* Fuzz target for sdae_step: arbitrary bytes choose the scheme, map, stabilizer and options
  * and give every number (state, T, t, delta, epsilon, Newton tolerance, Baumgarte gains, the
  * model's stiffness and damping) as raw IEEE doubles, so NaN, Inf, huge, tiny and negative
- * values all come up. The model is the paper's oscillator (Section IV, corrected Q) with its
- * discrete-gradient callbacks. The target checks the library's contract itself and aborts on a
- * breach:
+ * values all come up. The model is the unit suites' (tests/fixtures/quartic.h): the paper's
+ * oscillator (Section IV, corrected Q) with its discrete-gradient callbacks and the paper's
+ * map. The target checks the library's contract itself and aborts on a breach:
  *   - the stepper is created exactly when the options are valid, and sdae_stepper_size agrees;
  *   - a step with a bad t, state or T gets SDAE_ERR_PARAM, SDAE_ERR_STATE, SDAE_ERR_STEP in
  *     that order; any other failure is one a step can meet (non-finite, singular, Newton);
@@ -26,6 +26,8 @@
 
 #include <stabdae/stabdae.h>
 
+#include "quartic.h"
+
 #define REQUIRE(cond)                                                                      \
   do {                                                                                     \
     if (!(cond)) {                                                                         \
@@ -45,109 +47,15 @@ enum choice {
 
 enum choice2 {
   DG4 = 1 << 0,     /* the dgrad choice of MAP means dg4 */
-  S_APPLY = 1 << 1, /* the options give S_apply instead of S */
+  S_APPLY = 1 << 1, /* the model gives S_apply instead of S */
   DG6 = 1 << 2,     /* the dgrad choice of MAP means dg6 (before DG4) */
-  HESSIAN = 1 << 3  /* the options give hess_H */
+  HESSIAN = 1 << 3  /* the model gives hess_H */
 };
 
 typedef struct numbers {
   double T, t, delta, epsilon, newton_tol, alpha0, alpha1, k, d, xi[2], mu[2];
 } numbers;
 #define N_NUMBERS 13
-
-typedef struct oscillator { double k, d; } oscillator;
-
-/* ---- the model: q0 = (mu2, -k mu1^3 - d mu2), Q = [[-1, 1], [c, 1]] ---- */
-
-static int q0(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t;
-  out[0] = mu[1];
-  out[1] = -p->k * mu[0] * mu[0] * mu[0] - p->d * mu[1];
-  return 0;
-}
-
-static int q0_jac(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t;
-  out[0] = 0.0, out[1] = 1.0, out[2] = -3.0 * p->k * mu[0] * mu[0], out[3] = -p->d;
-  return 0;
-}
-
-/* c = k(3 mu1^2 - 3 mu1 xi1 + xi1^2) + d, the corrected Q of Section IV */
-static double q21(const oscillator *p, const double *xi, const double *mu) {
-  return p->k * (3 * mu[0] * mu[0] - 3 * mu[0] * xi[0] + xi[0] * xi[0]) + p->d;
-}
-
-static int Q(double t, const double *xi, const double *mu, double *out, void *params) {
-  (void)t;
-  out[0] = -1.0, out[1] = 1.0, out[2] = q21(params, xi, mu), out[3] = 1.0;
-  return 0;
-}
-
-static int Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
-                   void *params) {
-  double c = q21(params, xi, mu);
-  (void)t;
-  Qxi[0] = -xi[0] + xi[1];
-  Qxi[1] = c * xi[0] + xi[1];
-  qnorm2[0] = 1.0 + c * c;
-  qnorm2[1] = 2.0;
-  return 0;
-}
-
-static int H(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t;
-  out[0] = 0.5 * mu[1] * mu[1] + 0.25 * p->k * mu[0] * mu[0] * mu[0] * mu[0];
-  return 0;
-}
-
-static int grad_H(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t;
-  out[0] = p->k * mu[0] * mu[0] * mu[0], out[1] = mu[1];
-  return 0;
-}
-
-static int hess_H(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t;
-  out[0] = 3.0 * p->k * mu[0] * mu[0], out[1] = out[2] = 0.0, out[3] = 1.0;
-  return 0;
-}
-
-static int S(double t, const double *mu, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t, (void)mu;
-  out[0] = 0.0, out[1] = 1.0, out[2] = -1.0, out[3] = -p->d;
-  return 0;
-}
-
-static int S_apply(double t, const double *mu, const double *v, double *out, void *params) {
-  const oscillator *p = params;
-  (void)t, (void)mu;
-  out[0] = v[1];
-  out[1] = -v[0] - p->d * v[1];
-  return 0;
-}
-
-/* the user map: the midpoint rule written by hand */
-static int user_phi(double t, double T, const double *mu, const double *y, double *out,
-                    void *params) {
-  double mid[2] = {0.5 * (mu[0] + y[0]), 0.5 * (mu[1] + y[1])};
-  return q0(t + 0.5 * T, mid, out, params);
-}
-
-static int user_phi_jac(double t, double T, const double *mu, const double *y, double *out,
-                        void *params) {
-  double mid[2] = {0.5 * (mu[0] + y[0]), 0.5 * (mu[1] + y[1])};
-  int rc = q0_jac(t + 0.5 * T, mid, out, params);
-  for (int i = 0; i < 4; i++) out[i] *= 0.5;
-  return rc;
-}
-
-static const unsigned rel_degree[1] = {2};
 
 /* ---- reading the input ---- */
 
@@ -176,19 +84,18 @@ static int all_finite(const double *v, int n) {
 }
 
 static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x,
-                      oscillator *osc, sdae_model *m, sdae_options *o) {
+                      quartic *osc, sdae_model *m, sdae_options *o) {
   static const sdae_stabilizer stabilizers[4] = {SDAE_STAB_PAPER, SDAE_STAB_NONE,
                                                  SDAE_STAB_BAUMGARTE, SDAE_STAB_PAPER};
   const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
                                   sdae_map_user};
-  *osc = (oscillator){x->k, x->d};
-  *m = (sdae_model){.n_xi = 2, .n_mu = 2, .q0 = q0, .n_constraints = 1,
-                    .rel_degree = rel_degree, .params = osc};
-  if (c & Q_APPLY)
-    m->Q_apply = Q_apply;
-  else
-    m->Q = Q;
-  if (c & JACOBIAN) m->q0_jac = q0_jac;
+  *osc = (quartic){x->k, x->d, 0, 0};
+  *m = quartic_model(osc);
+  if (c & Q_APPLY) m->Q = NULL, m->Q_apply = quartic_Q_apply;
+  if (!(c & JACOBIAN)) m->q0_jac = NULL;
+  if (c & JACOBIAN) m->user_phi_jac = quartic_paper_phi_jac;
+  if (c2 & HESSIAN) m->hess_H = quartic_hess_H;
+  if (c2 & S_APPLY) m->S = NULL, m->S_apply = quartic_S_apply;
   sdae_options_default(o);
   o->scheme = (c & EXPLICIT) ? SDAE_SCHEME_EXPLICIT : SDAE_SCHEME_SEMI_IMPLICIT;
   o->map = maps[(c & MAP) >> 1];
@@ -201,14 +108,6 @@ static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x
   o->newton_max_iter = max_iter;
   o->baumgarte_alpha[0] = x->alpha0;
   o->baumgarte_alpha[1] = x->alpha1;
-  o->H = H, o->grad_H = grad_H;
-  if (c2 & HESSIAN) o->hess_H = hess_H;
-  if (c2 & S_APPLY)
-    o->S_apply = S_apply;
-  else
-    o->S = S;
-  o->user_phi = user_phi;
-  if (c & JACOBIAN) o->user_phi_jac = user_phi_jac;
 }
 
 /* Every option the model and map need is given, so only the numbers can be invalid. */
@@ -276,7 +175,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   uint8_t c = size > 0 ? data[0] : 0, b = size > 1 ? data[1] : 0, c2 = size > 2 ? data[2] : 0;
   unsigned steps = (b & 7u) + 1u, max_iter = b >> 3;
   numbers x;
-  oscillator osc;
+  quartic osc;
   sdae_model m;
   sdae_options o;
   sdae_stepper *s = NULL, *twin = NULL;

@@ -127,7 +127,6 @@ static int problem_init(problem *P, const bench_case *c) {
   case OSCILLATOR:
     P->osc = (osc_params){.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED};
     osc_model(&P->model, &P->osc);
-    osc_map_callbacks(&P->opt);
     if (problem_arrays(P, 2, 2, 4)) return -1;
     memcpy(P->x, (double[4]){0.1, 0.6, 0.0, 0.0}, 4 * sizeof(double));
     osc_to_coords(&P->osc, P->x, P->xi0, P->mu0);
@@ -135,14 +134,13 @@ static int problem_init(problem *P, const bench_case *c) {
   case PENDULUM:
     P->pend = (pend_params){1.0, 1.0, 9.81};
     pend_model(&P->model, &P->pend);
-    pend_map_callbacks(&P->opt);
     if (problem_arrays(P, 2, 2, 4)) return -1;
     memcpy(P->x, (double[4]){sin(0.5), -cos(0.5), 0.0, 0.0}, 4 * sizeof(double));
     return pend_to_coords(&P->pend, P->x, P->xi0, P->mu0);
   case CHAIN:
     P->chain = (chain_params){c->N, 2.0, 1.0, 0.03, 1.0, 9.81, NULL};
     if (chain_model(&P->model, &P->chain)) return -1;
-    chain_map_callbacks(&P->opt);
+    P->opt.bandwidth = CHAIN_BANDWIDTH;
     if (problem_arrays(P, 2 * c->N, 2 * c->N, 4 * c->N)) return -1;
     if (chain_random_start(&P->chain, 1, P->x)) return -1;
     chain_to_coords(&P->chain, P->x, P->xi0, P->mu0);
@@ -237,7 +235,6 @@ static drift w_drift(const char *map, const sdae_map_type *type, size_t steps) {
   sdae_options_default(&o);
   o.delta = 2.0;
   o.map = type;
-  osc_map_callbacks(&o);
   osc_to_coords(&p, x0, xi, mu);
   W0 = osc_W(&p, mu);
   if ((r.rc = sdae_stepper_alloc(&s, &m, &o)) != SDAE_OK) return r;

@@ -117,7 +117,6 @@ static void stabdae_run(const study_case *c, const void *setting, double T, outc
   sdae_options_default(&opt);
   opt.delta = 2.0;
   opt.map = *sm->map;
-  osc_map_callbacks(&opt);
   osc_to_coords(&p, x0, xi, mu);
   int rc = sdae_stepper_alloc(&s, &m, &opt);
   if (rc == SDAE_OK) rc = sdae_integrate(s, 0.0, T, nsteps, nsteps, xi, mu, NULL, NULL, &done);

@@ -1,0 +1,42 @@
+/* One block of memory, handed out array by array: the stepper's workspace, certify's search and
+ * the model check's arrays. The same walk serves twice: without a base it only counts
+ * (overflow-checked), with a base it hands out the pointers. */
+#include <stdint.h>
+
+#include "internal.h"
+
+static int mul_ok(size_t a, size_t b, size_t *out) {
+  if (a != 0 && b > SIZE_MAX / a) return 0;
+  *out = a * b;
+  return 1;
+}
+
+void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align) {
+  size_t bytes, at = (a->used + align - 1) / align * align;
+  if (a->overflow || a->used > SIZE_MAX - (align - 1) || !mul_ok(n, size, &bytes) ||
+      bytes > SIZE_MAX - at) {
+    a->overflow = 1;
+    return NULL;
+  }
+  a->used = at + bytes;
+  return a->base ? a->base + at : NULL;
+}
+
+double *sdae__take(sdae_arena *a, size_t n1, size_t n2) {
+  size_t n;
+  if (!mul_ok(n1, n2, &n)) {
+    a->overflow = 1;
+    return NULL;
+  }
+  return sdae__take_array(a, n, sizeof(double), _Alignof(double));
+}
+
+unsigned *sdae__take_pivots(sdae_arena *a, size_t n) {
+  return sdae__take_array(a, n, sizeof(unsigned), _Alignof(unsigned));
+}
+
+int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes) {
+  if (a->overflow || a->used > SIZE_MAX - header) return SDAE_ERR_OVERFLOW;
+  *bytes = header + a->used;
+  return SDAE_OK;
+}

@@ -1,0 +1,122 @@
+/* The composition coefficients of dg4 and dg6, read from the map tables themselves
+ * (src/map.h: gamma, stages, base), against the order conditions of a symmetric composition
+ * Psi_T = Phi_{g_s T} o ... o Phi_{g_1 T} of the symmetric order-2 discrete gradient Phi
+ * (Hairer, Lubich, Wanner, Geometric Numerical Integration, II.4 and V.3): consistency
+ * sum g = 1, symmetry g_i = g_{s+1-i}, order 4 sum g^3 = 0, order 6 also sum g^5 = 0 and
+ * sum g_i^3 c_i^2 = 0. An order test at moderate T cannot see a defect of 1e-10 in a
+ * coefficient; these conditions, held to the rounding of the stored doubles, do. */
+#include <float.h>
+#include <math.h>
+
+#include "../src/internal.h"
+#include "testmodels.h"
+
+/* sum g_i^k, and in *bound the rounding it may carry: each g_i is stored to eps/2 relative,
+ * which moves g_i^k by k eps/2 |g_i|^k, and the s-term sum in double adds at most s eps times
+ * the sum of |terms|: (k/2 + s) eps sum |g_i|^k */
+static double power_sum(const sdae_map_type *map, int k, double *bound) {
+  double sum = 0.0, abs_sum = 0.0;
+  for (size_t i = 0; i < map->stages; i++) {
+    double p = pow(map->gamma[i], k);
+    sum += p;
+    abs_sum += fabs(p);
+  }
+  *bound = (0.5 * k + (double)map->stages) * DBL_EPSILON * abs_sum;
+  return sum;
+}
+
+/* c_i = sum_{j<i} g_j - sum_{j>i} g_j: where stage i sits in the step, from its centre */
+static double centre_offset(const sdae_map_type *map, size_t i) {
+  double c = 0.0;
+  for (size_t j = 0; j < map->stages; j++) {
+    if (j < i) c += map->gamma[j];
+    if (j > i) c -= map->gamma[j];
+  }
+  return c;
+}
+
+/* sum g_i^3 c_i^2: the coefficient of the order-5 commutator [A, [A, B]] of the composition
+ * (Phi_h = exp(h A + h^3 B + ...)); zero is the fourth condition of order 6. Rounding bound as
+ * above, with the c_i carrying s eps each. */
+static double commutator_condition(const sdae_map_type *map, double *bound) {
+  double sum = 0.0, abs_sum = 0.0;
+  for (size_t i = 0; i < map->stages; i++) {
+    double c = centre_offset(map, i), term = pow(map->gamma[i], 3) * c * c;
+    sum += term;
+    abs_sum += fabs(term);
+  }
+  *bound = (1.5 + 3.0 * (double)map->stages) * DBL_EPSILON * abs_sum;
+  return sum;
+}
+
+static void expect_symmetric_consistent(const sdae_map_type *map, size_t stages) {
+  double bound, sum;
+  ck_assert_uint_eq(map->stages, stages);
+  ck_assert_ptr_eq(map->base, sdae_map_dgrad); /* the symmetric discrete gradient */
+  for (size_t i = 0; i < stages; i++)
+    ck_assert_double_eq(map->gamma[i], map->gamma[stages - 1 - i]);
+  sum = power_sum(map, 1, &bound);
+  ck_assert_double_le(fabs(sum - 1.0), bound);
+}
+
+START_TEST(dg4_order_conditions) {
+  const sdae_map_type *map = sdae_map_dg4;
+  double bound, sum;
+  expect_symmetric_consistent(map, 3);
+  sum = power_sum(map, 3, &bound); /* about 4.4e-15 for |g|^3 summing to 9.9 */
+  ck_assert_double_le(fabs(sum), bound);
+  ck_assert_uint_eq(sdae_map_order(map), 4);
+  /* order 4 only: the order-6 conditions fail by O(1) */
+  ck_assert_double_gt(fabs(power_sum(map, 5, &bound)), 1.0);
+  ck_assert_double_gt(fabs(commutator_condition(map, &bound)), 0.1);
+}
+END_TEST
+
+/* Yoshida's triple jump in closed form: g1 = g3 = 1/(2 - 2^(1/3)), g2 = -2^(1/3)/(2 - 2^(1/3)),
+ * to 4 eps relative (cbrt's ulp, amplified by 2^(1/3)/(2 - 2^(1/3)) = 1.7 in the difference,
+ * one division, the table's own rounding). */
+START_TEST(dg4_is_yoshida_triple_jump) {
+  const double *g = sdae_map_dg4->gamma, c = cbrt(2.0);
+  double g1 = 1.0 / (2.0 - c), g2 = -c / (2.0 - c);
+  ck_assert_double_le(fabs(g[0] - g1), 4 * DBL_EPSILON * g1);
+  ck_assert_double_le(fabs(g[1] - g2), 4 * DBL_EPSILON * fabs(g2));
+}
+END_TEST
+
+START_TEST(dg6_order_conditions) {
+  const sdae_map_type *map = sdae_map_dg6;
+  double bound, sum;
+  expect_symmetric_consistent(map, 9);
+  sum = power_sum(map, 3, &bound);
+  ck_assert_double_le(fabs(sum), bound);
+  sum = power_sum(map, 5, &bound); /* about 1.8e-15 */
+  ck_assert_double_le(fabs(sum), bound);
+  sum = commutator_condition(map, &bound);
+  ck_assert_double_le(fabs(sum), bound);
+  ck_assert_uint_eq(sdae_map_order(map), 6);
+}
+END_TEST
+
+/* Every map's declared order is the one theory gives it (the orders measured against exact
+ * solutions are in check_time.c and check_maps.c), and the user's map declares none. */
+START_TEST(declared_orders) {
+  ck_assert_uint_eq(sdae_map_order(sdae_map_euler), 1);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_midpoint), 2);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_dgrad), 2);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_dg4), 4);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_dg6), 6);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_user), 0);
+  ck_assert_uint_eq(sdae_map_order(NULL), 0);
+  ck_assert_ptr_eq(sdae_map_by_name("dg6"), sdae_map_dg6);
+  ck_assert_ptr_null(sdae_map_by_name("dg8"));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("compose");
+  ADD_CASE(s, dg4_order_conditions);
+  ADD_CASE(s, dg4_is_yoshida_triple_jump);
+  ADD_CASE(s, dg6_order_conditions);
+  ADD_CASE(s, declared_orders);
+  return run_suite(s);
+}
