@@ -1,6 +1,6 @@
 # What `cmake --install` puts under the prefix besides the libraries (src/CMakeLists.txt):
-# the headers, the CMake package (stabdaeConfig.cmake, its version file, the exported targets)
-# and stabdae.pc.
+# the headers (the generated version.h among them), the CMake package (stabdaeConfig.cmake,
+# its version file, the exported targets) and stabdae.pc. Off with STABDAE_INSTALL=OFF.
 include(CMakePackageConfigHelpers)
 
 set(STABDAE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/stabdae)
@@ -8,6 +8,9 @@ set(STABDAE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/stabdae)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/stabdae
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
   FILES_MATCHING PATTERN "*.h")
+# generated from the project() line (src/CMakeLists.txt)
+install(FILES ${PROJECT_BINARY_DIR}/include/stabdae/version.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stabdae)
 
 install(EXPORT stabdaeTargets NAMESPACE stabdae:: DESTINATION ${STABDAE_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/stabdaeConfig.cmake.in

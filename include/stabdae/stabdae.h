@@ -26,14 +26,15 @@
 #include <stabdae/model.h>
 #include <stabdae/certify.h>
 #include <stabdae/check.h>
+#include <stabdae/version.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define SDAE_VERSION_MAJOR 0
-#define SDAE_VERSION_MINOR 1
-#define SDAE_VERSION_PATCH 0
+/* "MAJOR.MINOR.PATCH" of the library linked at run time (a static string); SDAE_VERSION_MAJOR,
+ * _MINOR, _PATCH and SDAE_VERSION_STRING (<stabdae/version.h>) are those of the headers. */
+SDAE_API const char *sdae_version(void);
 
 /* Highest relative degree of one constraint the baselines (none, Baumgarte) accept. */
 #define SDAE_MAX_REL_DEGREE 4
