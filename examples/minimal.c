@@ -18,7 +18,7 @@ static int q0(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-/* Q(xi, mu), row-major 2 x 2, from eq. 22 (the corrected form, see the README) */
+/* Q(xi, mu), row-major 2 x 2, from eq. 22 (the corrected form: erratum 1 of docs/paper.md) */
 static int Q(double t, const double *xi, const double *mu, double *out, void *params) {
   const oscillator *p = params;
   (void)t;

@@ -1,6 +1,6 @@
 /* The nonlinear oscillator of the paper's Section IV: a mass m on a cubic spring k with damping
  * d, held on the floor Y = 0 (one constraint of relative degree 2). With m = 1 it is the
- * paper's model; the mass enters as in erratum 3 of the README. */
+ * paper's model; the mass enters as in erratum 3 of docs/paper.md. */
 #ifndef STABDAE_EXAMPLES_OSCILLATOR_MODEL_H
 #define STABDAE_EXAMPLES_OSCILLATOR_MODEL_H
 

@@ -81,7 +81,7 @@ START_TEST(test_normal_form_fails_with_printed_q) {
 END_TEST
 
 /* eq. 24: max over B of -k_i with delta 2, epsilon 1. The printed Q gives the paper's 188.9 at
- * (xi1, mu1) = (-0.7, 0.9); the corrected one 189.245 at (0.7, -0.9) (erratum 1 of the README).
+ * (xi1, mu1) = (-0.7, 0.9); the corrected one 189.245 at (0.7, -0.9) (erratum 1 of docs/paper.md).
  * Both c are even in (xi1, mu1) -> (-xi1, -mu1), so either corner of the pair is a maximizer. */
 static double sup_minus_gain(osc_params *p, double *at_xi1, double *at_mu1) {
   sdae_model m;
