@@ -14,7 +14,7 @@ from dataclasses import asdict
 from . import report
 from .operators import DESCRIPTIONS, OPERATORS, generate, integer_and_pointer_names, \
     typedef_names
-from .runner import Workspace
+from .runner import Workspace, kill_all
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EQUIVALENT = os.path.join("tests", "mutation", "equivalent.txt")
@@ -168,6 +168,7 @@ def main(argv=None):
     try:
         return run(args, mutants, chosen, equivalents, work)
     except KeyboardInterrupt:
+        kill_all()
         say("mutate: interrupted; the working tree was never touched, the copy is restored")
         return 130
     finally:

@@ -30,6 +30,8 @@ DESCRIPTIONS = {
 }
 
 TIME_NAMES = {"t", "tm", "t0"}
+# t + 1.0 is finite exactly when t is: a time argument there is not worth a mutant
+FINITENESS_TESTS = {"isfinite", "isnan", "isinf"}
 KEYWORDS = set("""auto break case char const continue default do double else enum extern float
     for goto if inline int long register restrict return short signed sizeof static struct switch
     typedef union unsigned void volatile while _Bool _Alignof alignof""".split())
@@ -235,8 +237,9 @@ def op_time(ctx):
         if tk.kind != "ident" or tk.text not in TIME_NAMES or ctx.t(i - 1) in ("->", "."):
             continue
         prev, nxt = ctx.t(i - 1), ctx.t(i + 1)
-        if prev in ("(", ",") and nxt in (",", ")") and ctx.enclosing[i] is not None \
-                and ctx.operand_end(ctx.enclosing[i] - 1):
+        call = ctx.enclosing[i]
+        if prev in ("(", ",") and nxt in (",", ")") and call is not None \
+                and ctx.operand_end(call - 1) and ctx.t(call - 1) not in FINITENESS_TESTS:
             out.append(_change(ctx, i, i, tk.text + " + 1.0"))  # a call's time argument
         if nxt in ("+=", "-=") and prev in (";", "{", "}", ")"):
             end = next((k for k in range(i, len(ctx.tok)) if ctx.t(k) == ";"), None)

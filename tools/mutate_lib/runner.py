@@ -63,11 +63,25 @@ def _kill_group(proc):
         pass
 
 
+_LIVE = set()  # the processes under way, for kill_all
+_LIVE_LOCK = threading.Lock()
+
+
+def kill_all():
+    """Kills every process group still running (the tests of the worker threads on Ctrl-C)."""
+    with _LIVE_LOCK:
+        procs = list(_LIVE)
+    for p in procs:
+        _kill_group(p)
+
+
 def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None):
     """Runs cmd in its own process group (killed whole on timeout or Ctrl-C); returns
     (exit status or None on timeout, output)."""
     proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, start_new_session=True)
+    with _LIVE_LOCK:
+        _LIVE.add(proc)
     try:
         out, _ = proc.communicate(timeout=timeout)
         rc = proc.returncode
@@ -79,6 +93,9 @@ def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None):
         _kill_group(proc)
         proc.wait()
         raise
+    finally:
+        with _LIVE_LOCK:
+            _LIVE.discard(proc)
     text = out.decode(errors="replace")
     if log:
         with open(log, "w") as f:
