@@ -56,7 +56,35 @@ def sync_tree(root, tree):
                 os.remove(path)
 
 
+def _descendants(pid):
+    """The processes below pid, from /proc: Check runs each test case in a forked child that
+    moves to a process group of its own, out of reach of the group kill."""
+    children = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            children.setdefault(ppid, []).append(int(entry))
+    out, todo = [], [pid]
+    while todo:
+        for c in children.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
+
+
 def _kill_group(proc):
+    """Kills proc, its process group and every process below it (before their parent dies and
+    they are re-parented out of sight)."""
+    for pid in _descendants(proc.pid) if os.path.isdir("/proc") else []:
+        for kill in (os.kill, os.killpg):
+            try:
+                kill(pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
     try:
         os.killpg(proc.pid, signal.SIGKILL)
     except (ProcessLookupError, PermissionError):
@@ -75,10 +103,12 @@ def kill_all():
         _kill_group(p)
 
 
-def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None):
+def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None, output=True):
     """Runs cmd in its own process group (killed whole on timeout or Ctrl-C); returns
-    (exit status or None on timeout, output)."""
-    proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=subprocess.PIPE,
+    (exit status or None on timeout, output). Without output, nothing is read from the
+    process: no stray descendant can then hold a pipe open and block the wait."""
+    sink = subprocess.PIPE if output else subprocess.DEVNULL
+    proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=sink,
                             stderr=subprocess.STDOUT, start_new_session=True)
     with _LIVE_LOCK:
         _LIVE.add(proc)
@@ -96,7 +126,7 @@ def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None):
     finally:
         with _LIVE_LOCK:
             _LIVE.discard(proc)
-    text = out.decode(errors="replace")
+    text = (out or b"").decode(errors="replace")
     if log:
         with open(log, "w") as f:
             f.write(text)
@@ -141,7 +171,8 @@ class TestRunner:
     def run_one(self, test):
         """(passed, timed_out, seconds)."""
         t0 = time.monotonic()
-        rc, _ = run_quiet(test.command, cwd=test.cwd, env=test.env, timeout=self.timeout(test))
+        rc, _ = run_quiet(test.command, cwd=test.cwd, env=test.env, timeout=self.timeout(test),
+                          output=False)
         secs = time.monotonic() - t0
         if rc is None:
             return False, True, secs
