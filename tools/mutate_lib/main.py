@@ -4,6 +4,7 @@ import datetime
 import fcntl
 import glob
 import hashlib
+import json
 import os
 import signal
 import subprocess
@@ -36,6 +37,8 @@ def parse_args(argv):
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 2, help="tests run at once")
     p.add_argument("--timeout", type=float, default=10.0, help="least per-test timeout (s); "
                    "a test may take 10 times its unmutated time")
+    p.add_argument("--rescore", action="store_true", help="rewrite the last report with "
+                   "tests/mutation/equivalent.txt as it is now, running nothing")
     p.add_argument("--out", help="report prefix (default build/report/mutation, "
                    "mutation-sample for --sample, mutation-partial for --only/--files/--ops)")
     return p.parse_args(argv)
@@ -157,6 +160,8 @@ def main(argv=None):
     mutants = all_mutants(files, args.ops or OPERATORS)
     equivalents = load_equivalents()
     chosen = select(args, mutants, equivalents)
+    if args.rescore:
+        return rescore(args, mutants, equivalents)
     if args.list:
         for m in chosen:
             say(f"{m.id}\t{m.line}\t{m.original}\t=>\t{m.mutated}")
@@ -195,12 +200,32 @@ def run(args, mutants, chosen, equivalents, work):
     return finish(args, mutants, rows, equivalents, ws, started, time.monotonic() - t0, broken)
 
 
-def finish(args, mutants, rows, equivalents, ws, started, seconds, broken):
+def rescore(args, mutants, equivalents):
+    """The last report again, the mutants now listed equivalent taken out of it."""
+    prefix = args.out or os.path.join(ROOT, "build", "report", "mutation")
+    try:
+        with open(prefix + ".json") as f:
+            old = json.load(f)
+    except OSError:
+        raise SystemExit(f"mutate: no report to rescore: {prefix}.json")
+    rows = [r for r in old["mutants"] if r["id"] not in equivalents]
+    eq_rows, stale = _equivalent_rows(mutants, equivalents)
+    md, _ = report.write(prefix, old["meta"], rows, eq_rows, stale)
+    detected, counted, pct = report.score(rows)
+    say(f"score {detected}/{counted} = {pct:.1f} %; report: {os.path.relpath(md, ROOT)}")
+    return 0
+
+
+def _equivalent_rows(mutants, equivalents):
     by_id = {m.id: m for m in mutants}
-    eq_rows = [dict(id=i, file=by_id[i].file, line=by_id[i].line, op=by_id[i].op,
-                    original=by_id[i].original, mutated=by_id[i].mutated, reason=r)
-               for i, r in equivalents.items() if i in by_id]
-    stale = sorted(i for i in equivalents if i not in by_id)
+    rows = [dict(id=i, file=by_id[i].file, line=by_id[i].line, op=by_id[i].op,
+                 original=by_id[i].original, mutated=by_id[i].mutated, reason=r)
+            for i, r in equivalents.items() if i in by_id]
+    return rows, sorted(i for i in equivalents if i not in by_id)
+
+
+def finish(args, mutants, rows, equivalents, ws, started, seconds, broken):
+    eq_rows, stale = _equivalent_rows(mutants, equivalents)
     ran = [r for r in rows if r["verdict"] != "invalid"]
     mode = ("sample of %d" % args.sample if args.sample is not None else
             "partial" if (args.only or args.files or args.ops) else
