@@ -236,7 +236,7 @@ def finish(args, mutants, rows, equivalents, ws, started, seconds, broken):
                 mean_seconds=sum(r["seconds"] for r in rows) / max(1, len(rows)),
                 mean_build=sum(r["build_seconds"] for r in ran) / max(1, len(ran)),
                 labels=list(ws.labels), tests=len(ws.tests), jobs=ws.jobs,
-                generated=len(mutants), broken_tests=broken)
+                generated=len(mutants), ran=len(rows), broken_tests=broken)
     prefix = args.out or os.path.join(
         ROOT, "build", "report", "mutation" + ("-sample" if args.sample is not None else
                                                "-partial" if mode == "partial" else ""))

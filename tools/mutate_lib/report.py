@@ -44,7 +44,8 @@ def write(prefix, meta, rows, equivalents, stale):
           f"Score: **{detected} / {counted} = {pct:.1f} %** killed (a timeout counts as "
           f"killed), over the valid mutants not listed as equivalent.", "",
           f"Sources: commit {meta['commit']}{' + local changes' if meta['dirty'] else ''}; "
-          f"run {meta['started']} UTC, {meta['seconds']:.0f} s for {len(rows)} mutants "
+          f"run {meta['started']} UTC, {meta['seconds']:.0f} s for {meta.get('ran', len(rows))} "
+          f"mutants of {meta.get('generated', len(rows))} "
           f"({meta['mean_seconds']:.1f} s each on average; build {meta['mean_build']:.1f} s); "
           f"tests: labels {', '.join(meta['labels'])}, {meta['tests']} tests, "
           f"jobs {meta['jobs']}.", "",
