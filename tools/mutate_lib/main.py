@@ -183,6 +183,9 @@ def main(argv=None):
 def run(args, mutants, chosen, equivalents, work):
     ws = Workspace(ROOT, work, jobs=args.jobs, timeout_floor=args.timeout)
     started = datetime.datetime.now(datetime.timezone.utc)
+    # the sources' version now, as the copy is made (HEAD may move during a long run)
+    source = dict(commit=_git("rev-parse", "--short", "HEAD"),
+                  dirty=bool(_git("status", "--porcelain", "--", "src")))
     t0 = time.monotonic()
     broken = ws.prepare(say)
     texts = {}
@@ -197,7 +200,8 @@ def run(args, mutants, chosen, equivalents, work):
         say(f"[{i}/{len(chosen)}] {m.id} {out.verdict} {out.seconds:.1f} s"
             + (f" ({out.killer})" if out.killer else ""))
     ws.restore_build()
-    return finish(args, mutants, rows, equivalents, ws, started, time.monotonic() - t0, broken)
+    return finish(args, mutants, rows, equivalents, ws, started, time.monotonic() - t0, broken,
+                  source)
 
 
 def rescore(args, mutants, equivalents):
@@ -224,15 +228,14 @@ def _equivalent_rows(mutants, equivalents):
     return rows, sorted(i for i in equivalents if i not in by_id)
 
 
-def finish(args, mutants, rows, equivalents, ws, started, seconds, broken):
+def finish(args, mutants, rows, equivalents, ws, started, seconds, broken, source):
     eq_rows, stale = _equivalent_rows(mutants, equivalents)
     ran = [r for r in rows if r["verdict"] != "invalid"]
     mode = ("sample of %d" % args.sample if args.sample is not None else
             "partial" if (args.only or args.files or args.ops) else
             "at most %d" % args.max if args.max is not None else "full")
-    meta = dict(mode=mode, commit=_git("rev-parse", "--short", "HEAD"),
-                dirty=bool(_git("status", "--porcelain", "--", "src")),
-                started=started.strftime("%Y-%m-%d %H:%M"), seconds=seconds,
+    meta = dict(mode=mode, **source, started=started.strftime("%Y-%m-%d %H:%M"),
+                seconds=seconds,
                 mean_seconds=sum(r["seconds"] for r in rows) / max(1, len(rows)),
                 mean_build=sum(r["build_seconds"] for r in ran) / max(1, len(ran)),
                 labels=list(ws.labels), tests=len(ws.tests), jobs=ws.jobs,
