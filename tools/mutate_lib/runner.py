@@ -4,6 +4,7 @@ mutant rewrites one file of the copy, rebuilds incrementally and runs the tests 
 failure, then the file is restored."""
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -250,13 +251,15 @@ class Workspace:
                 raise SystemExit(f"mutate: cmake configure failed, see {self.work}/configure.log")
         t0 = time.monotonic()
         if self.compile() != 0:
-            raise SystemExit(f"mutate: the unmutated tree does not build, see {self.work}/build.log")
+            raise SystemExit("mutate: the unmutated tree does not build, see "
+                             f"{self.work}/build.log")
         say(f"built in {time.monotonic() - t0:.1f} s")
         self.original_objects = {}
         for f in source_files(self.root):
             if f.startswith("src/") and f.endswith(".c"):
                 self.original_objects[f] = _read(self.object_file(f))
         self.tests = load_tests(self.build, self.labels)
+        self.load_history()
         return self.baseline(say)
 
     def compile(self):
@@ -288,9 +291,30 @@ class Workspace:
         killers = self.history.get(relfile, [])
         by_name = {t.name: t for t in self.tests}
         first = [by_name[n] for n in killers if n in by_name]
+
+        def related(test):  # whole words of the name: "maps" for map_dgrad, not "evaluations"
+            names = re.split(r"[^a-z0-9]+", test.name.lower())
+            return any(n.startswith(w) for n in names for w in words)
+
         rest = sorted((t for t in self.tests if t.name not in killers),
-                      key=lambda t: (not any(w in t.name.lower() for w in words), t.baseline))
+                      key=lambda t: (not related(t), t.baseline))
         return first + rest
+
+    @property
+    def history_file(self):
+        return os.path.join(self.work, "killers.json")
+
+    def load_history(self):
+        """The tests that killed each file's mutants in earlier runs: they go first again."""
+        try:
+            with open(self.history_file) as f:
+                self.history = json.load(f)
+        except (OSError, ValueError):
+            self.history = {}
+
+    def save_history(self):
+        with open(self.history_file, "w") as f:
+            json.dump(self.history, f, indent=1)
 
     def object_file(self, relfile):
         name = os.path.basename(relfile) + ".o"
@@ -330,8 +354,10 @@ class Workspace:
                        len(times))
 
     def restore_build(self):
-        """Rebuilds the unmutated copy, so that the next run starts from it."""
+        """Rebuilds the unmutated copy, so that the next run starts from it, and keeps the
+        order of the killing tests for it."""
         self.compile()
+        self.save_history()
 
 
 def _read(path):
