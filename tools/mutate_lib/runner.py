@@ -242,6 +242,8 @@ class Workspace:
         """Copies the sources, configures if needed, builds and runs the baseline."""
         os.makedirs(self.work, exist_ok=True)
         sync_tree(self.root, self.tree)
+        if self._configured_elsewhere():
+            shutil.rmtree(self.build)  # a build dir of another checkout: start afresh
         if not os.path.exists(os.path.join(self.build, "CMakeCache.txt")):
             say("configuring build/mutate/build")
             gen = ["-G", "Ninja"] if shutil.which("ninja") else []
@@ -261,6 +263,18 @@ class Workspace:
         self.tests = load_tests(self.build, self.labels)
         self.load_history()
         return self.baseline(say)
+
+    def _configured_elsewhere(self):
+        """Whether the build dir's cache names a source dir other than this copy."""
+        try:
+            with open(os.path.join(self.build, "CMakeCache.txt")) as f:
+                for line in f:
+                    if line.startswith("CMAKE_HOME_DIRECTORY:"):
+                        home = line.split("=", 1)[1].strip()
+                        return os.path.realpath(home) != os.path.realpath(self.tree)
+        except OSError:
+            pass
+        return False
 
     def compile(self):
         rc, _ = run_quiet(["cmake", "--build", self.build, "-j", str(self.jobs)], timeout=600,
