@@ -49,6 +49,8 @@ def write(prefix, meta, rows, equivalents, stale):
           f"({meta['mean_seconds']:.1f} s each on average; build {meta['mean_build']:.1f} s); "
           f"tests: labels {', '.join(meta['labels'])}, {meta['tests']} tests, "
           f"jobs {meta['jobs']}.", "",
+          *([f"Left out, failing before any mutation: {', '.join(meta['broken_tests'])}.", ""]
+            if meta.get("broken_tests") else []),
           "Verdicts: killed (a test failed), timeout (a test hung: killed), survived (every "
           "test passed), invalid (does not compile: not counted), same-object (the compiler "
           "made the same object code: equivalent, not counted).", "",
