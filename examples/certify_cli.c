@@ -84,8 +84,7 @@ int cli_check_model_run(const char *prog, const cli_certify *c, const sdae_model
   const double tol = 1e-6;
   double worst[CERT_DIM];
   sdae_check_report r = {0};
-  r.worst_z = worst;
-  int rc = sdae_check_model(m, d, 0.0, c->lo, c->hi, points, 1, tol, &r);
+  int rc = sdae_check_model(m, d, 0.0, c->lo, c->hi, points, 1, tol, worst, &r);
   if (rc != SDAE_OK) {
     fprintf(stderr, "%s: --check-model: %s (after %zu points)\n", prog, sdae_strerror(rc),
             r.points);

@@ -25,6 +25,7 @@ typedef struct work {
   unsigned *piv;
   unsigned char *chain_last; /* n_xi: 1 for the last coordinate of a chain (L_g may be != 0) */
   gsl_rng rng;               /* mt19937, its state in the block (gsl_rng_alloc would malloc) */
+  double *worst_z;           /* the caller's, n values, or NULL */
 } work;
 
 static int call(int (*cb)(double, const double *, double *, void *), double t, const double *in,
@@ -89,7 +90,7 @@ static void note(sdae_check_report *r, const work *w, int kind, size_t index, do
   if (res > worst || (kind == r->worst_check && res == worst)) {
     r->worst_check = kind;
     r->worst_index = index;
-    if (r->worst_z) memcpy(r->worst_z, w->z, w->n * sizeof *w->z);
+    if (w->worst_z) memcpy(w->worst_z, w->z, w->n * sizeof *w->z);
   }
 }
 
@@ -235,8 +236,8 @@ static int take_block(work *w, const sdae_allocator *al, char **block, size_t *b
 
 int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
                           const double *lo, const double *hi, size_t npoints,
-                          unsigned long seed, double tol, const sdae_allocator *a,
-                          sdae_check_report *r) {
+                          unsigned long seed, double tol, double *worst_z,
+                          const sdae_allocator *a, sdae_check_report *r) {
   int rc = validate(model, dae, lo, hi, tol, r);
   size_t bytes;
   char *block;
@@ -244,11 +245,10 @@ int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t
   if (rc != SDAE_OK) return rc;
   if (dae->n > SIZE_MAX / 4) return SDAE_ERR_OVERFLOW; /* keeps LU's 3 n - 2 columns exact */
   w.model = model, w.dae = dae, w.t = t, w.n = dae->n, w.n_xi = model->n_xi;
-  w.n_mu = model->n_mu;
+  w.n_mu = model->n_mu, w.worst_z = worst_z;
   if ((rc = take_block(&w, a, &block, &bytes)) != SDAE_OK) return rc;
   mark_chains(model, w.chain_last);
-  memset(r->residual, 0, sizeof r->residual);
-  r->points = 0, r->worst_check = 0, r->worst_index = 0;
+  memset(r, 0, sizeof *r);
   rc = run(&w, lo, hi, npoints, seed, r);
   r->consistent = rc == SDAE_OK;
   for (int k = 0; k < 4; k++) r->consistent = r->consistent && r->residual[k] <= tol;
@@ -258,6 +258,6 @@ int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t
 
 int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t, const double *lo,
                      const double *hi, size_t npoints, unsigned long seed, double tol,
-                     sdae_check_report *r) {
-  return sdae_check_model_with(model, dae, t, lo, hi, npoints, seed, tol, NULL, r);
+                     double *worst_z, sdae_check_report *r) {
+  return sdae_check_model_with(model, dae, t, lo, hi, npoints, seed, tol, worst_z, NULL, r);
 }

@@ -212,7 +212,7 @@ static sdae_check_report check_sinh(int with_inverse) {
   sdae_dae d = {2, 1, dae_f, dae_g, dae_Phi, with_inverse ? dae_Phi_inv : NULL, NULL, NULL};
   const double lo[2] = {-1.0, -2.0}, hi[2] = {1.0, 2.0};
   sdae_check_report r = {0};
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, lo, hi, 100, 3, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, lo, hi, 100, 3, 1e-6, NULL, &r), SDAE_OK);
   ck_assert_uint_eq(r.points, 100);
   return r;
 }

@@ -48,7 +48,7 @@ static sdae_check_report check(dae_params *p, int with_inverse) {
   sdae_model m = quartic_model(&p->q);
   sdae_dae d = {4, 1, f, g, Phi, with_inverse ? Phi_inv : NULL, NULL, p};
   sdae_check_report r = {0};
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 200, 7, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 200, 7, 1e-6, NULL, &r), SDAE_OK);
   ck_assert_uint_eq(r.points, 200);
   return r;
 }
@@ -69,9 +69,8 @@ START_TEST(printed_Q_is_flagged) {
   double worst[4];
   sdae_model m = quartic_model(&p.q);
   sdae_dae d = {4, 1, f, g, Phi, Phi_inv, NULL, &p};
-  sdae_check_report r = {0};
-  r.worst_z = worst;
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 200, 7, 1e-6, &r), SDAE_OK);
+  sdae_check_report r;
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 200, 7, 1e-6, worst, &r), SDAE_OK);
   ck_assert_int_eq(r.consistent, 0);
   ck_assert_int_eq(r.worst_check, SDAE_CHECK_DYNAMICS);
   ck_assert_uint_eq(r.worst_index, 3); /* mu2 */
@@ -107,11 +106,11 @@ START_TEST(bad_arguments) {
   sdae_dae d = {4, 1, f, g, Phi, Phi_inv, NULL, &p};
   sdae_check_report r = {0};
   double hi[4] = {0.7, 1.0, -1.0, 0.9};
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, hi, 10, 1, 1e-6, &r), SDAE_ERR_PARAM);
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 0.0, &r), SDAE_ERR_PARAM);
-  ck_assert_int_eq(sdae_check_model(&m, NULL, 0.0, LO, HI, 10, 1, 1e-6, &r), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, hi, 10, 1, 1e-6, NULL, &r), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 0.0, NULL, &r), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_check_model(&m, NULL, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r), SDAE_ERR_NULL);
   d.n = 5;
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, &r), SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r), SDAE_ERR_DIM);
 }
 END_TEST
 

@@ -37,25 +37,26 @@ typedef struct sdae_check_report {
   double residual[4];   /* the worst residual of each check, relative to its terms' size */
   int worst_check;      /* the check with the largest residual */
   size_t worst_index;   /* the component of z where it was found */
-  double *worst_z;      /* caller's storage for the worst point (n values), or NULL */
   int consistent;       /* every residual <= tol */
 } sdae_check_report;
 
 /* At npoints random points of the box lo <= z <= hi (seeded, reproducible) checks the model
  * against the DAE. Jacobians of Phi by central differences unless Phi_jac is given; Phi^-1 by
  * Newton from x = z unless Phi_inv is given. The relative degrees come from the model's
- * rel_degree (one chain of n_xi when it has none). */
+ * rel_degree (one chain of n_xi when it has none). worst_z (n values, or NULL) receives the
+ * point where the largest residual was found; *r is written whole. */
 SDAE_API int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t,
                               const double *lo, const double *hi, size_t npoints,
-                              unsigned long seed, double tol, sdae_check_report *r);
+                              unsigned long seed, double tol, double *worst_z,
+                              sdae_check_report *r);
 
 /* sdae_check_model with its workspace (one block, given back before the call returns) from the
  * allocator a; NULL means malloc and free. SDAE_ERR_NOMEM when there is no room, and then *r is
  * untouched. */
 SDAE_API int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
                                    const double *lo, const double *hi, size_t npoints,
-                                   unsigned long seed, double tol, const sdae_allocator *a,
-                                   sdae_check_report *r);
+                                   unsigned long seed, double tol, double *worst_z,
+                                   const sdae_allocator *a, sdae_check_report *r);
 
 #ifdef __cplusplus
 }

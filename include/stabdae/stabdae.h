@@ -132,8 +132,9 @@ typedef struct sdae_stats {
 
 /* Bytes sdae_stepper_init needs; 0 when the model or options are invalid or overflow. */
 SDAE_API size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o);
-/* Builds a stepper inside the caller's block mem[0..len) (aligned for double); no malloc.
- * The model and options are copied. */
+/* Builds a stepper inside the caller's block mem[0..len) (any alignment: the stepper aligns
+ * itself within it); no malloc. The model and options are copied. On failure *s is left as it
+ * was, here and in sdae_stepper_alloc: only a stepper they returned SDAE_OK for may be freed. */
 SDAE_API int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model *m,
                                const sdae_options *o);
 SDAE_API int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o);
