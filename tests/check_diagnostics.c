@@ -60,6 +60,131 @@ START_TEST(cond17_both_components_and_zero_W) {
 }
 END_TEST
 
+/* W(t, mu) = (1 + t) |mu|^2 / 2: a time-dependent W. From t = 1 (not 0, so that T = t - t_prev
+ * and t + t_prev differ): (1, 1) at t = 1, W = 2 -> (1, 2) at t = 3/2, W = 5/2 5/2 = 25/4.
+ * T = 1/2, dW = 17/4: (18)'s ratio dW/(T W) = 17/4; only mu_2 moved, by 1: (17) =
+ * ((17/4)/2)^2 / 2 = 289/128. All dyadic: exact. */
+static int timed_half_square(double t, const double *mu, double *out, void *params) {
+  (void)params;
+  out[0] = (1.0 + t) * 0.5 * (mu[0] * mu[0] + mu[1] * mu[1]);
+  return 0;
+}
+
+START_TEST(cond18_time_dependent_W) {
+  sdae_cond18 c;
+  double prev[2];
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, timed_half_square, NULL, prev), SDAE_OK);
+  observe(&c, 0, 1.0, 1.0, 1.0);
+  observe(&c, 1, 1.5, 1.0, 2.0);
+  ck_assert_uint_eq(c.steps, 1);
+  ck_assert_double_eq(c.gamma_min, 17.0 / 4.0);
+  ck_assert_double_eq(c.sup17, 289.0 / 128.0);
+  ck_assert_double_eq(c.worst_t, 1.0);
+  ck_assert_int_eq(c.status, SDAE_OK);
+}
+END_TEST
+
+/* W = mu_1 + mu_2, linear: (1, 0) at t = 0 (W = 1) -> (2, 0) at t = 1 (W = 2) -> (4, 0) at
+ * t = 2 (W = 4). Both steps have ratio dW/(T W) = 1: gamma_min = 1, attained first on the step
+ * from t = 0. (17): (1/1 / 2)^2 / 1 = 1/4, then (2/2 / 2)^2 / 2 = 1/8: sup 1/4. W(mu) = 1 is a
+ * measured step like any W > 0. */
+static int linear_W(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)params;
+  out[0] = mu[0] + mu[1];
+  return 0;
+}
+
+START_TEST(cond18_ties_keep_first_time) {
+  sdae_cond18 c;
+  double prev[2];
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, linear_W, NULL, prev), SDAE_OK);
+  observe(&c, 0, 0.0, 1.0, 0.0);
+  observe(&c, 1, 1.0, 2.0, 0.0);
+  observe(&c, 2, 2.0, 4.0, 0.0);
+  ck_assert_uint_eq(c.steps, 2);
+  ck_assert_double_eq(c.gamma_min, 1.0);
+  ck_assert_double_eq(c.worst_t, 0.0);
+  ck_assert_double_eq(c.sup17, 0.25);
+}
+END_TEST
+
+/* T <= 0 (the same time again, or back in time) has no ratio: skipped, nothing measured; the
+ * next step measures from the latest observation. (1, 0) at t = 1, again at t = 1, then at
+ * t = 0.5, then (2, 0) at t = 1.5: one step, T = 1, W 1 -> 2: ratio 1, (17) 1/4. */
+START_TEST(cond18_nonpositive_T_skipped) {
+  sdae_cond18 c;
+  double prev[2];
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, linear_W, NULL, prev), SDAE_OK);
+  observe(&c, 0, 1.0, 1.0, 0.0);
+  observe(&c, 1, 1.0, 1.0, 0.0);
+  observe(&c, 2, 0.5, 1.0, 0.0);
+  ck_assert_uint_eq(c.steps, 0);
+  ck_assert_double_eq(c.gamma_min, -INFINITY);
+  ck_assert_double_eq(c.sup17, 0.0);
+  observe(&c, 3, 1.5, 2.0, 0.0);
+  ck_assert_uint_eq(c.steps, 1);
+  ck_assert_double_eq(c.gamma_min, 1.0);
+  ck_assert_double_eq(c.worst_t, 0.5);
+  ck_assert_double_eq(c.sup17, 0.25);
+}
+END_TEST
+
+/* W's failures: the observer returns 1 (stop) and keeps the status: < 0 fatal and > 0
+ * recoverable even when W also wrote a NaN, a NaN or Inf written with success non-finite;
+ * the step is not measured. */
+typedef struct w_fail {
+  int rc;
+  double value;
+} w_fail;
+static int failing_W(double t, const double *mu, double *out, void *params) {
+  const w_fail *f = params;
+  (void)t, (void)mu;
+  out[0] = f->value;
+  return f->rc;
+}
+
+START_TEST(cond18_W_failures) {
+  const w_fail fails[4] = {{-1, NAN}, {1, NAN}, {0, NAN}, {0, INFINITY}};
+  const int want[4] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE,
+                       SDAE_ERR_NONFINITE, SDAE_ERR_NONFINITE};
+  for (int k = 0; k < 4; k++) {
+    sdae_cond18 c;
+    double prev[2], mu[2] = {1.0, 2.0}, xi[1] = {0.0};
+    w_fail f = {0, 1.0};
+    ck_assert_int_eq(sdae_cond18_init(&c, 2, failing_W, &f, prev), SDAE_OK);
+    ck_assert_int_eq(sdae_cond18_observe(0, 0.0, xi, mu, &c), 0);
+    f = fails[k];
+    ck_assert_int_eq(sdae_cond18_observe(1, 1.0, xi, mu, &c), 1);
+    ck_assert_int_eq(c.status, want[k]);
+    ck_assert_uint_eq(c.steps, 0);
+  }
+}
+END_TEST
+
+/* init: NULL pointers and n_mu = 0 refused; n_mu = 1 is a mean over one component:
+ * W = mu_1, (2) -> (3) with T = 1: ratio 1/(1 2) = 1/2, (17) = (1/1)^2 / 2 = 1/2. */
+static int first_W(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)params;
+  out[0] = mu[0];
+  return 0;
+}
+
+START_TEST(cond18_init_arguments) {
+  sdae_cond18 c;
+  double prev[2], xi[1] = {0.0}, a[1] = {2.0}, b[1] = {3.0};
+  ck_assert_int_eq(sdae_cond18_init(NULL, 2, linear_W, NULL, prev), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, NULL, NULL, prev), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 2, linear_W, NULL, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_cond18_init(&c, 0, linear_W, NULL, prev), SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_cond18_init(&c, 1, first_W, NULL, prev), SDAE_OK);
+  ck_assert_int_eq(sdae_cond18_observe(0, 0.0, xi, a, &c), 0);
+  ck_assert_int_eq(sdae_cond18_observe(1, 1.0, xi, b, &c), 0);
+  ck_assert_uint_eq(c.steps, 1);
+  ck_assert_double_eq(c.gamma_min, 0.5);
+  ck_assert_double_eq(c.sup17, 0.5);
+}
+END_TEST
+
 /* ---- sdae_certify_box ---- */
 
 /* A model whose only gain is ours to choose: Q_apply returns ||q_1||^2 = g(xi, mu), so with
@@ -235,6 +360,11 @@ int main(void) {
   Suite *s = suite_create("diagnostics");
   ADD_CASE(s, cond17_divides_by_n_mu);
   ADD_CASE(s, cond17_both_components_and_zero_W);
+  ADD_CASE(s, cond18_time_dependent_W);
+  ADD_CASE(s, cond18_ties_keep_first_time);
+  ADD_CASE(s, cond18_nonpositive_T_skipped);
+  ADD_CASE(s, cond18_W_failures);
+  ADD_CASE(s, cond18_init_arguments);
   ADD_CASE(s, certify_interior_sup_in_4d);
   ADD_CASE(s, certify_finds_higher_of_two_peaks);
   ADD_CASE(s, certify_point_box);
