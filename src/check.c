@@ -149,14 +149,16 @@ static int normal_form(work *w) {
 static int check_point(work *w, sdae_check_report *r) {
   const sdae_dae *d = w->dae;
   double size = 0.0, res = 0.0;
+  size_t at = 0; /* the component of the largest |Phi(x) - z|, the first of equals */
   int rc = invert(w);
   if (rc == SDAE_OK) rc = call(d->Phi, w->t, w->x, w->z2, w->n, d->params);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < w->n; i++) {
+    double e = fabs(w->z2[i] - w->z[i]);
     size = fmax(size, fmax(fabs(w->z[i]), fabs(w->z2[i])));
-    res = fmax(res, fabs(w->z2[i] - w->z[i]));
+    if (e > res) res = e, at = i;
   }
-  note(r, w, SDAE_CHECK_INVERSE, 0, rel(res, size));
+  note(r, w, SDAE_CHECK_INVERSE, at, rel(res, size));
   if ((rc = jacobian(w, w->x)) != SDAE_OK) return rc;
   if ((rc = call(d->f, w->t, w->x, w->F, w->n, d->params)) != SDAE_OK) return rc;
   if ((rc = call(d->g, w->t, w->x, w->G, w->n * d->m, d->params)) != SDAE_OK) return rc;

@@ -418,6 +418,7 @@ START_TEST(probe_wrong_inverse_residual) {
     ck_assert_double_eq_tol(r.residual[SDAE_CHECK_INVERSE], want[k], 2 * DBL_EPSILON);
     ck_assert_double_eq_tol(r.residual[SDAE_CHECK_DYNAMICS], dyn[k], 2 * DBL_EPSILON);
     ck_assert_int_eq(r.worst_check, SDAE_CHECK_INVERSE);
+    ck_assert_uint_eq(r.worst_index, 3); /* "the component of z where it was found": x4 */
     ck_assert_int_eq(r.consistent, 0);
   }
 }
