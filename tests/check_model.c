@@ -705,6 +705,52 @@ START_TEST(newton_singular_jacobian) {
 }
 END_TEST
 
+/* ---- the smallest scale ----
+ * Phi = I (n = 2, xi = x1, mu = x2), f = (0, 1), g = (1, 0), q0 = 1: Q = 0 is exact, and this
+ * Q = [2 DBL_TRUE_MIN] misses at z = (1, 0) by 2 DBL_TRUE_MIN against terms |J f| = 1,
+ * |q0| = 1 (and |Q xi|, absorbed in rounding): a relative dynamics residual of exactly
+ * DBL_TRUE_MIN (subnormal arithmetic is exact), the only one, so the smallest tolerance there
+ * is, DBL_TRUE_MIN itself, accepts it ("every residual <= tol"). */
+static int id2_Phi(double t, const double *x, double *z, void *params) {
+  (void)t, (void)params;
+  z[0] = x[0], z[1] = x[1];
+  return 0;
+}
+static int id2_jac(double t, const double *x, double *J, void *params) {
+  (void)t, (void)x, (void)params;
+  J[0] = 1.0, J[1] = 0.0, J[2] = 0.0, J[3] = 1.0;
+  return 0;
+}
+static int f01(double t, const double *x, double *out, void *params) {
+  (void)t, (void)x, (void)params;
+  out[0] = 0.0, out[1] = 1.0;
+  return 0;
+}
+static int one_q0(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)mu, (void)params;
+  out[0] = 1.0;
+  return 0;
+}
+static int tiny_Q(double t, const double *xi, const double *mu, double *out, void *params) {
+  (void)t, (void)xi, (void)mu, (void)params;
+  out[0] = 2.0 * DBL_TRUE_MIN;
+  return 0;
+}
+
+START_TEST(smallest_residual_meets_smallest_tol) {
+  const double z[2] = {1.0, 0.0};
+  sdae_model m = {.n_xi = 1, .n_mu = 1, .q0 = one_q0, .Q = tiny_Q};
+  sdae_dae d = {2, 1, f01, e1_g, id2_Phi, id2_Phi, id2_jac, NULL};
+  sdae_check_report r;
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, z, z, 1, 1, DBL_TRUE_MIN, NULL, &r), SDAE_OK);
+  ck_assert_double_eq(r.residual[SDAE_CHECK_DYNAMICS], DBL_TRUE_MIN);
+  ck_assert_double_eq(r.residual[SDAE_CHECK_INVERSE], 0.0);
+  ck_assert_double_eq(r.residual[SDAE_CHECK_LG], 0.0);
+  ck_assert_int_eq(r.worst_check, SDAE_CHECK_DYNAMICS);
+  ck_assert_int_eq(r.consistent, 1);
+}
+END_TEST
+
 /* ---- the finite-difference Jacobian's error ----
  * n = 2: xi = x1, mu = x1 + (x2 - s)^3, Phi^-1(z) = (z1, s + cbrt(z2 - z1)); f = (1, 1),
  * g = 0, q0(mu) = 1 + 3 cbrt(mu)^2, Q = 0: L_f mu = 1 + 3 (x2 - s)^2 = q0 on xi = 0. At
@@ -780,5 +826,6 @@ int main(void) {
   ADD_CASE(s, newton_gives_up_after_50);
   ADD_CASE(s, newton_singular_jacobian);
   ADD_CASE(s, fd_jacobian_error_is_h_squared);
+  ADD_CASE(s, smallest_residual_meets_smallest_tol);
   return run_suite(s);
 }
