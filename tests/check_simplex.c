@@ -2,7 +2,11 @@
  * u + step e_j, the moves p = c + coeff (x_worst - c) with coeff -1 (reflection), -2
  * (expansion), 1/2 (contraction), the shrink of every vertex halfway to the best (Nelder and
  * Mead 1965, with the acceptance rules of Lagarias et al. 1998: an expansion is kept only when
- * it beats the reflection, a reflection is expanded only when it beats the best vertex), the
+ * it beats the reflection, a reflection is expanded only when it beats the best vertex; and
+ * GSL's nmsimplex2, whose moves the file follows, for the rest: a reflection not better than
+ * the second worst vertex is contracted, replacing the worst first when it is no worse than it,
+ * the contraction kept when it is no worse than the worst vertex as it then is, otherwise the
+ * simplex shrinks; the worst and the best are the first of equal vertices), the
  * stop on the vertices' RMS distance from their center, the iteration limit, the objective's
  * failure returned at once; and its work size, (n + 1)^2 + 3 n doubles or SIZE_MAX. Every
  * sequence of points below is worked out by hand from those rules. */
@@ -149,9 +153,9 @@ END_TEST
 /* f = max(u, -0.2) from 0, step 0.2: the reflection -0.2 (f -0.2) beats the best (0): the
  * expansion -0.4 has f = -0.2 too, does not beat the reflection: the reflection is kept
  * (Lagarias et al.: x_e only when f_e < f_r). Iteration 2, vertices 0 (worst), -0.2: the
- * reflection -0.4 (f -0.2) only ties the best: it is not expanded to -0.2 - 2 (0 + 0.2) = -0.6
- * (whether a tie with the second worst is contracted, GSL's rule, or accepted, Lagarias's, is
- * left open here). */
+ * reflection -0.4 (f -0.2) only ties the best: it is not expanded to -0.2 - 2 (0 + 0.2) = -0.6;
+ * it only ties the second worst too (the same vertex in one dimension): not contracted (GSL),
+ * accepted. Both vertices then have f = -0.2: the best returned is the first, -0.4. */
 static double floored(const double *u, size_t n) { (void)n; return fmax(u[0], -0.2); }
 
 START_TEST(ties_neither_expand_nor_keep_expansion) {
@@ -163,6 +167,54 @@ START_TEST(ties_neither_expand_nor_keep_expansion) {
   ck_assert_double_le(fabs(r.pts[4][0] - -0.4), 1e-15);   /* reflection of 0 through -0.2 */
   for (long i = 0; i < r.calls; i++) /* no expansion of a reflection that only ties the best */
     ck_assert_double_gt(fabs(r.pts[i][0] - -0.6), 1e-9);
+  ck_assert_int_eq(r.calls, 5); /* nor a contraction */
+  ck_assert_double_le(fabs(u[0] - -0.4), 1e-15);
+}
+END_TEST
+
+
+/* f = 15 u (u >= 0), -20 u (-0.1 <= u < 0), 2 + 10 (u + 0.1) (u < -0.1): f(0) = 0, f(0.2) = 3,
+ * f(-0.2) = 1, f(-0.1) = 2. The reflection -0.2 (1) does not beat the second worst (0) but
+ * beats the worst (3): it replaces it. The contraction -0.1 (2) is worse than that new worst
+ * vertex (1): the simplex shrinks, -0.2 -> -0.1, rather than trade the reflection for a worse
+ * point. */
+static double notch(const double *u, size_t n) {
+  double x = u[0];
+  (void)n;
+  if (x >= 0.0) return 15.0 * x;
+  return x >= -0.1 ? -20.0 * x : 2.0 + 10.0 * (x + 0.1);
+}
+
+START_TEST(contraction_no_worse_than_new_worst) {
+  static const double pts[5][2] = {{0}, {0.2}, {-0.2}, {-0.1}, {-0.1}};
+  recorder r = {.f = notch, .n = 1};
+  double u[1] = {0.0};
+  ck_assert_int_eq(minimize(&r, u, 0.2, 0.0, 1), 0);
+  expect_points(&r, pts, 5);
+  ck_assert_double_eq(u[0], 0.0);
+}
+END_TEST
+
+/* Ties with the worst vertex (GSL: "no worse" is <=). f = 5 |u|: the reflection -0.2 has
+ * f = 1 = f(0.2), replaces it, and the contraction is taken from it: 0 + (-0.2 - 0)/2 = -0.1
+ * (0.5), kept. Then f = -10 u (u < 0), min(10 u, 1) (u >= 0): the reflection -0.2 (2) is
+ * worse than the worst (1); the contraction 0.1 has f = 1, no worse than the worst: kept,
+ * no shrink. */
+static double five_abs(const double *u, size_t n) { (void)n; return 5.0 * fabs(u[0]); }
+static double capped(const double *u, size_t n) {
+  (void)n;
+  return u[0] < 0.0 ? -10.0 * u[0] : fmin(10.0 * u[0], 1.0);
+}
+
+START_TEST(ties_with_the_worst) {
+  static const double pts_a[4][2] = {{0}, {0.2}, {-0.2}, {-0.1}}, pts_b[4][2] = {{0}, {0.2}, {-0.2}, {0.1}};
+  recorder a = {.f = five_abs, .n = 1}, b = {.f = capped, .n = 1};
+  double u[1] = {0.0};
+  ck_assert_int_eq(minimize(&a, u, 0.2, 0.0, 1), 0);
+  expect_points(&a, pts_a, 4);
+  u[0] = 0.0;
+  ck_assert_int_eq(minimize(&b, u, 0.2, 0.0, 1), 0);
+  expect_points(&b, pts_b, 4);
 }
 END_TEST
 
@@ -199,6 +251,8 @@ START_TEST(stops_on_simplex_size) {
   double u[1] = {0.0};
   ck_assert_int_eq(minimize(&r, u, 0.2, 0.101, 50), 0);
   ck_assert_int_eq(r.calls, 3);
+  /* all equal: the worst is the first vertex, 0, reflected through 0.2 to 0.4 */
+  ck_assert_double_le(fabs(r.pts[2][0] - 0.4), 1e-15);
   r.calls = 0;
   ck_assert_int_eq(minimize(&r, u, 0.2, 0.099, 50), 0);
   ck_assert_int_eq(r.calls, 2 + 50);
@@ -295,6 +349,8 @@ int main(void) {
   ADD_CASE(s, contract_and_shrink);
   ADD_CASE(s, second_worst_decides_contraction);
   ADD_CASE(s, ties_neither_expand_nor_keep_expansion);
+  ADD_CASE(s, contraction_no_worse_than_new_worst);
+  ADD_CASE(s, ties_with_the_worst);
   ADD_CASE(s, two_dimensional_reflection);
   ADD_CASE(s, stops_on_simplex_size);
   ADD_CASE(s, quadratic_minimum_in_1_to_4_dimensions);
