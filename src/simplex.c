@@ -74,7 +74,7 @@ static int shrink(const nm *s, size_t lo) {
 
 static int iterate(const nm *s) {
   size_t lo, hi, second;
-  double fr, fe, fh;
+  double fr, fe;
   int rc;
   rank(s, &lo, &hi, &second);
   centroid(s, hi);
@@ -86,10 +86,11 @@ static int iterate(const nm *s) {
     else
       replace(s, hi, s->r, fr);
   } else if (fr > s->fx[second]) {
-    fh = s->fx[hi];
-    if (fr <= fh) replace(s, hi, s->r, fr);
+    /* the reflection replaces the worst when no worse; the contraction must then be no worse
+     * than that new worst vertex, as in GSL, not than the old one */
+    if (fr <= s->fx[hi]) replace(s, hi, s->r, fr);
     if ((rc = move(s, hi, 0.5, s->e, &fe))) return rc;
-    if (fe <= fh)
+    if (fe <= s->fx[hi])
       replace(s, hi, s->e, fe);
     else
       return shrink(s, lo);

@@ -12,6 +12,8 @@
 
 #include "testmodels.h"
 
+#include "../src/alloc.h"
+
 /* Valgrind replaces malloc and free, ours too, unless run with
  * --soname-synonyms=somalloc=nouserintercepts (as tools/lib/memcheck.sh does). Then nothing
  * here sees the library's mallocs: under valgrind the cases that need them say so and check
@@ -483,6 +485,90 @@ START_TEST(check_model_with_sweep) {
 }
 END_TEST
 
+
+/* ---- the hook itself (src/alloc.c) ---- */
+
+/* counts its calls and remembers the sizes; blocks from __libc_malloc, so not counted above */
+typedef struct tally {
+  long allocs, frees;
+  size_t asked, freed;
+} tally;
+
+static void *tally_alloc(void *ud, size_t size) {
+  tally *t = ud;
+  t->allocs++, t->asked = size;
+  return __libc_malloc(size);
+}
+
+static void tally_free(void *ud, void *ptr, size_t size) {
+  tally *t = ud;
+  t->frees++, t->freed = size;
+  __libc_free(ptr);
+}
+
+/* alloc.h: size > 0 only, NULL for 0; the caller's pair when it has both functions, malloc
+ * and free otherwise (a pair with a half missing is no pair); free gets the size asked for and
+ * never NULL; n x size that overflows size_t is NULL without asking anyone. */
+START_TEST(hook_guards) {
+  tally t = {0};
+  sdae_allocator both = {tally_alloc, tally_free, &t}, no_free = {tally_alloc, NULL, &t},
+                 no_alloc = {NULL, tally_free, &t};
+  const sdae_allocator *halves[3] = {NULL, &no_free, &no_alloc};
+  int seen = !malloc_unseen("malloc behind the hook");
+  void *p;
+  /* the caller's pair */
+  ck_assert_ptr_null(sdae__alloc(&both, 0));
+  ck_assert_int_eq(t.allocs, 0);
+  p = sdae__alloc(&both, 24);
+  ck_assert_ptr_nonnull(p);
+  ck_assert_int_eq(t.allocs, 1);
+  ck_assert_uint_eq(t.asked, 24);
+  sdae__free(&both, p, 24);
+  ck_assert_int_eq(t.frees, 1);
+  ck_assert_uint_eq(t.freed, 24); /* the size it was asked for */
+  sdae__free(&both, NULL, 24);    /* NULL is fine, and never reaches the caller's free */
+  ck_assert_int_eq(t.frees, 1);
+  p = sdae__alloc_array(&both, 5, 3);
+  ck_assert_uint_eq(t.asked, 15); /* 5 x 3 bytes */
+  sdae__free(&both, p, 15);
+  /* n x size past SIZE_MAX: (SIZE_MAX / 8 + 2) x 8 would wrap to 8 bytes */
+  ck_assert_ptr_null(sdae__alloc_array(&both, SIZE_MAX / 8 + 2, 8));
+  ck_assert_ptr_null(sdae__alloc_array(&both, 2, SIZE_MAX / 2 + 1));
+  ck_assert_ptr_null(sdae__alloc_array(&both, 5, 0)); /* 0 bytes */
+  ck_assert_ptr_null(sdae__alloc_array(&both, 0, 5));
+  ck_assert_int_eq(t.allocs, 2);
+  /* malloc: no allocator, or half of one */
+  for (int h = 0; h < 3; h++) {
+    void *zero, *wrapped, *empty;
+    long before, after, live_mid;
+    t = (tally){0};
+    /* no assertion while counting: Check's own may allocate */
+    start_counting(0);
+    zero = sdae__alloc(halves[h], 0);
+    wrapped = sdae__alloc_array(halves[h], SIZE_MAX / 8 + 2, 8);
+    empty = sdae__alloc_array(halves[h], 5, 0);
+    before = allocations;
+    p = sdae__alloc(halves[h], 1);
+    after = allocations, live_mid = live;
+    sdae__free(halves[h], p, 1);
+    sdae__free(halves[h], NULL, 1);
+    stop_counting();
+    ck_assert_ptr_null(zero);
+    ck_assert_ptr_null(wrapped);
+    ck_assert_ptr_null(empty);
+    ck_assert_ptr_nonnull(p);
+    if (seen) {
+      ck_assert_int_eq(before, 0); /* nothing asked of malloc for those */
+      ck_assert_int_eq(after, 1);  /* one byte from malloc */
+      ck_assert_int_eq(live_mid, 1);
+      ck_assert_int_eq(live, 0);   /* given back to free */
+    }
+    ck_assert_int_eq(t.allocs, 0);
+    ck_assert_int_eq(t.frees, 0);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("alloc");
   interposed = malloc_is_interposed();
@@ -494,5 +580,6 @@ int main(void) {
   ADD_CASE(s, certify_box_with_allocator_sweep);
   ADD_CASE(s, check_model_sweep);
   ADD_CASE(s, check_model_with_sweep);
+  ADD_CASE(s, hook_guards);
   return run_suite(s);
 }

@@ -1,0 +1,175 @@
+/* The arena of src/arena.c: arrays counted and handed out from one block, each aligned to its
+ * type, sizes that overflow size_t reported instead of wrapped; and through the public API, a
+ * model too large for size_t gives SDAE_ERR_OVERFLOW. */
+#include <stdalign.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "testmodels.h"
+
+#include "../src/internal.h"
+
+static size_t round_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
+
+/* The same walk twice, counted and handed out: doubles (3), pivots (3), a 2 x 5 block of
+ * doubles, 5 bytes aligned for any type, 2 size_t. The offsets, by hand: each array starts at
+ * the end of the previous one rounded up to its alignment. */
+typedef struct walk {
+  double *a, *c;
+  unsigned *b;
+  char *d;
+  size_t *e;
+} walk;
+
+static walk take_all(sdae_arena *ar) {
+  walk w;
+  w.a = sdae__take(ar, 3, 1);
+  w.b = sdae__take_pivots(ar, 3);
+  w.c = sdae__take(ar, 2, 5);
+  w.d = sdae__take_array(ar, 5, 1, alignof(max_align_t));
+  w.e = sdae__take_array(ar, 2, sizeof(size_t), alignof(size_t));
+  return w;
+}
+
+START_TEST(counts_and_aligns) {
+  static max_align_t block[32];
+  sdae_arena count = {0}, hand = {(char *)block, 0, 0};
+  size_t oa = 0, ob = oa + 3 * sizeof(double);
+  size_t ob_at = round_up(ob, alignof(unsigned));
+  size_t oc = round_up(ob_at + 3 * sizeof(unsigned), alignof(double));
+  size_t od = round_up(oc + 10 * sizeof(double), alignof(max_align_t));
+  size_t oe = round_up(od + 5, alignof(size_t));
+  size_t end = oe + 2 * sizeof(size_t), bytes;
+  walk w = take_all(&count);
+  /* counting hands out nothing */
+  ck_assert_ptr_null(w.a);
+  ck_assert_ptr_null(w.b);
+  ck_assert_ptr_null(w.c);
+  ck_assert_ptr_null(w.d);
+  ck_assert_ptr_null(w.e);
+  ck_assert_int_eq(count.overflow, 0);
+  ck_assert_uint_eq(count.used, end);
+  ck_assert_int_eq(sdae__arena_bytes(&count, 40, &bytes), SDAE_OK);
+  ck_assert_uint_eq(bytes, 40 + end); /* header + the arrays */
+  ck_assert_uint_le(end, sizeof block);
+  w = take_all(&hand);
+  ck_assert_uint_eq(hand.used, end);
+  ck_assert_ptr_eq(w.a, (double *)((char *)block + oa));
+  ck_assert_ptr_eq(w.b, (unsigned *)((char *)block + ob_at));
+  ck_assert_ptr_eq(w.c, (double *)((char *)block + oc));
+  ck_assert_ptr_eq(w.d, (char *)block + od);
+  ck_assert_ptr_eq(w.e, (size_t *)((char *)block + oe));
+  /* each array aligned for its type */
+  ck_assert_uint_eq((uintptr_t)w.a % alignof(double), 0);
+  ck_assert_uint_eq((uintptr_t)w.b % alignof(unsigned), 0);
+  ck_assert_uint_eq((uintptr_t)w.c % alignof(double), 0);
+  ck_assert_uint_eq((uintptr_t)w.d % alignof(max_align_t), 0);
+  ck_assert_uint_eq((uintptr_t)w.e % alignof(size_t), 0);
+}
+END_TEST
+
+/* empty arrays take no room (but their alignment) and never overflow */
+START_TEST(empty_arrays) {
+  sdae_arena a = {0};
+  size_t bytes;
+  sdae__take(&a, 0, 5);
+  sdae__take(&a, 5, 0);
+  sdae__take_array(&a, 0, 8, 8);
+  sdae__take_array(&a, 7, 0, 1);
+  ck_assert_int_eq(a.overflow, 0);
+  ck_assert_uint_eq(a.used, 0);
+  sdae__take_array(&a, 1, 1, 1);
+  sdae__take_array(&a, 0, 8, 8);  /* aligns: 1 -> 8 */
+  ck_assert_uint_eq(a.used, 8);
+  ck_assert_int_eq(sdae__arena_bytes(&a, 0, &bytes), SDAE_OK);
+  ck_assert_uint_eq(bytes, 8);
+}
+END_TEST
+
+static void overflowed(sdae_arena *a) {
+  size_t bytes = 12345;
+  ck_assert_int_eq(a->overflow, 1);
+  ck_assert_int_eq(sdae__arena_bytes(a, 0, &bytes), SDAE_ERR_OVERFLOW);
+  ck_assert_uint_eq(bytes, 12345); /* untouched */
+}
+
+/* each overflow check, just past its limit, and the largest size that still fits */
+START_TEST(overflow_each_check) {
+  sdae_arena a = {0};
+  size_t bytes;
+  /* n1 x n2 doubles: the element count overflows */
+  ck_assert_ptr_null(sdae__take(&a, SIZE_MAX / 2 + 1, 2));
+  overflowed(&a);
+  /* n x size bytes */
+  a = (sdae_arena){0};
+  sdae__take_array(&a, SIZE_MAX / 8 + 1, 8, 8);
+  overflowed(&a);
+  a = (sdae_arena){0};
+  sdae__take(&a, SIZE_MAX / 8 + 1, 1); /* fits as a count, not as bytes */
+  overflowed(&a);
+  /* rounding used up to the alignment: SIZE_MAX - 7 = 2^N - 8 is aligned to 8, one more is
+   * not and rounds past SIZE_MAX */
+  a = (sdae_arena){NULL, SIZE_MAX - 7, 0};
+  sdae__take_array(&a, 0, 8, 8);
+  ck_assert_int_eq(a.overflow, 0);
+  ck_assert_uint_eq(a.used, SIZE_MAX - 7);
+  a = (sdae_arena){NULL, SIZE_MAX - 6, 0};
+  sdae__take_array(&a, 0, 8, 8);
+  overflowed(&a);
+  /* the array past the end: 8 + (SIZE_MAX - 8) = SIZE_MAX fits, one byte more does not */
+  a = (sdae_arena){NULL, 8, 0};
+  sdae__take_array(&a, SIZE_MAX - 8, 1, 1);
+  ck_assert_int_eq(a.overflow, 0);
+  ck_assert_uint_eq(a.used, SIZE_MAX);
+  a = (sdae_arena){NULL, 8, 0};
+  sdae__take_array(&a, SIZE_MAX - 7, 1, 1);
+  overflowed(&a);
+  a = (sdae_arena){NULL, 0, 0};
+  sdae__take_array(&a, SIZE_MAX, 1, 1); /* the whole of size_t, from 0 */
+  ck_assert_int_eq(a.overflow, 0);
+  ck_assert_uint_eq(a.used, SIZE_MAX);
+  /* the header: used + header must fit */
+  a = (sdae_arena){NULL, 10, 0};
+  ck_assert_int_eq(sdae__arena_bytes(&a, SIZE_MAX - 10, &bytes), SDAE_OK);
+  ck_assert_uint_eq(bytes, SIZE_MAX);
+  ck_assert_int_eq(sdae__arena_bytes(&a, SIZE_MAX - 9, &bytes), SDAE_ERR_OVERFLOW);
+  /* an overflow sticks: a later small array is neither counted nor handed out */
+  {
+    static max_align_t block[4];
+    sdae_arena b = {(char *)block, 0, 0};
+    sdae__take(&b, SIZE_MAX, SIZE_MAX);
+    ck_assert_ptr_null(sdae__take(&b, 1, 1));
+    ck_assert_ptr_null(sdae__take_pivots(&b, 1));
+    ck_assert_uint_eq(b.used, 0);
+    overflowed(&b);
+  }
+}
+END_TEST
+
+/* The stepper's workspace through the public API: n_mu doubles several times over, with n_mu
+ * = SIZE_MAX / 16 (each array fits, their sum does not) or SIZE_MAX / 4 (one array's bytes do
+ * not fit), and a dense n_mu x n_xi Q whose element count overflows. */
+START_TEST(stepper_too_large_for_size_t) {
+  quartic p = {2.0, 0.03, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s = NULL;
+  const size_t sizes[3] = {SIZE_MAX / 16, SIZE_MAX / 4, SIZE_MAX / 2 + 1};
+  ck_assert_uint_gt(sdae_stepper_size(&m, &o), 0); /* the model as it is fits */
+  for (int i = 0; i < 3; i++) {
+    m.n_mu = sizes[i];
+    ck_assert_uint_eq(sdae_stepper_size(&m, &o), 0);
+    ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_ERR_OVERFLOW);
+    ck_assert_ptr_null(s);
+  }
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("arena");
+  ADD_CASE(s, counts_and_aligns);
+  ADD_CASE(s, empty_arrays);
+  ADD_CASE(s, overflow_each_check);
+  ADD_CASE(s, stepper_too_large_for_size_t);
+  return run_suite(s);
+}
