@@ -6,6 +6,7 @@
  * each residual relative to the size of the terms it is made of (so finite-difference
  * Jacobians, good to ~1e-10 of those terms, pass a tolerance like 1e-6). */
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -172,16 +173,17 @@ static int check_point(work *w, sdae_check_report *r) {
   return SDAE_OK;
 }
 
+/* the last coordinate of each chain; one chain of n_xi without rel_degree (validated) */
 static void mark_chains(const sdae_model *m, unsigned char *last) {
   size_t off = 0;
   memset(last, 0, m->n_xi);
-  if (!m->rel_degree || m->n_constraints == 0) {
+  if (!m->rel_degree) {
     last[m->n_xi - 1] = 1;
     return;
   }
-  for (size_t c = 0; c < m->n_constraints && off < m->n_xi; c++) {
+  for (size_t c = 0; c < m->n_constraints; c++) {
     off += m->rel_degree[c];
-    if (off >= 1 && off <= m->n_xi) last[off - 1] = 1;
+    last[off - 1] = 1;
   }
 }
 
@@ -190,6 +192,7 @@ static int validate(const sdae_model *m, const sdae_dae *d, const double *lo, co
   if (!m || !d || !lo || !hi || !r) return SDAE_ERR_NULL;
   if (!m->q0 || (!m->Q && !m->Q_apply) || !d->f || !d->g || !d->Phi) return SDAE_ERR_NULL;
   if (m->n_xi == 0 || m->n_mu == 0 || d->m == 0 || d->n != m->n_xi + m->n_mu) return SDAE_ERR_DIM;
+  if (m->rel_degree && sdae__rel_degree_check(m, UINT_MAX) != SDAE_OK) return SDAE_ERR_REL_DEGREE;
   if (!(tol > 0.0) || !isfinite(tol)) return SDAE_ERR_PARAM;
   for (size_t j = 0; j < d->n; j++)
     if (!isfinite(lo[j]) || !isfinite(hi[j]) || lo[j] > hi[j]) return SDAE_ERR_PARAM;

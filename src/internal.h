@@ -66,6 +66,9 @@ typedef struct sdae_stabilizer_type {
 } sdae_stabilizer_type;
 /* the table of a stabilizer, NULL for an unknown one */
 const sdae_stabilizer_type *sdae__stabilizer_type(sdae_stabilizer which);
+/* SDAE_OK when the model's rel_degree gives n_constraints degrees in 1..max summing to n_xi,
+ * SDAE_ERR_REL_DEGREE otherwise */
+int sdae__rel_degree_check(const sdae_model *m, unsigned max);
 /* k_i = -(delta^2/2) ||q_i||^2 - epsilon (eq. 6), n values */
 void sdae__gains(const sdae_options *o, const double *qnorm2, size_t n, double *k);
 

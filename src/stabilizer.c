@@ -34,12 +34,12 @@ static const sdae_stabilizer_type paper = {
 
 /* ---- the baselines: per constraint, its chain (h, L_f h, ..., L_f^{r-1} h) ---- */
 
-static int rel_degree_check(const sdae_model *m) {
+int sdae__rel_degree_check(const sdae_model *m, unsigned max) {
   size_t sum = 0;
   if (!m->rel_degree || m->n_constraints == 0) return SDAE_ERR_REL_DEGREE;
   for (size_t c = 0; c < m->n_constraints; c++) {
     unsigned r = m->rel_degree[c];
-    if (r < 1 || r > SDAE_MAX_REL_DEGREE) return SDAE_ERR_REL_DEGREE;
+    if (r < 1 || r > max || r > m->n_xi - sum) return SDAE_ERR_REL_DEGREE;
     sum += r;
   }
   return sum == m->n_xi ? SDAE_OK : SDAE_ERR_REL_DEGREE;
@@ -48,12 +48,12 @@ static int rel_degree_check(const sdae_model *m) {
 static int baumgarte_validate(const sdae_model *m, const sdae_options *o) {
   for (int j = 0; j < SDAE_MAX_REL_DEGREE; j++)
     if (!isfinite(o->baumgarte_alpha[j])) return SDAE_ERR_PARAM;
-  return rel_degree_check(m);
+  return sdae__rel_degree_check(m, SDAE_MAX_REL_DEGREE);
 }
 
 static int none_validate(const sdae_model *m, const sdae_options *o) {
   (void)o;
-  return rel_degree_check(m);
+  return sdae__rel_degree_check(m, SDAE_MAX_REL_DEGREE);
 }
 
 /* one r x r block at a time */

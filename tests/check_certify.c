@@ -319,6 +319,26 @@ START_TEST(two_gains_each_sup) {
 }
 END_TEST
 
+/* Two gains with the same sup: g_i = 2/(1 + 10 (mu - 0.2)^2) for both, so both sups are
+ * 2/2 + 1 = 2 at mu = 0.2 (eq. 6) and the certificate names the first (certify.h). */
+static double twin_gains(size_t i, const double *z) {
+  double a = z[2] - 0.2;
+  (void)i;
+  return 2.0 / (1.0 + 10.0 * a * a);
+}
+
+START_TEST(tied_gains_name_the_first) {
+  sdae_stepper *s = designed_stepper(2, 1, twin_gains, NULL);
+  double sup[2];
+  sdae_certificate c;
+  ck_assert_int_eq(sdae_certify_box(s, 0.0, LO2, HI2, 4, sup, NULL, &c), SDAE_OK);
+  ck_assert_double_eq(sup[0], sup[1]); /* the same function, the same search */
+  ck_assert_double_le(fabs(sup[0] - 2.0), 1e-9);
+  ck_assert_uint_eq(c.i_max, 0);
+  sdae_stepper_free(s);
+}
+END_TEST
+
 /* A box that is a point: the grid has grid^0 = 1 point and nothing is free to refine, so the
  * search spends exactly one evaluation, whatever the grid; the sup is -k there. */
 START_TEST(point_box_one_evaluation) {
@@ -444,6 +464,7 @@ int main(void) {
   ADD_CASE(s, cond18_matches_energy_balance);
   ADD_CASE(s, grid_then_refinements_from_best_three);
   ADD_CASE(s, two_gains_each_sup);
+  ADD_CASE(s, tied_gains_name_the_first);
   ADD_CASE(s, point_box_one_evaluation);
   ADD_CASE(s, gain_failure_at_every_evaluation);
   ADD_CASE(s, arguments_checked);

@@ -115,6 +115,17 @@ START_TEST(bad_arguments) {
   ck_assert_int_eq(sdae_check_model(&m, NULL, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r), SDAE_ERR_NULL);
   d.n = 5;
   ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r), SDAE_ERR_DIM);
+  d.n = 4; /* relative degrees that do not make n_xi = 2: none may be 0, they must sum to 2 */
+  static const unsigned zero_two[2] = {0, 2}, three[1] = {3}, one_one[2] = {1, 1};
+  m.rel_degree = zero_two, m.n_constraints = 2;
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
+                   SDAE_ERR_REL_DEGREE);
+  m.rel_degree = three, m.n_constraints = 1;
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
+                   SDAE_ERR_REL_DEGREE);
+  m.rel_degree = one_one, m.n_constraints = 0;
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
+                   SDAE_ERR_REL_DEGREE);
 }
 END_TEST
 

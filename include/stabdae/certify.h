@@ -15,7 +15,7 @@ struct sdae_stepper;
 
 typedef struct sdae_certificate {
   double sup_neg_k;       /* max_i sup_B (-k_i(xi, mu)), eq. 14's denominator */
-  size_t i_max;           /* the gain attaining it */
+  size_t i_max;           /* the gain attaining it (the first one, on a tie) */
   double T_bar;           /* 2 / sup_neg_k: scheme 11 drives xi to 0 for T < T_bar (Theorem 3) */
   double T_thm5_scheme15; /* (sqrt(5) - 1)/4 T_bar (Theorem 5, scheme 15) */
   double T_thm5_scheme11; /* T_bar / 2 (Theorem 5, scheme 11) */

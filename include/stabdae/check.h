@@ -43,7 +43,8 @@ typedef struct sdae_check_report {
 /* At npoints random points of the box lo <= z <= hi (seeded, reproducible) checks the model
  * against the DAE. Jacobians of Phi by central differences unless Phi_jac is given; Phi^-1 by
  * Newton from x = z unless Phi_inv is given. The relative degrees come from the model's
- * rel_degree (one chain of n_xi when it has none). worst_z (n values, or NULL) receives the
+ * rel_degree (one chain of n_xi when it has none; SDAE_ERR_REL_DEGREE when they are not
+ * n_constraints values >= 1 summing to n_xi). worst_z (n values, or NULL) receives the
  * point where the largest residual was found; *r is written whole. */
 SDAE_API int sdae_check_model(const sdae_model *model, const sdae_dae *dae, double t,
                               const double *lo, const double *hi, size_t npoints,
