@@ -1,6 +1,7 @@
 /* Nelder-Mead (Nelder and Mead 1965) with the moves of GSL's nmsimplex2: reflect the worst
- * vertex through the centroid of the others, expand when that beats the best, contract when it
- * does not beat the second worst, and shrink towards the best when the contraction fails too.
+ * vertex through the centroid of the others, expand when that beats the best (keeping the
+ * expansion only when it beats the reflection, as Lagarias et al.), contract when it is worse
+ * than the second worst, and shrink towards the best when the contraction fails too.
  * GSL's own minimizer is not used: it allocates with malloc and reports failure through GSL's
  * error handler, which aborts by default. */
 #include <math.h>
