@@ -112,11 +112,72 @@ START_TEST(declared_orders) {
 }
 END_TEST
 
+
+/* ---- the stages' predictor ----
+ * H = mu_1 (linear), S = a(t) J with a(t) = 1 + t (the rotation fixture's S): gradbar H is
+ * (1, 0) exactly for every increment (H(y) - H(x) - grad H . v = 0), so the stage map
+ * phi(x, y) = S(t_k + h_k/2) (1, 0) = (0, -a(t_k + h_k/2)) does not depend on y, and the
+ * predictor y = x + h_k phi(x, x) of stage k is its Newton root: the first iteration's update
+ * is at rounding level and stops (1 iteration a stage, 2 evaluations: predictor and residual;
+ * hess_H = 0 gives M without evaluations). A predictor from another time, or not x + h phi,
+ * is off the root by O(h): a second iteration. */
+static int linear_H(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)params;
+  out[0] = mu[0];
+  return 0;
+}
+
+static int linear_grad_H(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)mu, (void)params;
+  out[0] = 1.0, out[1] = 0.0;
+  return 0;
+}
+
+static int zero_hess_H(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)mu, (void)params;
+  out[0] = out[1] = out[2] = out[3] = 0.0;
+  return 0;
+}
+
+static int linear_q0(double t, const double *mu, double *out, void *params) {
+  (void)mu, (void)params;
+  out[0] = 0.0, out[1] = -rotation_rate(t); /* S grad H */
+  return 0;
+}
+
+/* One step from t = 0.7 with T = 0.25 on the manifold: 1 iteration and 2 evaluations per stage,
+ * plus the stepper's one evaluation of the composed map; mu_1 unchanged and mu_2 decreased by
+ * sum_k h_k a(t_k + h_k/2) = the integral of a over [t, t + T] (the midpoint rule is exact for
+ * the linear a, and the stage times tile the step). */
+static void predictor_is_root(const sdae_map_type *map) {
+  sdae_model m = rotation_model(NULL);
+  sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double t = 0.7, T = 0.25, xi[1] = {0.0}, mu[2] = {0.6, -0.8};
+  m.q0 = linear_q0, m.q0_jac = NULL;
+  m.H = linear_H, m.grad_H = linear_grad_H, m.hess_H = zero_hess_H;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, t, T, xi, mu), SDAE_OK);
+  ck_assert_uint_eq(sdae_stepper_stats(s)->newton_iters_last, map->stages);
+  ck_assert_uint_eq(sdae_stepper_stats(s)->phi_evals, 1 + 2 * map->stages);
+  ck_assert_double_eq(mu[0], 0.6);
+  ck_assert_double_le(fabs(mu[1] - (-0.8 - rotation_angle(t, t + T))), 1e-14);
+  sdae_stepper_free(s);
+}
+
+START_TEST(dg4_stage_predictor_is_root) { predictor_is_root(sdae_map_dg4); }
+END_TEST
+
+START_TEST(dg6_stage_predictor_is_root) { predictor_is_root(sdae_map_dg6); }
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("compose");
   ADD_CASE(s, dg4_order_conditions);
   ADD_CASE(s, dg4_is_yoshida_triple_jump);
   ADD_CASE(s, dg6_order_conditions);
   ADD_CASE(s, declared_orders);
+  ADD_CASE(s, dg4_stage_predictor_is_root);
+  ADD_CASE(s, dg6_stage_predictor_is_root);
   return run_suite(s);
 }

@@ -59,8 +59,12 @@ START_TEST(bad_options) {
   opt.newton_max_iter = 0, expect_config(SDAE_ERR_PARAM);
   opt.scheme = (sdae_scheme)12, expect_config(SDAE_ERR_OPTION);
   opt.stabilizer = (sdae_stabilizer)7, expect_config(SDAE_ERR_OPTION);
-  opt.stabilizer = SDAE_STAB_BAUMGARTE, opt.baumgarte_alpha[1] = NAN;
-  expect_config(SDAE_ERR_PARAM);
+  for (int j = 0; j < SDAE_MAX_REL_DEGREE; j++) { /* every alpha, the unused ones too */
+    opt.stabilizer = SDAE_STAB_BAUMGARTE, opt.baumgarte_alpha[j] = NAN;
+    expect_config(SDAE_ERR_PARAM);
+    opt.stabilizer = SDAE_STAB_BAUMGARTE, opt.baumgarte_alpha[j] = -INFINITY;
+    expect_config(SDAE_ERR_PARAM);
+  }
 }
 END_TEST
 
@@ -76,8 +80,11 @@ START_TEST(map_without_callbacks) {
 }
 END_TEST
 
+/* Each relative degree must be in 1..SDAE_MAX_REL_DEGREE even when they sum to n_xi: {0, 2}
+ * (n_xi = 2) and {5} (n_xi = 5) are refused. */
 START_TEST(baselines_need_rel_degree) {
   static const unsigned three[1] = {3}, zero[1] = {0}, five[2] = {5, 1};
+  static const unsigned zero_two[2] = {0, 2}, max_plus_one[1] = {SDAE_MAX_REL_DEGREE + 1};
   const sdae_stabilizer st[2] = {SDAE_STAB_NONE, SDAE_STAB_BAUMGARTE};
   reset();
   for (int i = 0; i < 2; i++) {
@@ -87,6 +94,10 @@ START_TEST(baselines_need_rel_degree) {
     opt.stabilizer = st[i], model.n_constraints = 2, model.rel_degree = five;
     expect_config(SDAE_ERR_REL_DEGREE);
     opt.stabilizer = st[i], model.n_constraints = 0, expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.n_constraints = 2, model.rel_degree = zero_two;
+    expect_config(SDAE_ERR_REL_DEGREE);
+    opt.stabilizer = st[i], model.n_xi = SDAE_MAX_REL_DEGREE + 1, model.rel_degree = max_plus_one;
+    expect_config(SDAE_ERR_REL_DEGREE);
   }
 }
 END_TEST
@@ -312,6 +323,58 @@ START_TEST(strerror_names_every_status) {
 }
 END_TEST
 
+
+/* The defaults stabdae.h documents: scheme 15, delta = epsilon = 1, the euler map, Newton's
+ * tolerance 1e-14 and 20 iterations, dense (bandwidth 0), the paper's stabilizer, Baumgarte's
+ * alpha = (1, 2) (critically damped at rate 1), the rest 0; and NULL is ignored. */
+START_TEST(options_default_as_documented) {
+  sdae_options o;
+  memset(&o, 0x55, sizeof o);
+  sdae_options_default(NULL);
+  sdae_options_default(&o);
+  ck_assert_int_eq(o.scheme, SDAE_SCHEME_SEMI_IMPLICIT);
+  ck_assert_double_eq(o.delta, 1.0);
+  ck_assert_double_eq(o.epsilon, 1.0);
+  ck_assert_ptr_eq(o.map, sdae_map_euler);
+  ck_assert_double_eq(o.newton_tol, 1e-14);
+  ck_assert_uint_eq(o.newton_max_iter, 20);
+  ck_assert_uint_eq(o.bandwidth, 0);
+  ck_assert_int_eq(o.stabilizer, SDAE_STAB_PAPER);
+  ck_assert_double_eq(o.baumgarte_alpha[0], 1.0);
+  ck_assert_double_eq(o.baumgarte_alpha[1], 2.0);
+  ck_assert_double_eq(o.baumgarte_alpha[2], 0.0);
+  ck_assert_double_eq(o.baumgarte_alpha[3], 0.0);
+}
+END_TEST
+
+/* sdae_stepper_gains refuses what sdae_step refuses, and a NULL k, writing nothing to k: a NULL
+ * stepper or state or k is SDAE_ERR_NULL, a time not finite SDAE_ERR_PARAM, a state with NaN or
+ * Inf SDAE_ERR_STATE (the Q callback, which ignores t, is never reached). */
+START_TEST(gains_bad_arguments) {
+  sdae_stepper *s;
+  double xi[2] = {0.1, 0.2}, mu[2] = {0.3, 0.4}, bad_xi[2] = {0.1, NAN}, bad_mu[2] = {INFINITY, 0};
+  double k[2] = {5.0, 5.0};
+  reset();
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &model, &opt), SDAE_OK);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, xi, mu, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_gains(NULL, 0.0, xi, mu, k), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, NULL, mu, k), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, xi, NULL, k), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_stepper_gains(s, NAN, xi, mu, k), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_stepper_gains(s, INFINITY, xi, mu, k), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, bad_xi, mu, k), SDAE_ERR_STATE);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, xi, bad_mu, k), SDAE_ERR_STATE);
+  ck_assert_double_eq(k[0], 5.0);
+  ck_assert_double_eq(k[1], 5.0);
+  /* and the good call: ||q_1||^2 = 1 + c^2 with c = 3 mu1^2 - 3 mu1 xi1 + xi1^2 = 0.19,
+   * ||q_2||^2 = 2 (quartic.h, k = 1, d = 0): k = -(1/2) ||q||^2 - 1 */
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, xi, mu, k), SDAE_OK);
+  ck_assert_double_le(fabs(k[0] - (-0.5 * (1.0 + 0.19 * 0.19) - 1.0)), 1e-15);
+  ck_assert_double_eq(k[1], -2.0);
+  sdae_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("errors");
   ADD_CASE(s, bad_model);
@@ -327,5 +390,7 @@ int main(void) {
   ADD_CASE(s, baumgarte_singular_chain);
   ADD_CASE(s, cond18_bad_input);
   ADD_CASE(s, strerror_names_every_status);
+  ADD_CASE(s, options_default_as_documented);
+  ADD_CASE(s, gains_bad_arguments);
   return run_suite(s);
 }

@@ -145,6 +145,49 @@ START_TEST(threads_bit_identical) {
 }
 END_TEST
 
+
+static int count_calls(size_t step, double t, const double *xi, const double *mu, void *data) {
+  (void)step, (void)t, (void)xi, (void)mu;
+  (*(int *)data)++;
+  return 0;
+}
+
+/* sdae_integrate checks its own arguments before anything else, even with no step to take
+ * (nsteps = 0, where sdae_step's checks never run): a NULL stepper or state is SDAE_ERR_NULL,
+ * a step T <= 0 (0 included) or not finite SDAE_ERR_STEP (stabdae.h), the observer is never
+ * called and no step is done; the same call with valid arguments observes step 0 once. */
+START_TEST(bad_arguments_refused_before_observing) {
+  quartic p = {1.0, 0.0, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
+  const double badT[4] = {0.0, -1.0, NAN, INFINITY};
+  sdae_stepper *s;
+  double xi[2] = {0.1, 0}, mu[2] = {1, 0};
+  int calls = 0;
+  size_t done = 99;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  for (size_t nsteps = 0; nsteps <= 3; nsteps += 3) {
+    ck_assert_int_eq(sdae_integrate(NULL, 0.0, 0.1, nsteps, 1, xi, mu, count_calls, &calls, &done),
+                     SDAE_ERR_NULL);
+    ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, nsteps, 1, NULL, mu, count_calls, &calls, &done),
+                     SDAE_ERR_NULL);
+    ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, nsteps, 1, xi, NULL, count_calls, &calls, &done),
+                     SDAE_ERR_NULL);
+    for (int i = 0; i < 4; i++)
+      ck_assert_int_eq(
+          sdae_integrate(s, 0.0, badT[i], nsteps, 1, xi, mu, count_calls, &calls, &done),
+          SDAE_ERR_STEP);
+    ck_assert_int_eq(calls, 0);
+    ck_assert_uint_eq(done, 0);
+  }
+  ck_assert_double_eq(xi[0], 0.1);
+  ck_assert_double_eq(mu[0], 1.0);
+  ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, 0, 1, xi, mu, count_calls, &calls, &done), SDAE_OK);
+  ck_assert_int_eq(calls, 1);
+  sdae_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("integrate");
   ADD_CASE(s, observer_sees_first_every_and_last);
@@ -152,5 +195,6 @@ int main(void) {
   ADD_CASE(s, failure_keeps_last_good_state);
   ADD_CASE(s, caller_memory_same_as_alloc);
   ADD_CASE(s, threads_bit_identical);
+  ADD_CASE(s, bad_arguments_refused_before_observing);
   return run_suite(s);
 }

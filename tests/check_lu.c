@@ -177,6 +177,84 @@ START_TEST(banded_singular_to_rounding) {
 }
 END_TEST
 
+
+/* Partial pivoting takes the first largest entry of the column: A = [[1, 2], [-1, 3]] has a
+ * tie |1| = |-1| in its first column, so no row is swapped (piv = identity), l21 = -1 and
+ * U = [[1, 2], [0, 3 + 2]], U's diagonal kept as its reciprocal: factors {1, 2, -1, 1/5},
+ * each exact or one rounding of 1/5. Taking the last largest would swap the rows. */
+START_TEST(pivot_tie_takes_first_row) {
+  double A[4] = {1, 2, -1, 3};
+  unsigned piv[2];
+  ck_assert_int_eq(sdae__lu_small_factor(A, piv, 2), SDAE_OK);
+  ck_assert_uint_eq(piv[0], 0);
+  ck_assert_uint_eq(piv[1], 1);
+  ck_assert_double_eq(A[0], 1.0);
+  ck_assert_double_eq(A[1], 2.0);
+  ck_assert_double_eq(A[2], -1.0);
+  ck_assert_double_eq(A[3], 1.0 / 5.0);
+}
+END_TEST
+
+/* The singularity test |u_kk| > n eps max|a_ij| at its boundary: diag(2^-51, 1) (n = 2, max 1)
+ * has the pivot u_11 = 2^-51 = 2 eps exactly: singular, on both paths; with the pivot one ulp
+ * above, invertible, solved to the residual bound. */
+START_TEST(singularity_threshold_is_strict) {
+  const double at = 2.0 * DBL_EPSILON, above = nextafter(at, 1.0), b[2] = {1, 1};
+  const double A_at[4] = {at, 0, 0, 1}, A_above[4] = {above, 0, 0, 1};
+  double x[2];
+  ck_assert_double_eq(at, 0x1p-51);
+  ck_assert_int_eq(small_solve(A_at, 2, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(gsl_solve(A_at, 2, b, x), SDAE_ERR_SINGULAR);
+  ck_assert_int_eq(small_solve(A_above, 2, b, x), SDAE_OK);
+  check_residual(A_above, 2, b, x);
+  ck_assert_int_eq(gsl_solve(A_above, 2, b, x), SDAE_OK);
+  check_residual(A_above, 2, b, x);
+}
+END_TEST
+
+/* The scale is the largest entry of the whole matrix, here its last one: diag(1e-16, 1),
+ * pivot 1e-16 < 2 eps 1 = 4.4e-16, is singular to working precision on both paths (for n = 3
+ * and 4 likewise, the 1 last on the diagonal). */
+START_TEST(scale_includes_last_entry) {
+  const double b[4] = {1, 1, 1, 1};
+  for (size_t n = 2; n <= NMAX; n++) {
+    double A[NMAX * NMAX] = {0}, x[NMAX];
+    for (size_t i = 0; i + 1 < n; i++) A[i * n + i] = 1e-16;
+    A[n * n - 1] = 1.0;
+    ck_assert_int_eq(small_solve(A, n, b, x), SDAE_ERR_SINGULAR);
+    ck_assert_int_eq(gsl_solve(A, n, b, x), SDAE_ERR_SINGULAR);
+  }
+}
+END_TEST
+
+/* The test is relative to the matrix's own scale, however small: t [[0, 1], [1, 0]] with
+ * t = 2^-100 solves exactly, x = (5, 3) / t from b = (3, 5), on both paths (every operation
+ * on powers of 2 is exact). */
+START_TEST(tiny_matrix_is_not_singular) {
+  const double t = 0x1p-100, A[4] = {0, t, t, 0}, b[2] = {3, 5};
+  double x[2], y[2];
+  ck_assert_int_eq(small_solve(A, 2, b, x), SDAE_OK);
+  ck_assert_int_eq(gsl_solve(A, 2, b, y), SDAE_OK);
+  ck_assert_double_eq(x[0], 5.0 * 0x1p100);
+  ck_assert_double_eq(x[1], 3.0 * 0x1p100);
+  ck_assert_double_eq(y[0], 5.0 * 0x1p100);
+  ck_assert_double_eq(y[1], 3.0 * 0x1p100);
+}
+END_TEST
+
+/* A singular matrix is refused before any solve: x is left as it was (no division by the
+ * zero pivot inside GSL), for the zero matrix and a rank-1 one with exact zero pivots. */
+START_TEST(singular_leaves_x_untouched) {
+  const double zero[9] = {0}, rank1[9] = {1, 2, 4, 2, 4, 8, 4, 8, 16}, b[3] = {1, 1, 1};
+  const double *As[2] = {zero, rank1};
+  for (int k = 0; k < 2; k++) {
+    double x[3] = {7.0, 7.0, 7.0};
+    ck_assert_int_eq(gsl_solve(As[k], 3, b, x), SDAE_ERR_SINGULAR);
+    for (int i = 0; i < 3; i++) ck_assert_double_eq(x[i], 7.0);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("lu");
   ADD_CASE(s, same_solution_as_gsl);
@@ -188,5 +266,10 @@ int main(void) {
   ADD_CASE(s, subnormal_pivot);
   ADD_CASE(s, rank_one_to_rounding_is_singular);
   ADD_CASE(s, banded_singular_to_rounding);
+  ADD_CASE(s, pivot_tie_takes_first_row);
+  ADD_CASE(s, singularity_threshold_is_strict);
+  ADD_CASE(s, scale_includes_last_entry);
+  ADD_CASE(s, tiny_matrix_is_not_singular);
+  ADD_CASE(s, singular_leaves_x_untouched);
   return run_suite(s);
 }

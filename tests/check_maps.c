@@ -269,6 +269,105 @@ START_TEST(maps_by_name_and_order) {
 }
 END_TEST
 
+
+/* The small-increment branch's threshold |v|^2 <= eps (1 + |m|^2), m the midpoint, at its
+ * boundary, in exact binary (H is called twice, for H(mu) and H(mu+), outside the branch):
+ *  - m = 0, v = (2^-26, 0): |v|^2 = 2^-52 = eps (1 + 0), on the boundary: not called;
+ *  - m = 0, v = (2^-26, 2^-40): |v|^2 = 2^-52 + 2^-80, just above: called;
+ *  - m = (1, 0), v = (2^-26, 2^-26): |v|^2 = 2^-51 = eps (1 + 1), on the boundary: not called. */
+START_TEST(dgrad_small_increment_threshold) {
+  const double x[3][2] = {{-0x1p-27, 0.0}, {-0x1p-27, -0x1p-41}, {1.0 - 0x1p-27, -0x1p-27}};
+  const double y[3][2] = {{0x1p-27, 0.0}, {0x1p-27, 0x1p-41}, {1.0 + 0x1p-27, 0x1p-27}};
+  const long calls[3] = {0, 2, 0};
+  quartic p = {1.0, 0.0, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_map_ctx c = map_ctx(&m, &o);
+  double phi[2];
+  for (int k = 0; k < 3; k++) {
+    p.H_calls = 0;
+    ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.0, 0.1, x[k], y[k], phi), SDAE_OK);
+    ck_assert_int_eq(p.H_calls, calls[k]);
+  }
+}
+END_TEST
+
+/* H depending on t is evaluated at the map's one time, t + T/2 (as grad H and S): the discrete
+ * gradient property gradbar . v = H(tm, mu+) - H(tm, mu) holds with tm = 0.35 for t = 0.3,
+ * T = 0.1 (coupled_H's t mu1^2/2 term makes any other time of H(mu) or H(mu+) miss by
+ * 0.32 or more here). S = J (d = 0), so gradbar = J^T phi. */
+START_TEST(dgrad_time_dependent_H_at_mid_time) {
+  quartic p = {1.0, 0.0, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  double x[2] = {0.8, 0.3}, far[2] = {0.9, 0.1}, phi[2], Hx, Hy;
+  m.H = coupled_H, m.grad_H = coupled_grad_H;
+  sdae_map_ctx c = map_ctx(&m, &o);
+  ck_assert_int_eq(sdae_map_dgrad->phi(&c, 0.3, 0.1, x, far, phi), SDAE_OK);
+  double gradbar_v = -phi[1] * (far[0] - x[0]) + phi[0] * (far[1] - x[1]);
+  coupled_H(0.35, x, &Hx, &p);
+  coupled_H(0.35, far, &Hy, &p);
+  ck_assert_double_le(fabs(gradbar_v - (Hy - Hx)), 1e-15);
+}
+END_TEST
+
+/* The midpoint map's Jacobian: d q0((mu + mu+)/2) / d mu+ = q0'(mid) / 2 (chain rule), every
+ * entry halved exactly, here with the damping -d in the last entry (d = 0.1); and against
+ * central differences of phi (h = 1e-6: truncation h^2 |d3 q0| / 6, rounding eps / h). */
+START_TEST(midpoint_jacobian_is_half_q0_jac) {
+  quartic p = {1.0, 0.1, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  const double x[2] = {0.8, 0.3}, y0[2] = {0.9, 0.1}, h = 1e-6;
+  const double mid[2] = {0.5 * (x[0] + y0[0]), 0.5 * (x[1] + y0[1])};
+  double J[4], Jq[4], plus[2], minus[2], y[2];
+  sdae_map_ctx c = map_ctx(&m, &o);
+  ck_assert_int_eq(sdae_map_midpoint->phi(&c, 0.0, 0.1, x, y0, plus), SDAE_OK);
+  ck_assert_int_eq(sdae_map_midpoint->jac(&c, 0.0, 0.1, x, y0, J), SDAE_OK);
+  quartic_q0_jac(0.05, mid, Jq, &p);
+  for (int i = 0; i < 4; i++) ck_assert_double_eq(J[i], 0.5 * Jq[i]);
+  ck_assert_double_eq(J[3], -0.05); /* -d / 2 */
+  for (int j = 0; j < 2; j++) {
+    y[0] = y0[0], y[1] = y0[1];
+    y[j] += h;
+    ck_assert_int_eq(sdae_map_midpoint->phi(&c, 0.0, 0.1, x, y, plus), SDAE_OK);
+    y[j] -= 2 * h;
+    ck_assert_int_eq(sdae_map_midpoint->phi(&c, 0.0, 0.1, x, y, minus), SDAE_OK);
+    for (int i = 0; i < 2; i++)
+      ck_assert_double_le(fabs(J[i * 2 + j] - (plus[i] - minus[i]) / (2 * h)), 1e-8);
+  }
+}
+END_TEST
+
+/* The user's map and its Jacobian writing NaN or Inf: the map itself reports
+ * SDAE_ERR_NONFINITE (as for every callback), whatever Newton would make of the values. */
+static int nan_user_phi(double t, double T, const double *mu, const double *y, double *out,
+                        void *params) {
+  (void)t, (void)T, (void)mu, (void)y, (void)params;
+  out[0] = 0.5, out[1] = NAN;
+  return 0;
+}
+
+static int inf_user_jac(double t, double T, const double *mu, const double *y, double *out,
+                        void *params) {
+  (void)t, (void)T, (void)mu, (void)y, (void)params;
+  out[0] = out[1] = out[2] = 0.0, out[3] = INFINITY;
+  return 0;
+}
+
+START_TEST(user_map_nonfinite_is_reported) {
+  quartic p = {1.0, 0.0, 0, 0};
+  sdae_model m = quartic_model(&p);
+  sdae_map_ctx c = {&m, NULL, NULL, 0};
+  const double x[2] = {0.8, 0.3}, y[2] = {0.9, 0.1};
+  double out[4];
+  ck_assert_int_eq(sdae_map_user->phi(&c, 0.0, 0.1, x, y, out), SDAE_OK); /* the paper's map */
+  m.user_phi = nan_user_phi, m.user_phi_jac = inf_user_jac;
+  ck_assert_int_eq(sdae_map_user->phi(&c, 0.0, 0.1, x, y, out), SDAE_ERR_NONFINITE);
+  ck_assert_int_eq(sdae_map_user->jac(&c, 0.0, 0.1, x, y, out), SDAE_ERR_NONFINITE);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("maps");
   ADD_CASE(s, maps_by_name_and_order);
@@ -286,5 +385,9 @@ int main(void) {
   ADD_CASE(s, dgrad_jacobian_matches_differences);
   ADD_CASE(s, dgrad_jacobian_with_S_apply);
   ADD_CASE(s, dgrad_hessian_spares_evaluations);
+  ADD_CASE(s, dgrad_small_increment_threshold);
+  ADD_CASE(s, dgrad_time_dependent_H_at_mid_time);
+  ADD_CASE(s, midpoint_jacobian_is_half_q0_jac);
+  ADD_CASE(s, user_map_nonfinite_is_reported);
   return run_suite(s);
 }

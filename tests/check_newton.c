@@ -364,6 +364,304 @@ START_TEST(fd_jacobian_costs_2_times_2b_plus_1_banded) {
 }
 END_TEST
 
+
+/* ---- Newton's definition at its boundaries, through sdae__newton_solve itself ----
+ * A map of the test's own (the table of src/map.h) and a workspace for n unknowns. */
+
+static sdae_model ws_model;
+
+/* a Newton workspace for n unknowns (band 0: dense) with tolerance tol; returns its block */
+static void *newton_ws(sdae_newton *nw, size_t n, size_t band, double tol) {
+  sdae_options o;
+  sdae_arena count = {0}, a = {0};
+  ws_model = (sdae_model){.n_xi = 1, .n_mu = n};
+  sdae_options_default(&o);
+  o.bandwidth = band, o.newton_tol = tol;
+  sdae__newton_carve(nw, &ws_model, &o, &count);
+  a.base = calloc(count.used, 1);
+  sdae__newton_carve(nw, &ws_model, &o, &a);
+  nw->iters = 0;
+  return a.base;
+}
+
+/* Newton on y = x + h phi(x, y) from y; the status, with the iterations and evaluations */
+static int solve_with(const sdae_map_type *map, size_t n, size_t band, double tol, double h,
+                      const double *x, double *y, unsigned *iters, unsigned long *evals) {
+  sdae_newton nw;
+  void *mem = newton_ws(&nw, n, band, tol);
+  sdae_map_ctx c = {&ws_model, NULL, &nw, 0};
+  int rc = sdae__newton_solve(&nw, map, &c, 0.0, h, x, NULL, y);
+  *iters = nw.iters;
+  *evals = c.phi_evals;
+  free(mem);
+  return rc;
+}
+
+/* phi = the constant vector phi_value (independent of y: its differences are exactly 0, M = I) */
+static double phi_value[8];
+static int value_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                     const double *mu_next, double *out) {
+  (void)t, (void)T, (void)mu, (void)mu_next;
+  for (size_t i = 0; i < c->model->n_mu; i++) out[i] = phi_value[i];
+  return SDAE_OK;
+}
+static const sdae_map_type value_map = {.name = "value", .implicit = 1, .phi = value_phi};
+
+/* a Jacobian that overflows: the Newton matrix I - h J is not finite */
+static int inf_jac(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                   double *out) {
+  size_t n = c->model->n_mu;
+  (void)t, (void)T, (void)mu, (void)mu_next;
+  for (size_t i = 0; i < n * n; i++) out[i] = i == 0 ? INFINITY : 0.0;
+  return SDAE_OK;
+}
+static const sdae_map_type inf_jac_map = {.name = "infjac", .implicit = 1, .phi = value_phi,
+                                          .jac = inf_jac};
+
+/* An analytic Jacobian holding Inf: SDAE_ERR_NONFINITE (not a singular verdict on Inf), for the
+ * small dense LU (n = 2) and GSL's (n = 6). R(x) = -h phi != 0, so M is built at once. */
+START_TEST(infinite_jacobian_is_nonfinite) {
+  const size_t ns[2] = {2, 6};
+  for (int k = 0; k < 2; k++) {
+    double x[6], y[6];
+    unsigned iters;
+    unsigned long evals;
+    for (size_t i = 0; i < 6; i++) x[i] = y[i] = 1.0, phi_value[i] = 0.5;
+    ck_assert_int_eq(solve_with(&inf_jac_map, ns[k], 0, 1e-14, 0.25, x, y, &iters, &evals),
+                     SDAE_ERR_NONFINITE);
+    ck_assert_uint_eq(iters, 1);
+  }
+}
+END_TEST
+
+/* phi_i = +1e308 where y_i >= x_i, -1e308 below: finite everywhere, but the central difference
+ * of column i, (1e308 - (-1e308)) / (2 h_i), overflows (2e308 > DBL_MAX = 1.8e308) */
+static int cliff_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                     const double *mu_next, double *out) {
+  (void)t, (void)T;
+  for (size_t i = 0; i < c->model->n_mu; i++) out[i] = mu_next[i] >= mu[i] ? 1e308 : -1e308;
+  return SDAE_OK;
+}
+static const sdae_map_type cliff_map = {.name = "cliff", .implicit = 1, .phi = cliff_phi};
+
+/* A finite-difference matrix that overflows: SDAE_ERR_NONFINITE, dense (small: n = 2, GSL's:
+ * n = 6) and banded (n = 6, b = 1, built in the band storage). The residual at y = x is
+ * -h 1e308, finite. */
+START_TEST(overflowing_differences_are_nonfinite) {
+  const fd_case cs[3] = {{2, 0}, {6, 0}, {6, 1}};
+  for (int k = 0; k < 3; k++) {
+    double x[6], y[6];
+    unsigned iters;
+    unsigned long evals;
+    for (size_t i = 0; i < 6; i++) x[i] = y[i] = 1.0;
+    ck_assert_int_eq(solve_with(&cliff_map, cs[k].n, cs[k].band, 1e-14, 0.25, x, y, &iters,
+                                &evals),
+                     SDAE_ERR_NONFINITE);
+    ck_assert_uint_eq(iters, 1);
+  }
+}
+END_TEST
+
+/* An iterate that overflows: phi = 1.6e308 constant, h = 1, from y = x = 1e308. M = I, so the
+ * first update lands on x + h phi = 2.6e308 > DBL_MAX: the root is not representable, and the
+ * iterate is refused at once (1 iteration), not taken as converged. */
+START_TEST(overflowing_iterate_is_nonfinite) {
+  double x[2] = {1e308, 1e308}, y[2] = {1e308, 1e308};
+  unsigned iters;
+  unsigned long evals;
+  phi_value[0] = phi_value[1] = 1.6e308;
+  ck_assert_int_eq(solve_with(&value_map, 2, 0, 1e-14, 1.0, x, y, &iters, &evals),
+                   SDAE_ERR_NONFINITE);
+  ck_assert_uint_eq(iters, 1);
+}
+END_TEST
+
+/* The stopping test dy <= tol (1 + ||y||) at its boundary, in exact binary arithmetic:
+ * phi = (2, -2), h = 1/4, x = (1/2, 1/2): the root is y* = (1, 0), ||y*|| = 1. From
+ * y0 = (1 + 2^-20, 0) the first update (M = I exactly) is dy = (2^-20, 0) and lands on y*.
+ * With tol = 2^-21, tol (1 + ||y*||) = 2^-20 = dy: done after 1 iteration (1 residual + 2 n = 4
+ * evaluations for M). With tol one ulp below, not done: iteration 2 finds R(y*) = 0 exactly and
+ * stops (1 more evaluation). */
+START_TEST(stopping_test_boundary) {
+  const double tols[2] = {0x1p-21, nextafter(0x1p-21, 0.0)};
+  const unsigned want_iters[2] = {1, 2};
+  const unsigned long want_evals[2] = {5, 6};
+  for (int k = 0; k < 2; k++) {
+    double x[2] = {0.5, 0.5}, y[2] = {1.0 + 0x1p-20, 0.0};
+    unsigned iters;
+    unsigned long evals;
+    phi_value[0] = 2.0, phi_value[1] = -2.0;
+    ck_assert_int_eq(solve_with(&value_map, 2, 0, tols[k], 0.25, x, y, &iters, &evals), SDAE_OK);
+    ck_assert_uint_eq(iters, want_iters[k]);
+    ck_assert_uint_eq(evals, want_evals[k]);
+    ck_assert_double_eq(y[0], 1.0); /* the root, exactly */
+    ck_assert_double_eq(y[1], 0.0);
+  }
+}
+END_TEST
+
+/* phi = (0, p(y_1)), p = 2^-30 below 1 and 0 above: piecewise constant, so every central
+ * difference here is exactly 0 and M = I (Newton is then y+ = x + h phi(y)). */
+static int step_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                    const double *mu_next, double *out) {
+  (void)c, (void)t, (void)T, (void)mu;
+  out[0] = 0.0;
+  out[1] = mu_next[1] < 1.0 ? 0x1p-30 : 0.0;
+  return SDAE_OK;
+}
+static const sdae_map_type step_map = {.name = "step", .implicit = 1, .phi = step_phi};
+
+/* M's reuse at its boundary: kept after an update dy <= 1e-5 (1 + ||y||), rebuilt above. With
+ * x = (X, 0), X = 2^20, h = 1, from y0 = (X, a): update 1 is (0, a) (p(a) = 0 for a >= 1), to
+ * y1 = (X, 0), where ||y1|| = X; update 2 is (0, -2^-30) to the root (X, 2^-30), below the
+ * tolerance 1e-14 (1 + X) = 1.05e-8: 2 iterations. With a = 1e-5 (1 + X) exactly, M is kept
+ * for iteration 2: 1 + 4 + 1 = 6 evaluations; with a one ulp above, rebuilt: 10. */
+START_TEST(matrix_reuse_boundary) {
+  const double X = 0x1p20, a = 1e-5 * (1.0 + X);
+  const double as[2] = {a, nextafter(a, INFINITY)};
+  const unsigned long want_evals[2] = {6, 10};
+  for (int k = 0; k < 2; k++) {
+    double x[2] = {X, 0.0}, y[2] = {X, as[k]};
+    unsigned iters;
+    unsigned long evals;
+    ck_assert_int_eq(solve_with(&step_map, 2, 0, 1e-14, 1.0, x, y, &iters, &evals), SDAE_OK);
+    ck_assert_uint_eq(iters, 2);
+    ck_assert_uint_eq(evals, want_evals[k]);
+    ck_assert_double_eq(y[0], X);
+    ck_assert_double_eq(y[1], 0x1p-30);
+  }
+}
+END_TEST
+
+/* phi = -4 y: linear, so the central difference (phi(y + h e_j) - phi(y - h e_j)) / (2 h) has no
+ * truncation error, and at y_j = 1 (a power of 2) and y_j = 0 with the step h_j = eps^(1/3)
+ * max(1, |y_j|) made exact, no rounding either: M = I - (1/4)(-4) I = 2 I exactly. From
+ * y0 = (1, 0) with x = (-2, 2): R = (4, -2), the update (2, -1) lands on the root (-1, 1)
+ * exactly and iteration 2 finds R = 0: 2 iterations, 1 + 2 n + 1 = 6 evaluations. (A step
+ * that is not symmetric about y_j, or is zero at y_j = 0, gives another count or no M.) */
+static int linear_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                      const double *mu_next, double *out) {
+  (void)t, (void)T, (void)mu;
+  for (size_t i = 0; i < c->model->n_mu; i++) out[i] = -4.0 * mu_next[i];
+  return SDAE_OK;
+}
+static const sdae_map_type linear_map = {.name = "linear", .implicit = 1, .phi = linear_phi};
+
+START_TEST(fd_jacobian_exact_on_linear_map) {
+  double x[2] = {-2.0, 2.0}, y[2] = {1.0, 0.0};
+  unsigned iters;
+  unsigned long evals;
+  ck_assert_int_eq(solve_with(&linear_map, 2, 0, 1e-14, 0.25, x, y, &iters, &evals), SDAE_OK);
+  ck_assert_uint_eq(iters, 2);
+  ck_assert_uint_eq(evals, 6);
+  ck_assert_double_eq(y[0], -1.0); /* y = x / (1 + h 4) */
+  ck_assert_double_eq(y[1], 1.0);
+}
+END_TEST
+
+/* phi = A y with its exact Jacobian A (n = 4), recording every y phi is called at */
+static const double A4[16] = {0.3, -0.7, 0.1, 0.9, 1.1, 0.2, -0.6, 0.4,
+                              -0.8, 0.5, 0.7, -0.3, 0.6, -0.9, 0.35, 0.15};
+static double seen4[8][4];
+static int nseen4;
+static int a4_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                  double *out) {
+  (void)c, (void)t, (void)T, (void)mu;
+  if (nseen4 < 8) memcpy(seen4[nseen4++], mu_next, sizeof seen4[0]);
+  for (int i = 0; i < 4; i++) {
+    double acc = 0.0;
+    for (int j = 0; j < 4; j++) acc += A4[i * 4 + j] * mu_next[j];
+    out[i] = acc;
+  }
+  return SDAE_OK;
+}
+static int a4_jac(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                  double *out) {
+  (void)c, (void)t, (void)T, (void)mu, (void)mu_next;
+  memcpy(out, A4, sizeof A4);
+  return SDAE_OK;
+}
+static const sdae_map_type a4_map = {.name = "a4", .implicit = 1, .phi = a4_phi, .jac = a4_jac};
+
+/* n = 4 = SDAE_SMALL_DENSE is a small system: Newton's first iterate from y0 = 0 is
+ * y1 = 0 - M^-1 R(0), R(0) = -x (phi(0) = A 0 = 0), M = I - h A, and M^-1 R is the small LU's
+ * solve, bit for bit; GSL's LU, which divides where the small one multiplies by reciprocals,
+ * gives other last bits on this matrix (checked here too, so the comparison can tell the two
+ * apart). */
+START_TEST(four_unknowns_take_the_small_lu) {
+  const double x[4] = {0.1, 0.2, 0.3, 0.4}, y0[4] = {0.0, 0.0, 0.0, 0.0}, h = 0.5;
+  double y[4], M[16], AB[4 * 13], R[4], phi[4], dy_small[4], dy_gsl[4], want[4];
+  unsigned piv[4], iters;
+  unsigned long evals;
+  memcpy(y, y0, sizeof y);
+  nseen4 = 0;
+  ck_assert_int_eq(solve_with(&a4_map, 4, 0, 1e-14, h, x, y, &iters, &evals), SDAE_OK);
+  ck_assert_int_ge(nseen4, 2);
+  sdae_map_ctx c = {&ws_model, NULL, NULL, 0};
+  a4_phi(&c, 0.0, h, x, y0, phi);
+  for (int i = 0; i < 4; i++) {
+    R[i] = y0[i] - x[i] - h * phi[i];
+    for (int j = 0; j < 4; j++) M[i * 4 + j] = (i == j ? 1.0 : 0.0) - h * A4[i * 4 + j];
+  }
+  sdae__lu_pack(M, 4, 3, 3, AB);
+  ck_assert_int_eq(sdae__lu_solve(AB, piv, 4, 3, 3, R, dy_gsl), SDAE_OK);
+  ck_assert_int_eq(sdae__lu_small_factor(M, piv, 4), SDAE_OK);
+  sdae__lu_small_solve(M, piv, 4, R, dy_small);
+  ck_assert_int_ne(memcmp(dy_small, dy_gsl, sizeof dy_gsl), 0);
+  for (int i = 0; i < 4; i++) want[i] = y0[i] - dy_small[i];
+  ck_assert_int_eq(memcmp(seen4[1], want, sizeof want), 0);
+}
+END_TEST
+
+/* ---- the banded Newton's storage ----
+ * A chain of n_mu = 6, q0 = K mu with K tridiagonal and skew (K_{i,i+1} = 1, K_{i+1,i} = -1),
+ * the midpoint map with bandwidth 1: Newton builds M by finite differences directly in GSL's
+ * band storage, which holds cells outside the matrix (above row 0, below row n - 1). */
+enum { CHAIN = 6 };
+static int chain_q0(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  for (int i = 0; i < CHAIN; i++)
+    out[i] = 3.0 * ((i + 1 < CHAIN ? mu[i + 1] : 0.0) - (i > 0 ? mu[i - 1] : 0.0));
+  return 0;
+}
+static int chain_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
+                         double *qnorm2, void *p) {
+  (void)t, (void)mu, (void)p;
+  for (int i = 0; i < CHAIN; i++) Qxi[i] = i == 0 ? xi[0] : 0.0;
+  qnorm2[0] = 1.0;
+  return 0;
+}
+
+static void chain_steps_in_block(unsigned char fill, double *xi, double *mu) {
+  static max_align_t mem[512];
+  sdae_model m = {.n_xi = 1, .n_mu = CHAIN, .q0 = chain_q0, .Q_apply = chain_Q_apply};
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  o.bandwidth = 1;
+  memset(mem, fill, sizeof mem);
+  ck_assert_int_eq(sdae_stepper_init(&s, mem, sizeof mem, &m, &o), SDAE_OK);
+  for (int n = 0; n < 10; n++) ck_assert_int_eq(sdae_step(s, n * 0.5, 0.5, xi, mu), SDAE_OK);
+}
+
+/* The band's cells outside the matrix and its fill-in are cleared before each matrix is
+ * built: a caller's block full of stale huge numbers (0x7f bytes: doubles near 1.4e306, which
+ * as the band's scale would make every pivot singular) steps exactly as a zeroed one. The
+ * midpoint map conserves |mu| on this skew linear system (its Cayley transform is orthogonal):
+ * to rounding, so the steps did move mu along the sphere. */
+START_TEST(banded_storage_cleared_before_use) {
+  double xi0[1] = {0.2}, mu0[CHAIN] = {0.6, -0.8, 0.3, 0.1, -0.2, 0.5};
+  double xi1[1] = {0.2}, mu1[CHAIN] = {0.6, -0.8, 0.3, 0.1, -0.2, 0.5};
+  double n0 = 0.0, n1 = 0.0;
+  for (int i = 0; i < CHAIN; i++) n0 += mu0[i] * mu0[i];
+  xi0[0] = xi1[0] = 0.0; /* on the manifold: mu alone moves */
+  chain_steps_in_block(0x00, xi0, mu0);
+  chain_steps_in_block(0x7f, xi1, mu1);
+  ck_assert_int_eq(memcmp(mu0, mu1, sizeof mu0), 0);
+  for (int i = 0; i < CHAIN; i++) n1 += mu0[i] * mu0[i];
+  ck_assert_double_le(fabs(n1 - n0), 1e-14);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("newton");
   ADD_CASE(s, quadratic_convergence_analytic);
@@ -380,5 +678,13 @@ int main(void) {
   ADD_CASE(s, exact_predictor_stops_at_zero_residual);
   ADD_CASE(s, fd_jacobian_costs_2n_dense);
   ADD_CASE(s, fd_jacobian_costs_2_times_2b_plus_1_banded);
+  ADD_CASE(s, infinite_jacobian_is_nonfinite);
+  ADD_CASE(s, overflowing_differences_are_nonfinite);
+  ADD_CASE(s, overflowing_iterate_is_nonfinite);
+  ADD_CASE(s, stopping_test_boundary);
+  ADD_CASE(s, matrix_reuse_boundary);
+  ADD_CASE(s, fd_jacobian_exact_on_linear_map);
+  ADD_CASE(s, four_unknowns_take_the_small_lu);
+  ADD_CASE(s, banded_storage_cleared_before_use);
   return run_suite(s);
 }

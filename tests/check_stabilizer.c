@@ -198,6 +198,35 @@ START_TEST(paper_stabilizer_factor_along_run) {
 }
 END_TEST
 
+
+/* Relative degree 1, the smallest: two constraints {1, 1} on the oscillator (n_xi = 2), each
+ * chain the scalar xi_c' = 0 (index reduction) or -alpha_0 xi_c (Baumgarte, alpha_0 = 1). One
+ * step of T = 1/4: none keeps xi; Baumgarte's scheme 15 gives xi / (1 + T alpha_0) = 0.8 xi and
+ * scheme 11 (1 - T alpha_0) xi = 0.75 xi, each one rounding. */
+START_TEST(relative_degree_one_chains) {
+  static const unsigned ones[2] = {1, 1};
+  const sdae_stabilizer st[3] = {SDAE_STAB_NONE, SDAE_STAB_BAUMGARTE, SDAE_STAB_BAUMGARTE};
+  const sdae_scheme sc[3] = {SDAE_SCHEME_SEMI_IMPLICIT, SDAE_SCHEME_SEMI_IMPLICIT,
+                             SDAE_SCHEME_EXPLICIT};
+  const double T = 0.25;
+  for (int k = 0; k < 3; k++) {
+    quartic p = {1.0, 0.0, 0, 0};
+    sdae_model m = quartic_model(&p);
+    sdae_options o = quartic_options(sdae_map_euler, sc[k]);
+    sdae_stepper *s;
+    double xi[2] = {0.1, -0.3}, mu[2] = {0.2, 0.0}, want[2];
+    m.n_constraints = 2, m.rel_degree = ones;
+    o.stabilizer = st[k];
+    ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+    for (int i = 0; i < 2; i++)
+      want[i] = k == 0 ? xi[i] : k == 1 ? xi[i] / (1.0 + T * 1.0) : (1.0 - T * 1.0) * xi[i];
+    ck_assert_int_eq(sdae_step(s, 0.0, T, xi, mu), SDAE_OK);
+    for (int i = 0; i < 2; i++) ck_assert_double_le(fabs(xi[i] - want[i]), 2e-16 * fabs(want[i]));
+    sdae_stepper_free(s);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("stabilizer");
   ADD_CASE(s, gains_eq6_two_constraints);
@@ -206,5 +235,6 @@ int main(void) {
   ADD_CASE(s, none_drifts_linearly);
   ADD_CASE(s, baumgarte_decays_with_order_1);
   ADD_CASE(s, paper_stabilizer_factor_along_run);
+  ADD_CASE(s, relative_degree_one_chains);
   return run_suite(s);
 }
