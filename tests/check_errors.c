@@ -85,8 +85,13 @@ END_TEST
 START_TEST(baselines_need_rel_degree) {
   static const unsigned three[1] = {3}, zero[1] = {0}, five[2] = {5, 1};
   static const unsigned zero_two[2] = {0, 2}, max_plus_one[1] = {SDAE_MAX_REL_DEGREE + 1};
+  static const unsigned one[1] = {1};
   const sdae_stabilizer st[2] = {SDAE_STAB_NONE, SDAE_STAB_BAUMGARTE};
   reset();
+  for (int i = 0; i < 2; i++) { /* degrees short of n_xi = 2: the chain would miss a row */
+    opt.stabilizer = st[i], model.n_constraints = 1, model.rel_degree = one;
+    expect_config(SDAE_ERR_REL_DEGREE);
+  }
   for (int i = 0; i < 2; i++) {
     opt.stabilizer = st[i], model.rel_degree = NULL, expect_config(SDAE_ERR_REL_DEGREE);
     opt.stabilizer = st[i], model.rel_degree = three, expect_config(SDAE_ERR_REL_DEGREE);

@@ -120,6 +120,10 @@ START_TEST(bad_arguments) {
   m.rel_degree = zero_two, m.n_constraints = 2;
   ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
                    SDAE_ERR_REL_DEGREE);
+  static const unsigned one[1] = {1};
+  m.rel_degree = one, m.n_constraints = 1; /* short of n_xi = 2 */
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
+                   SDAE_ERR_REL_DEGREE);
   m.rel_degree = three, m.n_constraints = 1;
   ck_assert_int_eq(sdae_check_model(&m, &d, 0.0, LO, HI, 10, 1, 1e-6, NULL, &r),
                    SDAE_ERR_REL_DEGREE);
