@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Compiler flags of stabdae's own targets. Nothing here is global (no add_compile_options,
 # add_link_options or CMAKE_C_FLAGS): a parent project that pulls stabdae in with
 # add_subdirectory or FetchContent keeps its own flags. The flags are GCC/Clang ones, each

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # What `cmake --install` puts under the prefix besides the libraries (src/CMakeLists.txt):
 # the headers (the generated version.h among them), the CMake package (stabdaeConfig.cmake,
 # its version file, the exported targets) and stabdae.pc. Off with STABDAE_INSTALL=OFF.

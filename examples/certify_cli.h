@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The certification flags of the oscillator and the pendulum: --certify (Theorems 3 and 5 over
  * a box), --check-model (the normal form against the DAE), --box and --grid. */
 #ifndef STABDAE_EXAMPLES_CERTIFY_CLI_H

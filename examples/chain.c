@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* chain: N masses on the floor, each on a cubic spring, coupled to their neighbours by cubic
  * springs, started off the floor at a reproducible random state; integrated with stabdae.
  *

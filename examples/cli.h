@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Shared command-line layer of the example programs: one table-driven flag parser, number
  * parsing, the step count, CSV output and the integration driver with its exit codes
  * (0 done, 1 failure during integration, 2 bad input). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The smallest complete use of stabdae, written only against the public API: the paper's
  * nonlinear oscillator (Section IV, m = 1, k = 2, d = 0.03) from its off-manifold start
  * X = 0.1, Y = 0.6, integrated for 5 s with scheme 15 and the midpoint map. It prints the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* oscillator: the nonlinear oscillator of the paper's Section IV integrated with stabdae.
  *
  * A mass on a cubic spring, damped, held on the floor Y = 0 by the constraint force. The

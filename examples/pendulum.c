@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* pendulum: the planar pendulum (index 3) integrated with stabdae.
  *
  * A mass m on a rod of length L: the constraint X^2 + Y^2 = L^2 is restored from any start

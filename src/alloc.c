@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The allocator hook: every allocation of the library goes through here. */
 #include <stdint.h>
 #include <stdlib.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The library's only way to the heap: the caller's allocator, or malloc and free. */
 #ifndef STABDAE_SRC_ALLOC_H
 #define STABDAE_SRC_ALLOC_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* One block of memory, handed out array by array: the stepper's workspace, certify's search and
  * the model check's arrays. The same walk serves twice: without a base it only counts
  * (overflow-checked), with a base it hands out the pointers. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Step-size certificates. Theorem 3: scheme 11 drives xi to 0 from a compact box B when
  * T < 2 / max_i sup_B (-k_i) (eq. 14); Theorem 5 keeps the equilibrium's stability for
  * T <= (sqrt(5) - 1)/4 T_bar (scheme 15) and T <= T_bar/2 (scheme 11). The sup is found by a

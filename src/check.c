@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Model consistency against the original DAE: at random points z of a box, with x = Phi^-1(z),
  *
  *   Phi(x) = z,   L_g phi_j(x) = 0 (mu, and every xi but the last of each chain: Prop. 1),

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Condition (18) along a trajectory, (W(mu+) - W(mu))/T <= gamma W(mu), and the left side of
  * (17), (mean_i (W(mu+) - W(mu))/(mu_i+ - mu_i))^2 / W(mu): the discrete counterparts of (7)
  * and (8) that Theorem 5 asks of the map. Measured between consecutive observations, so the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Fixed steps with an observer: the driver loop around sdae_step. */
 #include <math.h>
 

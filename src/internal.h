@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Internal declarations shared by the modules of the library; not installed.
  * Data flows one way: model -> map -> newton -> stabilizer/stepper -> integrate. */
 #ifndef STABDAE_INTERNAL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Linear solves for Newton and the Baumgarte baseline: LU with partial pivoting through GSL's
  * banded LU, a dense matrix being the band lb = ub = n - 1; Newton's small dense matrices
  * (n <= SDAE_SMALL_DENSE) by the same elimination, written out here. The banded routines work

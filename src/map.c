@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The maps the library provides, by name. */
 #include <string.h>
 

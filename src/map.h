@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The map interface: what a map type (one file, map_*.c) implements and what it receives.
  * A map sees the model, its own scratch and a Newton solver, never the stepper; it writes only
  * its output and its scratch. Data flows one way: model -> map -> newton -> stepper. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Energy-conserving maps of higher order: the symmetric discrete-gradient map Psi_h (Gonzalez's,
  * with S at the midpoint, so Psi_-h is the inverse of Psi_h) composed symmetrically,
  *

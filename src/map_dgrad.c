@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Gonzalez's midpoint discrete gradient (paper ref. 18) for q0 = S(mu) grad H(mu):
  *
  *   phi_T(mu, mu+) = S(m) gradbar H(mu, mu+),  m = (mu + mu+)/2,  v = mu+ - mu,

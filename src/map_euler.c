@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The explicit map phi_T(mu, mu+) = q0(mu): order 1, no Newton. */
 #include "internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The implicit midpoint map phi_T(mu, mu+) = q0((mu + mu+)/2) at t + T/2: symmetric, order 2. */
 #include "internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A user map phi_T(mu, mu+): the model's user_phi, with its optional Jacobian user_phi_jac
  * (e.g. the paper's Section IV map). */
 #include "internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Calls into the user's model: every callback's status and every value it writes are checked
  * here, so the rest of the library works with finite numbers only. */
 #include <math.h>

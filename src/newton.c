@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Newton's method for the implicit maps and for the stages of composed maps: solves
  *
  *   R(y) = y - x - h (phi(x, y) + shift) = 0,   M = dR/dy = I - h dphi/dy

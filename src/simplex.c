@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Nelder-Mead (Nelder and Mead 1965) with the moves of GSL's nmsimplex2: reflect the worst
  * vertex through the centroid of the others, expand when that beats the best (keeping the
  * expansion only when it beats the reflection, as Lagarias et al.), contract when it is worse

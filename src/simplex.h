@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A compact Nelder-Mead minimizer working in memory the caller hands it. */
 #ifndef STABDAE_SRC_SIMPLEX_H
 #define STABDAE_SRC_SIMPLEX_H

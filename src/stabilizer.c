@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The xi update, one table per stabilizer: the paper's (eq. 6 gains with scheme 11 or 15) and,
  * for comparison, the linear baselines of index reduction and Baumgarte. */
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Human-readable text for every status. */
 #include <stabdae/stabdae.h>
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The stepper: validation, one workspace block (caller's or allocated), and the step of
  * scheme 11 / 15. sdae_step allocates nothing and leaves xi, mu untouched on failure. */
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The library's heap use. Zero allocations inside sdae_step (and sdae_stepper_init); and every
  * allocating function, made to fail at its n-th allocation for n = 1, 2, ... until it succeeds,
  * returns SDAE_ERR_NOMEM, leaves the caller's outputs as they were and gives back all it took;

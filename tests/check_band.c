@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The banded Newton: on a chain of N quartic oscillators with quartic nearest-neighbour
  * springs, mu = (x_0, p_0, x_1, p_1, ...), the map's Jacobian has bandwidth 3 (p_i depends on
  * x_{i-1}, x_i, x_{i+1}); the banded solve must give the dense solve's steps, and keep H. */

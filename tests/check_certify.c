@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Step-size certificates (Theorems 3 and 5) and condition (18). */
 #include <math.h>
 #include <stdlib.h>

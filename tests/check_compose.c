@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The composition coefficients of dg4 and dg6, read from the map tables themselves
  * (src/map.h: gamma, stages, base), against the order conditions of a symmetric composition
  * Psi_T = Phi_{g_s T} o ... o Phi_{g_1 T} of the symmetric order-2 discrete gradient Phi

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The diagnostics against numbers worked out by hand: the left side of condition (17) along a
  * trajectory, sdae_certify_box's sup of -k_i over a box (through the public API only: its
  * search is being rewritten, the sup it must find is not), and sdae_check_model's inversion of

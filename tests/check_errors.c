@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Every bad input gets its named status, and a failed step leaves xi and mu exactly as they
  * were. */
 #include <math.h>

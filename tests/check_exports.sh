@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # The shared library exports the public API and nothing else: every defined symbol of its
 # dynamic symbol table is a function or object declared in the public headers (so it starts
 # with sdae_), and every one the headers declare is exported (so none lacks SDAE_API).

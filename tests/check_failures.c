@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Failing callbacks: every callback of the model (q0, Q, Q_apply, q0_jac, H, grad_H, S,
  * S_apply, hess_H, user_phi, user_phi_jac), at every call a step makes of it (the predictor,
  * each Newton residual, inside the Jacobian, in every stage of dg4 and dg6), fails in each of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* sdae_integrate: which steps the observer sees, a clean stop, a failure mid-run that keeps
  * the state of the last good step, caller memory against malloc'ed memory, and threads. */
 #include <math.h>

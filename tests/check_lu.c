@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The small dense LU of Newton (n <= SDAE_SMALL_DENSE) against GSL's banded LU on the same
  * matrices: the same solution to rounding, pivoting where the first pivot is zero, and the same
  * singularity verdicts. */

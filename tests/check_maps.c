@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mu-maps: order on the manifold against the exact solution x = A cn(A t | 1/2) of
  * x'' = -x^3, exact energy conservation of the discrete gradient, its dissipation with
  * S = J - R, and its small-increment branch. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* sdae_check_model: the oscillator's normal form against its DAE (paper Section IV, m = 1):
  * x = (X, Y, Xdot, Ydot), f = (Xdot, Ydot, -k X^3 - d Xdot, -ga), g = (0, 0, 0, -1), h = Y,
  * Phi = (Y, Ydot, X + Y, Y + Xdot) (eq. 21). */

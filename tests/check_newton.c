@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Newton on R(mu+) = mu+ - mu - T (phi_T + Q xi): quadratic convergence with the analytic
  * Jacobian, the same root with finite differences, and the singular and capped cases. */
 #include <math.h>

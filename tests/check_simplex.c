@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The Nelder-Mead minimizer of src/simplex.c against its definition: the first simplex u,
  * u + step e_j, the moves p = c + coeff (x_worst - c) with coeff -1 (reflection), -2
  * (expansion), 1/2 (contraction), the shrink of every vertex halfway to the best (Nelder and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The xi update: gains (eq. 6), scheme 15's contraction for any T (Theorem 4), scheme 11's
  * step bound (Theorem 3), and the index-reduction and Baumgarte baselines. */
 #include <math.h>

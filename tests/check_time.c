@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Time: every model callback of the rotation fixture (tests/fixtures/rotation.h) depends on t,
  * with a(t) = 1 + t, so a map, the stepper or sdae_integrate handing a callback the wrong time
  * changes the numbers. Checked three ways: one step against its closed form, the order of

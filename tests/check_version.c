@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The version has one source, the project() line of CMakeLists.txt: sdae_version() at run time,
  * the SDAE_VERSION_* macros of the generated <stabdae/version.h>, and the version CMake passes
  * to this suite as EXPECTED_VERSION (tests/CMakeLists.txt) all say the same. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Models with known answers, shared by the unit suites. */
 #ifndef STABDAE_TESTMODELS_H
 #define STABDAE_TESTMODELS_H

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Figures 2-9 of the paper (Section IV) from the built oscillator example.
 
 Runs build/examples/oscillator with the paper's setup (k 2, m 1, delta 2, epsilon 1, T 0.001,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Chain of N masses: each mass is the Section IV oscillator, with cubic couplings between
  * neighbours. Coordinates per mass as eq. 21: xi_i = (Y_i, Ydot_i), mu_i = (X_i + Y_i,
  * Y_i + Xdot_i); L_g mu = 0 as for one mass (g only touches the Ydot_i).

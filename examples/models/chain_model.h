@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A chain of N masses on the floor: mass i has a cubic spring k X_i^3 to its own anchor,
  * damping d, and a cubic spring kc to each neighbour (free ends); N constraints Y_i = 0, each of
  * relative degree 2. Given through Q_apply (O(N) per call, no N x N matrix). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Oscillator of Section IV in the coordinates of eq. 21:
  *   xi1 = Y, xi2 = Ydot, mu1 = X + Y, mu2 = Y + Xdot.
  * g = (0, 0, 0, -1/m) touches only Ydot, on which mu does not depend, so L_g mu = 0. Eq. 22

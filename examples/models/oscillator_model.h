@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The nonlinear oscillator of the paper's Section IV: a mass m on a cubic spring k with damping
  * d, held on the floor Y = 0 (one constraint of relative degree 2). With m = 1 it is the
  * paper's model; the mass enters as in erratum 3 of docs/paper.md. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Planar pendulum in the coordinates (xi, mu) of the paper's Proposition 1.
  *
  * x = (X, Y, Xdot, Ydot), f = (Xdot, Ydot, 0, -ga), g = (0, 0, -X/m, -Y/m), so that

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The planar pendulum: a mass m on a massless rod of length L, gravity ga; index 3, one
  * constraint h = (X^2 + Y^2 - L^2)/2 of relative degree 2. */
 #ifndef STABDAE_EXAMPLES_PENDULUM_MODEL_H

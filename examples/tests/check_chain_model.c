@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The chain model: coordinates, Q_apply against the DAE (normal form), the column norms of Q,
  * the banded Jacobian, the energy structure, one mass = the oscillator, and the constraints
  * restored from a random start. */

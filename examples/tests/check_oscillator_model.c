@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The oscillator model against the paper's Section IV: the coordinates of eq. 21, the normal
  * form (eq. 22) against the DAE, the bound of eq. 24 (erratum 1), the maps, and the decay of
  * the constraint from the paper's start. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The pendulum model: its coordinates (L_g mu = 0, the inverse map), the normal form against the
  * DAE, the energy structure, and integration against the exact solution on the manifold. */
 #include <check.h>

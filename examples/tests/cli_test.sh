@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Command-line checks of the example programs, run by ctest.
 #
 #   cli_test.sh bad PROG ARGS...         bad input: exit 2, one line on stderr, nothing on

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Small helpers shared by the example model suites: a seeded generator, the time derivative of
  * a coordinate map along a vector field by central differences, and a state integrator. */
 #ifndef STABDAE_EXAMPLES_TEST_UTIL_H

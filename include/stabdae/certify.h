@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* stabdae step-size certificates: Theorem 3's and Theorem 5's bounds over a box, and
  * condition (18) measured along a trajectory. */
 #ifndef STABDAE_CERTIFY_H

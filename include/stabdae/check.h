@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* stabdae model check: is a normal form typed by hand (q0, Q) consistent with the original DAE
  * xdot = f(x) + g(x) lambda, 0 = h(x) and its coordinates z = Phi(x) = (xi, mu)? */
 #ifndef STABDAE_CHECK_H

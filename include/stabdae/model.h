@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* stabdae model: the whole problem, the stabilized normal form (paper eq. 5) given as callbacks,
  * with the energy structure its discrete gradients use and an optional user map. How it is
  * solved (scheme, gains, map, Newton) is in sdae_options. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* stabdae: fixed-step integration of constrained mechanical systems without constraint drift.
  *
  * Implements Di Franco, Scarciotti, Astolfi, "Discretization schemes for constraint

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A user's program against the installed stabdae: a linear model with one constraint
  * coordinate and one coordinate of the constrained motion,
  *

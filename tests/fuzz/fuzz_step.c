@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Fuzz target for sdae_step: arbitrary bytes choose the scheme, map, stabilizer and options
  * and give every number (state, T, t, delta, epsilon, Newton tolerance, Baumgarte gains, the
  * model's stiffness and damping) as raw IEEE doubles, so NaN, Inf, huge, tiny and negative

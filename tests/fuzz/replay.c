@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Runs a fuzz target's LLVMFuzzerTestOneInput once on each file given, or on each file of each
  * directory given, without libFuzzer: ctest replays the committed corpus (seeds and every input
  * that once failed) with it in the gcc, sanitizer and valgrind builds. It fails when an input

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Writes the seed corpora of the fuzz targets (tests/fuzz/corpus/<target>/): a few meaningful
 inputs in the layout each fuzz_<target>.c documents, from which libFuzzer mutates. Run from
 anywhere: python3 tests/fuzz/seeds.py. Inputs that once failed are kept next to the seeds, under

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A parent project's program that links stabdae built inside its own tree (add_subdirectory or
  * FetchContent, tests/subproject/CMakeLists.txt), written only against the public API.
  *

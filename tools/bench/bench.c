@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* stabdae benchmark: in-process timings of sdae_step for the example models.
  *
  *   bench [--smoke] [--reps N] [--report FILE]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """crossval_lib: the cross-validation harness of stabdae (run by tools/crossval).
 
 It runs the C example programs (build/examples/*), the Python reference (tools/stabdae_ref,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check e: constraint drift. The C oscillator with --stabilizer none (index reduction: the
 chain Y'' = 0), baumgarte (Y'' = -alpha_1 Y - alpha_2 Y', alpha = (1, 2)) and paper (eq. 6),
 scheme 15, the paper's map and T = 1e-3. In coordinates xi = (Y, Ydot) the baselines are

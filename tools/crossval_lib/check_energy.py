@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check d: energy. With d = 0 the discrete-gradient map conserves W = m mu2^2/2 + k mu1^4/4
 exactly on the manifold (S skew), so along the C oscillator's run W may change by rounding
 only. W is computed here from the mu columns of the CSV. IDA (both forms, rtol 1e-12) solves

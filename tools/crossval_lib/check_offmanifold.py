@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check c: off the manifold.
 
 c1, scheme 15 (Theorem 4): each step divides xi_i by 1 - T k_i with the gain k_i of eq. 6 at

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check b: observed orders on the manifold, and IDA against exact solutions.
 
 Every run starts on the manifold (xi = 0, which both schemes keep exactly), so the error is the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check a: the same discrete scheme in C (double) and in the mpmath reference (dps 40).
 
 Per row, the deviation of the C state c from the reference state r is

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """tools/crossval [--full] [--build DIR] [--out FILE] [--only a,b,...] [--workers N]
 
 Runs the checks, writes the report (default: BUILD/report/crossval.md for --full,

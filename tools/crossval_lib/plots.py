@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Figures of the report: matplotlib without a display, one PNG per call of save()."""
 import os
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The report: one Section per check (Markdown text, tables, figures, summary values and
 failures), written as one Markdown file ending with the summary block of `name: value` lines."""
 import datetime

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Running the three implementations and reading their CSV into a Table.
 
   run_c        a C example program (build/examples/NAME), CSV through --out

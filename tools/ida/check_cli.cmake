@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Runs ida_reference once and checks what the command-line rules promise.
 #   cmake -DPROG=<program> -DARGS=<arguments separated by |> -DEXPECT=<exit status>
 #         -DOUT=<the --out file of the run> [-DSTDOUT_REGEX=] [-DSTDERR_REGEX=] [-DFILE_REGEX=]

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Residuals and iteration matrices of the index-reduced oscillator and pendulum; see
  * ida_models.h for the equations. */
 #include "ida_models.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Index-reduced forms of the oscillator and the planar pendulum (notes: models.md) written as
  * residuals F(y, y') = 0 for SUNDIALS IDA.
  *

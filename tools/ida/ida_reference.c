@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* ida_reference: SUNDIALS IDA solution of the index-reduced oscillator or pendulum, the
  * independent reference the stabilized schemes are compared with.
  *

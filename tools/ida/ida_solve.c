@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The IDA driver: context, vectors, dense linear solver with the analytic iteration matrix,
  * consistent initial values by IDACalcIC on the index-1 form, then one IDASolve per output time
  * with tstop set to it (so every output is a step of IDA's, not an interpolation). */

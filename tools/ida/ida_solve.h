@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* SUNDIALS IDA run of an index-reduced model (ida_models.h) from a state on the constraint
  * manifold, with output at t = 0, DT, 2 DT, ... and tf, each hit exactly through IDA's tstop. */
 #ifndef STABDAE_TOOLS_IDA_SOLVE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Check suite of the IDA reference: the residuals against their derivatives, IDA against the
  * exact solutions (Jacobi elliptic functions from GSL), energy, constraints, projection, output
  * times and failures. Every bound comes from the mathematics or the requested tolerance. */

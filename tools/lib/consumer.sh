@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Installs the built tree into BUILD/prefix and builds tests/consumer against it three ways:
 # find_package(stabdae) with the shared library, find_package with stabdae::stabdae_static,
 # and pkg-config; runs each and checks which library it loads.

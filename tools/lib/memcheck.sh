@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # valgrind memcheck of every Check suite and every fuzz corpus replay of a build: no error, no
 # definite or indirect leak. CK_FORK=no keeps each test in valgrind's process. The alloc suite
 # defines its own malloc (forwarding to __libc_malloc) to count allocations; valgrind would

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Shared set-up of tools/check and tools/demo (sourced): the system packages, the Python venv
 # under build/, and the configured and built tree. Works on a fresh Debian or Ubuntu machine.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Gives every tracked source file the licence's SPDX line as its first comment line (GPL-3.0 or
 # later, the licence of LICENSE). A file that already has an SPDX line among its first three
 # lines is left alone, so running this twice changes nothing. The lines:

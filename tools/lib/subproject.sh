@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Builds tests/subproject/, a parent project that pulls stabdae in with add_subdirectory and
 # then with FetchContent, where Check and SUNDIALS cannot be found: pkg-config sees only GSL's
 # gsl.pc, and CMake's config-package search is re-rooted into an empty directory

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A small C tokenizer for the mutation generator: code tokens with their offsets, and nothing
 from comments, string or character literals and preprocessor lines, so that no mutant ever
 lands there. It only has to be right for well-formed C; a token it gets wrong costs one

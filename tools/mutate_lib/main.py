@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """tools/mutate: mutation testing of src/*.c against the unit and example suites."""
 import argparse
 import datetime

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The mutants of one C file, by operator class. Each operator walks the file's code tokens
 (clex.py) and proposes a change: a span of the text and its replacement. A mutant's id is
 file:operator:sha1(stripped original line)[:8]:occurrence, so it survives edits elsewhere in

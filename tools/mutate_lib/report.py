@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """build/report/mutation.md and mutation.json from the outcomes of a run."""
 import json
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Running the mutants: a private copy of the source tree (build/mutate/src-tree) and a build
 dir of its own (build/mutate/build). The working tree is only read, once, at the start; each
 mutant rewrites one file of the copy, rebuilds incrementally and runs the tests until the first

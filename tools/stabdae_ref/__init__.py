@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """stabdae_ref: an independent Python reference for stabdae (numpy + mpmath).
 
 Schemes 11 and 15 of Di Franco, Scarciotti, Astolfi, "Discretization schemes for constraint

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Command line: python -m stabdae_ref MODEL [options] writes the run as CSV (the C examples'
 columns, see models.py), %.17g in float64, all dps digits in mpmath. The steps are
 ceil(tf/T - 1e-9) (at least 1), as the C programs count them.

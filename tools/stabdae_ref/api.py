@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """simulate(): a whole run in one call, rows in the columns of the C examples' CSV."""
 import math
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The two arithmetics of the reference: IEEE double (Python floats, numpy for linear
 algebra) and multiple precision (an mpmath context of its own, so the global mpmath.mp is
 never touched).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Solutions of the constrained motion (xi = 0) in mu coordinates, in multiple precision.
 
   oscillator_exact   d = 0, from rest at X = A: X = A cn(A sqrt(k/m) t | 1/2)

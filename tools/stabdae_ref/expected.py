@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The answers of the C examples' regression tests, examples/expected/NAME.csv:
 
     python -m stabdae_ref expected [--outdir examples/expected]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The maps phi_T(mu, mu+) of the mu update (paper eq. 11 and 15, condition 13), each with its
 Jacobian d phi / d mu+ for Newton:
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The three models of the project in the stabilized normal form (paper eq. 5).
 
 Each model gives, in one arithmetic (see arith.py):

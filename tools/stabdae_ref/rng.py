@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The chain example's random start, drawn as the C program draws it: GSL's gsl_rng_mt19937 is
 the Mersenne Twister MT19937 seeded by init_genrand (GSL seeds 0 as 4357), gsl_rng_uniform is
 its 32-bit output over 2^32 and gsl_ran_flat(a, b) is a (1 - u) + b u. numpy's RandomState is

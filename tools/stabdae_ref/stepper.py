@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """One step of scheme 11 or 15 and the fixed-step run.
 
 From the current (xi, mu), Q = Q(xi, mu) is evaluated once, and

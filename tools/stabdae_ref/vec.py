@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Small-vector helpers on Python lists (any number type): for n_mu = 2 plain loops are far
 cheaper than building numpy arrays."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Exact final states of the oscillator on the manifold for the work-precision study.
 
   python reference.py OUT.csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Work-precision report: runs build/tools/workprecision and draws build/report/workprecision.png
 and build/report/workprecision.md.
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* workprecision: final error against CPU time for the oscillator on its manifold, stabdae's maps
  * over a sweep of the step T and SUNDIALS IDA (index-1 and GGL forms) over a sweep of rtol, all
  * measured in one run.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """float64 against mpmath (40 digits) over 1e3 steps: the two runs follow the same discrete
 map, so they differ by rounding only, at most 1e-12 relative. Compared per row: the state
 (xi, mu) normwise, the energies relative to their size."""

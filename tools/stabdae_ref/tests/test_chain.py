@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The chain reduces to the oscillator: one mass, or uncoupled masses (kc = 0), give the
 oscillator's trajectories (a second code path for Q, gains and Newton). Uncoupled masses are
 independent under the separable maps (euler, midpoint) only: Gonzalez's discrete gradient

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The command line: the CSV columns of the C examples, the API's numbers, one stderr line and exit
 2 with no file for bad input, exit 1 with the rows so far for a failing run."""
 import csv

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Energy on the manifold with d = 0: the discrete gradient gives W(mu+) - W(mu) =
 gradbar W . (mu+ - mu) = T gradbar W . S gradbar W = 0 for a skew S, so W is conserved up to
 rounding and Newton's residual; with d > 0 the same identity gives a monotone decrease."""

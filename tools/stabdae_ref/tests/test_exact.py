@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The references themselves: the Jacobi-function solutions conserve energy and satisfy their
 ODE, and mpmath's Taylor solver agrees with them (two independent constructions)."""
 import mpmath

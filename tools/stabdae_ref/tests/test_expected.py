@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The examples' regression answers (expected.py): the run table is the one of the ctest
 tests, the stored files are what the reference writes for it, and a run is the reference's
 command line with the C program's defaults."""

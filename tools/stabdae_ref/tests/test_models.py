@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The models against their DAEs, computed here from x (not from the model code):
 q0(mu) + Q(xi, mu) xi must be mu' of the DAE, S grad H must be q0, the derivatives must be
 derivatives, and the oscillator's gains must give the paper's eq. 24."""

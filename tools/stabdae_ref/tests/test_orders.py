@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Orders of convergence on the manifold (xi = 0 stays 0, so the mu update is the map alone)
 against exact solutions and a 30-digit Taylor reference.
 

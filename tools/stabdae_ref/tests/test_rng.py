@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The chain's random start: MT19937 against published outputs of the generator, and the
 uniform numbers and the start built from them."""
 import pytest

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """One step and short runs against the formulas of the paper: the contraction factors of
 schemes 11 and 15 (eq. 6, 11, 15), Theorems 3 and 4, the baselines' exact solutions, Newton's
 residual, and Gonzalez's discrete gradient."""
