@@ -113,7 +113,7 @@ END_TEST
 START_TEST(caller_buffer) {
   reset();
   size_t need = sdae_stepper_size(&model, &opt);
-  char *mem = malloc(need + 1);
+  char *mem = malloc(need + 1 + 64);
   sdae_stepper *s = NULL;
   double xi[2] = {0.1, 0.2}, mu[2] = {0.3, 0.4};
   ck_assert_uint_gt(need, 0);
@@ -121,8 +121,10 @@ START_TEST(caller_buffer) {
   ck_assert_ptr_null(s);
   ck_assert_int_eq(sdae_stepper_init(&s, NULL, need, &model, &opt), SDAE_ERR_NULL);
   ck_assert_int_eq(sdae_stepper_init(NULL, mem, need, &model, &opt), SDAE_ERR_NULL);
+  memset(mem + 1 + need, 0x5A, 64); /* a canary after the block: the stepper stays inside */
   ck_assert_int_eq(sdae_stepper_init(&s, mem + 1, need, &model, &opt), SDAE_OK);
   ck_assert_int_eq(sdae_step(s, 0.0, 0.01, xi, mu), SDAE_OK);
+  for (int i = 0; i < 64; i++) ck_assert_int_eq((unsigned char)mem[1 + need + i], 0x5A);
   sdae_stepper_free(s); /* a no-op for the caller's memory */
   sdae_stepper_free(NULL);
   free(mem);
@@ -326,6 +328,40 @@ START_TEST(strerror_names_every_status) {
       ck_assert_str_ne(msg, sdae_strerror(other));
   }
   ck_assert_str_eq(sdae_strerror(-999), "unknown status");
+  /* each message names its own status (docs/errors.md) */
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_SINGULAR), "singular"));
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_NEWTON), "did not converge"));
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_NOMEM), "memory"));
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_STEP), "step size"));
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_BUFFER), "block"));
+  ck_assert_ptr_nonnull(strstr(sdae_strerror(SDAE_ERR_REL_DEGREE), "rel_degree"));
+}
+END_TEST
+
+/* xi and mu of different sizes (n_xi = 1, n_mu = 2): a NaN in mu's last entry is found by the
+ * step and by the gains, which check n_mu values of mu and n_xi of xi */
+static int q0_two(double t, const double *mu, double *out, void *p) {
+  (void)t, (void)p;
+  out[0] = mu[1], out[1] = -mu[0];
+  return 0;
+}
+
+static int Q_two_by_one(double t, const double *xi, const double *mu, double *out, void *p) {
+  (void)t, (void)xi, (void)mu, (void)p;
+  out[0] = 1.0, out[1] = 0.0;
+  return 0;
+}
+
+START_TEST(state_checked_in_its_own_sizes) {
+  sdae_model m = {.n_xi = 1, .n_mu = 2, .q0 = q0_two, .Q = Q_two_by_one};
+  sdae_options o;
+  sdae_stepper *s;
+  double xi[1] = {0.1}, mu[2] = {0.2, NAN}, k[1];
+  sdae_options_default(&o);
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 0.01, xi, mu), SDAE_ERR_STATE);
+  ck_assert_int_eq(sdae_stepper_gains(s, 0.0, xi, mu, k), SDAE_ERR_STATE);
+  sdae_stepper_free(s);
 }
 END_TEST
 
@@ -396,6 +432,7 @@ int main(void) {
   ADD_CASE(s, baumgarte_singular_chain);
   ADD_CASE(s, cond18_bad_input);
   ADD_CASE(s, strerror_names_every_status);
+  ADD_CASE(s, state_checked_in_its_own_sizes);
   ADD_CASE(s, options_default_as_documented);
   ADD_CASE(s, gains_bad_arguments);
   return run_suite(s);

@@ -83,6 +83,24 @@ START_TEST(permutation_case_exact) {
 }
 END_TEST
 
+/* Partial pivoting takes the largest entry of the column, not the last one above the
+ * diagonal: A = [[1, 0, 0], [4, 1, 0], [3, 0, 1]]. Step 1 takes row 1 (4), leaving rows
+ * (0, -1/4, 0) and (0, -3/4, 1); step 2 takes the second of them (3/4 > 1/4): the factors' rows
+ * are A's rows 1, 2, 0, and U = [[4, 1, 0], [0, -3/4, 1], [0, 0, -1/3]] (exact but for the
+ * last entry, 0 - (1/3) 1, one rounding). */
+START_TEST(pivot_is_the_largest_of_the_column) {
+  double A[9] = {1, 0, 0, 4, 1, 0, 3, 0, 1};
+  unsigned piv[3];
+  ck_assert_int_eq(sdae__lu_small_factor(A, piv, 3), SDAE_OK);
+  ck_assert_uint_eq(piv[0], 1);
+  ck_assert_uint_eq(piv[1], 2);
+  ck_assert_uint_eq(piv[2], 0);
+  ck_assert_double_eq(A[0], 0.25);  /* U's diagonal is kept as its reciprocal */
+  ck_assert_double_eq(A[4], -4.0 / 3.0);
+  ck_assert_double_eq_tol(A[8], -3.0, 4 * DBL_EPSILON);
+}
+END_TEST
+
 START_TEST(four_cycle_exact) {
   /* row i of A is row (i + 1) mod 4 of I: A x = b gives x[(i + 1) % 4] = b[i] exactly, through
    * three row swaps composed into one permutation */
@@ -261,6 +279,7 @@ int main(void) {
   ADD_CASE(s, same_solution_as_gsl);
   ADD_CASE(s, singular_is_reported);
   ADD_CASE(s, permutation_case_exact);
+  ADD_CASE(s, pivot_is_the_largest_of_the_column);
   ADD_CASE(s, four_cycle_exact);
   ADD_CASE(s, larger_than_small_is_refused);
   ADD_CASE(s, badly_scaled_solves_exactly);

@@ -159,6 +159,45 @@ END_TEST
  * accepted. Both vertices then have f = -0.2: the best returned is the first, -0.4. */
 static double floored(const double *u, size_t n) { (void)n; return fmax(u[0], -0.2); }
 
+/* f = (u - 10)^2 from 0, step 1, by hand: {0 (100), 1 (81)}: reflection 2 (64) beats the best,
+ * expansion 3 (49) beats it: kept. {3, 1 (worst)}: reflection 5 (25), expansion 7 (9): kept.
+ * {3 (worst), 7}: reflection 11 (1), expansion 15 (25) does not beat it: 11 kept. {11, 7 (9,
+ * worst)}: reflection 15 (25) is worse than the worst: contraction 11 + (7 - 11)/2 = 9 (1),
+ * kept. The stored values decide every choice: the expansion 7 kept with another value than
+ * f(7) = 9 would make the last contraction start elsewhere. */
+static double square_at_10(const double *u, size_t n) {
+  (void)n;
+  return (u[0] - 10.0) * (u[0] - 10.0);
+}
+
+START_TEST(expansion_keeps_its_own_value) {
+  static const double pts[10][2] = {{0}, {1}, {2}, {3}, {5}, {7}, {11}, {15}, {15}, {9}};
+  recorder r = {.f = square_at_10, .n = 1};
+  double u[1] = {0.0};
+  ck_assert_int_eq(minimize(&r, u, 1.0, 0.0, 4), 0);
+  expect_points(&r, pts, 10);
+}
+END_TEST
+
+/* f = u^2 from -1, step 0.75 (exact in binary): the first vertex is the worst (1 against
+ * 0.0625), the second worst the other one. The reflection 0.5 (0.25) is worse than it: it
+ * replaces the worst (it beats 1) and is contracted to -0.25 + (0.5 + 0.25)/2 = 0.125
+ * (0.015625), kept. Taking vertex 0 for the second worst too would accept the reflection. */
+static double square(const double *u, size_t n) {
+  (void)n;
+  return u[0] * u[0];
+}
+
+START_TEST(second_worst_when_the_first_vertex_is_worst) {
+  static const double pts[4][2] = {{-1.0}, {-0.25}, {0.5}, {0.125}};
+  recorder r = {.f = square, .n = 1};
+  double u[1] = {-1.0};
+  ck_assert_int_eq(minimize(&r, u, 0.75, 0.0, 1), 0);
+  expect_points(&r, pts, 4);
+  ck_assert_double_eq(u[0], 0.125); /* 0.015625 against 0.0625 */
+}
+END_TEST
+
 START_TEST(ties_neither_expand_nor_keep_expansion) {
   recorder r = {.f = floored, .n = 1};
   double u[1] = {0.0};
@@ -349,6 +388,8 @@ int main(void) {
   ADD_CASE(s, reflect_and_expand);
   ADD_CASE(s, contract_and_shrink);
   ADD_CASE(s, second_worst_decides_contraction);
+  ADD_CASE(s, expansion_keeps_its_own_value);
+  ADD_CASE(s, second_worst_when_the_first_vertex_is_worst);
   ADD_CASE(s, ties_neither_expand_nor_keep_expansion);
   ADD_CASE(s, contraction_no_worse_than_new_worst);
   ADD_CASE(s, ties_with_the_worst);
