@@ -28,6 +28,16 @@ const char *sdae_strerror(int status) {
     return "the baselines need rel_degree: n_constraints values in 1..SDAE_MAX_REL_DEGREE "
            "summing to n_xi";
   case SDAE_ERR_OVERFLOW: return "the workspace size overflows size_t";
+  case SDAE_ERR_RANK:
+    return "the constraints are dependent at this state (rank of G = dc/dq below n_c): "
+           "redundant constraints or a singular configuration";
+  case SDAE_ERR_CHART:
+    return "no usable chart at this state: for every choice of dependent coordinates "
+           "dq_D/dq_I is too large (a configuration next to a singular one)";
+  case SDAE_ERR_PHI_INV:
+    return "Newton for Phi^-1 (the state from its coordinates xi, mu) did not converge: the "
+           "point may have no preimage in the current chart";
+  case SDAE_ERR_MASS: return "the mass matrix is not symmetric positive definite";
   }
   return "unknown status";
 }

@@ -27,6 +27,7 @@
 #include <stabdae/model.h>
 #include <stabdae/certify.h>
 #include <stabdae/check.h>
+#include <stabdae/dae.h>
 #include <stabdae/version.h>
 
 #ifdef __cplusplus
@@ -58,7 +59,12 @@ typedef enum sdae_status {
   SDAE_ERR_BUFFER = -13,        /* the caller's memory block is too small */
   SDAE_ERR_NOMEM = -14,         /* an allocation failed */
   SDAE_ERR_REL_DEGREE = -15,    /* the baselines need rel_degree, summing to n_xi */
-  SDAE_ERR_OVERFLOW = -16       /* the workspace size does not fit in size_t */
+  SDAE_ERR_OVERFLOW = -16,      /* the workspace size does not fit in size_t */
+  /* the front-ends (<stabdae/dae.h>, <stabdae/mbs.h>) */
+  SDAE_ERR_RANK = -17,          /* the constraints are dependent here: rank G < n_c */
+  SDAE_ERR_CHART = -18,         /* no usable chart: every choice of q_D is nearly singular */
+  SDAE_ERR_PHI_INV = -19,       /* Newton for Phi^-1 (x from (xi, mu)) did not converge */
+  SDAE_ERR_MASS = -20           /* the mass matrix is not symmetric positive definite */
 } sdae_status;
 
 /* ---- options ------------------------------------------------------------------------------ */

@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* stabdae mechanical front-end: a mechanism in the multibody convention
+ *
+ *     q' = v,   M(t, q) v' = F(t, q, v) - G(t, q)^T lambda,   c(t, q) = 0,   G = dc/dq
+ *
+ * integrated by the paper's stabilized schemes without the user deriving anything. Behind it:
+ * xi = per constraint (c_j, G_j v + dc_j/dt); a chart splits q into dependent q_D (n_c) and
+ * independent q_I by a pivoted factorization of G, with W = dq/dq_I spanning ker G; the
+ * coordinates mu = (q_I, W^T M v); q0 and Q by the rule of <stabdae/dae.h>. The chart switches
+ * between steps to the best one when that is better by SDAE_MBS_CHART_FACTOR. */
+#ifndef STABDAE_MBS_H
+#define STABDAE_MBS_H
+
+#include <stddef.h>
+
+#include <stabdae/stabdae.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Every callback returns 0 on success, > 0 for a recoverable failure and < 0 for a fatal one,
+ * and receives params. Matrices are row-major. */
+typedef struct sdae_mbs {
+  size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
+  int (*mass)(double t, const double *q, double *M, void *params); /* n_q x n_q, SPD */
+  int (*force)(double t, const double *q, const double *v, double *F, void *params); /* n_q */
+  int (*constraint)(double t, const double *q, double *c, void *params);            /* n_c */
+  /* optional: dc/dq, n_c x n_q; NULL: fourth-order central differences of c */
+  int (*jacobian)(double t, const double *q, double *G, void *params);
+  /* optional: dc/dt, n_c; NULL: a fourth-order central difference in t (exactly 0 when c does
+   * not depend on t) */
+  int (*constraint_t)(double t, const double *q, double *ct, void *params);
+  /* optional: F is the force of the Lagrangian v^T M v / 2 - V(q) (minus damping(q) v when
+   * given); enables sdae_map_dgrad/dg4/dg6, which then conserve (dissipate) v^T M v / 2 + V.
+   * V, D and M must not depend on t, nor c (SDAE_ERR_MAP at a step where dc/dt != 0). */
+  int (*potential)(double t, const double *q, double *V, void *params); /* 1 value */
+  int (*damping)(double t, const double *q, double *D, void *params);   /* n_q x n_q, PSD */
+  void *params;
+} sdae_mbs;
+
+/* A chart is replaced by the best one at a step boundary only when that one's measure
+ * max |dq_D/dq_I| = max |G_D^-1 G_I| is smaller by this factor (hysteresis). */
+#define SDAE_MBS_CHART_FACTOR 1.5
+/* No usable chart (SDAE_ERR_CHART): even the best one's measure is above this. */
+#define SDAE_MBS_CHART_MAX 1e8
+
+typedef struct sdae_mbs_stepper sdae_mbs_stepper;
+
+typedef struct sdae_mbs_stats {
+  sdae_stats step;               /* the normal form's stepper: steps, Newton, phi evaluations */
+  unsigned long chart_switches;  /* charts replaced at step boundaries (the first one is not) */
+  unsigned long phi_inv_iters;   /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
+  double chart_measure;          /* max |G_D^-1 G_I| of the current chart where it was chosen */
+} sdae_mbs_stats;
+
+/* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid. */
+SDAE_API size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o);
+/* Builds the stepper in the caller's block (no malloc); sys and o are copied. On failure *s is
+ * left as it was. SDAE_ERR_MAP for a discrete-gradient map without potential. */
+SDAE_API int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len,
+                                   const sdae_mbs *sys, const sdae_options *o);
+SDAE_API int sdae_mbs_stepper_alloc(sdae_mbs_stepper **s, const sdae_mbs *sys,
+                                    const sdae_options *o);
+/* As sdae_mbs_stepper_alloc, the block from the allocator a (NULL: malloc). */
+SDAE_API int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys,
+                                         const sdae_options *o, const sdae_allocator *a);
+SDAE_API void sdae_mbs_stepper_free(sdae_mbs_stepper *s); /* NULL and init'ed ones are fine */
+
+/* One step from (t, q, v) in the current chart (chosen anew at the boundary); q, v updated in
+ * place, untouched on error (and the chart as it was). A start off c = 0 needs no assembly:
+ * the scheme brings it onto the constraints, as long as Phi^-1 exists there. */
+SDAE_API int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v);
+
+/* The constraint forces lambda (n_c) at a state: (G M^-1 G^T) lambda = G M^-1 F + gamma, from
+ * G v' + gamma = 0, gamma the derivative of G v + dc/dt along (1, v) with v fixed. */
+SDAE_API int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                             double *lambda);
+/* The constraint coordinates xi (2 n_c: c_j and G_j v + dc_j/dt, constraint by constraint), the
+ * same in every chart. */
+SDAE_API int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                         double *xi);
+/* The energy v^T M v / 2 + V(q) (V = 0 without potential). */
+SDAE_API int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                             double *E);
+/* The dependent coordinates of the current chart: n_c indices into q, ascending (none before
+ * the first step: SDAE_ERR_STATE). */
+SDAE_API int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent);
+
+SDAE_API const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s);
+SDAE_API void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s);
+
+/* Called with the state after step `step` (0: the initial one); non-zero stops the run. */
+typedef int (*sdae_mbs_observer)(size_t step, double t, const double *q, const double *v,
+                                 void *data);
+/* nsteps fixed steps of size T from t0, as sdae_integrate: the observer (may be NULL) sees step
+ * 0, every `every`-th step and the last; on failure q, v hold the state after the last good
+ * step and *steps_done (may be NULL) says how many were taken; SDAE_STOPPED when the observer
+ * stopped the run. */
+SDAE_API int sdae_mbs_integrate(sdae_mbs_stepper *s, double t0, double T, size_t nsteps,
+                                size_t every, double *q, double *v, sdae_mbs_observer obs,
+                                void *data, size_t *steps_done);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STABDAE_MBS_H */
