@@ -153,7 +153,7 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
  * Cholesky's factorization, written out because GSL's reports a matrix that is not positive
  * definite through its error handler, which aborts by default, and the library must return a
  * status instead. The factor is laid out as gsl_linalg_cholesky_decomp1 leaves it (L below the
- * diagonal, L^T above), so GSL's solves take it. A is taken as not symmetric positive definite
+ * diagonal, L^T above). A is taken as not symmetric positive definite
  * when it is not symmetric to n eps of its largest entry or a pivot falls to n eps of it. */
 int sdae__cholesky_factor(double *A, size_t n) {
   double scale = 0.0, tol;
@@ -176,8 +176,16 @@ int sdae__cholesky_factor(double *A, size_t n) {
   return SDAE_OK;
 }
 
+/* L y = x, then L^T x = y: the substitutions written out, as for the small LU, since the
+ * front-end solves a 1 x 1 to 4 x 4 system several times per evaluation and GSL's views and
+ * BLAS calls would cost more than the arithmetic */
 void sdae__cholesky_solve(const double *LLT, size_t n, double *x) {
-  gsl_matrix_const_view L = gsl_matrix_const_view_array(LLT, n, n);
-  gsl_vector_view X = gsl_vector_view_array(x, n);
-  gsl_linalg_cholesky_svx(&L.matrix, &X.vector);
+  for (size_t i = 0; i < n; i++) {
+    for (size_t k = 0; k < i; k++) x[i] -= LLT[i * n + k] * x[k];
+    x[i] /= LLT[i * n + i];
+  }
+  for (size_t i = n; i-- > 0;) {
+    for (size_t k = i + 1; k < n; k++) x[i] -= LLT[k * n + i] * x[k];
+    x[i] /= LLT[i * n + i];
+  }
 }

@@ -27,7 +27,7 @@ static void carve_point(sdae_mbs_point *p, size_t n_q, size_t n_c, size_t n_f, s
   p->c = sdae__take(a, n_c, 1);
   p->ct = sdae__take(a, n_c, 1);
   p->G = sdae__take(a, n_c, n_q);
-  p->GD = sdae__take(a, n_c, sdae__lu_band_cols(n_c - 1, n_c - 1));
+  p->GD = sdae__take(a, n_c, n_c <= SDAE_SMALL_DENSE ? n_c : sdae__lu_band_cols(n_c - 1, n_c - 1));
   p->piv = sdae__take_pivots(a, n_c);
   p->A = sdae__take(a, n_c, n_f);
   p->W = sdae__take(a, n_q, n_f);

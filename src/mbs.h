@@ -17,7 +17,7 @@ typedef struct sdae_mbs_point {
   double *q, *v;   /* n_q each */
   double *c, *ct;  /* n_c each */
   double *G;       /* n_c x n_q: dc/dq */
-  double *GD;      /* G_D's LU in band format (n_c x sdae__lu_band_cols(n_c - 1, n_c - 1)) */
+  double *GD;      /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
   unsigned *piv;   /* n_c */
   double *A;       /* n_c x n_f: G_D^-1 G_I, so that W = P [-A; I] */
   double *W;       /* n_q x n_f: dq/dq_I, spans ker G */
@@ -84,6 +84,10 @@ int sdae__mbs_choose_chart(sdae_mbs_stepper *s);
 /* G_D's LU, A = G_D^-1 G_I and W from s->pt.G in the current chart; SDAE_ERR_RANK when G_D is
  * singular; *measure = max |A| (may be NULL) */
 int sdae__mbs_chart_factor(sdae_mbs_stepper *s, double *measure);
+/* G_D's LU alone from s->pt.G in the current chart (Newton's matrix); SDAE_ERR_RANK */
+int sdae__mbs_gd_factor(sdae_mbs_stepper *s);
+/* x = G_D^-1 rhs (n_c values) with the point's factors */
+void sdae__mbs_gd_solve(const sdae_mbs_stepper *s, const double *rhs, double *x);
 /* out (n_f) = W^T u for u (n_q) */
 void sdae__mbs_Wt(const sdae_mbs_stepper *s, const double *u, double *out);
 

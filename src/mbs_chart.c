@@ -22,18 +22,40 @@ static void sort(size_t *x, size_t n) {
     }
 }
 
+/* G_D's LU in the point, from the current chart's columns of its G: the small dense one for up
+ * to SDAE_SMALL_DENSE constraints (GSL's views and calls would dominate), GSL's otherwise;
+ * SDAE_ERR_RANK when it is singular */
+static int gd_factor(sdae_mbs_stepper *s, const size_t *dep) {
+  size_t n_q = s->n_q, n_c = s->n_c, b = n_c - 1;
+  for (size_t i = 0; i < n_c; i++)
+    for (size_t j = 0; j < n_c; j++) s->LA[i * n_c + j] = s->pt.G[i * n_q + dep[j]];
+  if (n_c <= SDAE_SMALL_DENSE) {
+    memcpy(s->pt.GD, s->LA, n_c * n_c * sizeof *s->LA);
+    return sdae__lu_small_factor(s->pt.GD, s->pt.piv, n_c) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
+  }
+  sdae__lu_pack(s->LA, n_c, b, b, s->pt.GD);
+  return sdae__lu_factor(s->pt.GD, s->pt.piv, n_c, b, b) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
+}
+
+int sdae__mbs_gd_factor(sdae_mbs_stepper *s) { return gd_factor(s, s->dep); }
+
+void sdae__mbs_gd_solve(const sdae_mbs_stepper *s, const double *rhs, double *x) {
+  size_t n_c = s->n_c, b = n_c - 1;
+  if (n_c <= SDAE_SMALL_DENSE)
+    sdae__lu_small_solve(s->pt.GD, s->pt.piv, n_c, rhs, x);
+  else
+    sdae__lu_factored_solve(s->pt.GD, s->pt.piv, n_c, b, b, rhs, x);
+}
+
 /* G_D's LU and A = G_D^-1 G_I in the chart (dep, ind); max |A| into *measure */
 static int factor(sdae_mbs_stepper *s, const size_t *dep, const size_t *ind, double *measure) {
-  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f, b = n_c - 1;
+  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f;
   sdae_mbs_point *p = &s->pt;
   double m = 0.0;
-  for (size_t i = 0; i < n_c; i++)
-    for (size_t j = 0; j < n_c; j++) s->LA[i * n_c + j] = p->G[i * n_q + dep[j]];
-  sdae__lu_pack(s->LA, n_c, b, b, p->GD);
-  if (sdae__lu_factor(p->GD, p->piv, n_c, b, b) != SDAE_OK) return SDAE_ERR_RANK;
+  if (gd_factor(s, dep) != SDAE_OK) return SDAE_ERR_RANK;
   for (size_t k = 0; k < n_f; k++) {
     for (size_t i = 0; i < n_c; i++) s->r1[i] = p->G[i * n_q + ind[k]];
-    sdae__lu_factored_solve(p->GD, p->piv, n_c, b, b, s->r1, s->r2);
+    sdae__mbs_gd_solve(s, s->r1, s->r2);
     for (size_t i = 0; i < n_c; i++) {
       p->A[i * n_f + k] = s->r2[i];
       m = fabs(s->r2[i]) > m ? fabs(s->r2[i]) : m;

@@ -54,7 +54,7 @@ void sdae__mbs_forget(sdae_mbs_stepper *s) {
  * 1e-10 of q_D's size: Newton's quadratic convergence puts the iterate at rounding then */
 static int solve_q(sdae_mbs_stepper *s, double t, const double *xi, const double *mu) {
   sdae_mbs_point *p = &s->pt;
-  size_t n_c = s->n_c, b = n_c - 1;
+  size_t n_c = s->n_c;
   memcpy(p->q, s->q_base, s->n_q * sizeof *p->q);
   for (size_t k = 0; k < s->n_f; k++) p->q[s->ind[k]] = mu[k];
   for (unsigned it = 0; it < s->opt.newton_max_iter; it++) {
@@ -63,9 +63,9 @@ static int solve_q(sdae_mbs_stepper *s, double t, const double *xi, const double
     if ((rc = sdae__mbs_constraint(s, t, p->q, p->c)) != SDAE_OK ||
         (rc = sdae__mbs_jacobian(s, t, p->q, p->G)) != SDAE_OK)
       return rc;
-    if (sdae__mbs_chart_factor(s, NULL) != SDAE_OK) return SDAE_ERR_PHI_INV;
+    if (sdae__mbs_gd_factor(s) != SDAE_OK) return SDAE_ERR_PHI_INV;
     for (size_t j = 0; j < n_c; j++) s->r3[j] = p->c[j] - xi[2 * j];
-    sdae__lu_factored_solve(p->GD, p->piv, n_c, b, b, s->r3, s->r2);
+    sdae__mbs_gd_solve(s, s->r3, s->r2);
     s->stats.phi_inv_iters++;
     for (size_t j = 0; j < n_c; j++) {
       double *qd = &p->q[s->dep[j]];
@@ -101,11 +101,11 @@ static int reduced_mass(sdae_mbs_stepper *s) {
 /* v = z + W v_I with G z = xi's velocity part - dc/dt (z_I = 0) and W^T M v = mu's p-part */
 static int solve_v(sdae_mbs_stepper *s, const double *xi, const double *mu) {
   sdae_mbs_point *p = &s->pt;
-  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f, b = n_c - 1;
+  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f;
   int rc = reduced_mass(s);
   if (rc != SDAE_OK) return rc;
   for (size_t j = 0; j < n_c; j++) s->r3[j] = xi[2 * j + 1] - p->ct[j];
-  sdae__lu_factored_solve(p->GD, p->piv, n_c, b, b, s->r3, s->r2);
+  sdae__mbs_gd_solve(s, s->r3, s->r2);
   memset(p->v, 0, n_q * sizeof *p->v);
   for (size_t j = 0; j < n_c; j++) p->v[s->dep[j]] = s->r2[j];
   mat_vec(p->M, n_q, p->v, s->r1);
@@ -144,14 +144,14 @@ int sdae__mbs_phi_inv(sdae_mbs_stepper *s, double t, const double *xi, const dou
 
 /* out = X^T (M v)_D with X = G_D^-1 (dG/dt) W: the term (dW/dt)^T M v */
 static void dW_term(sdae_mbs_stepper *s, const double *Mv, double *out) {
-  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f, b = n_c - 1;
+  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f;
   for (size_t k = 0; k < n_f; k++) {
     for (size_t j = 0; j < n_c; j++) {
       double acc = 0.0;
       for (size_t i = 0; i < n_q; i++) acc += s->Gdot[j * n_q + i] * s->pt.W[i * n_f + k];
       s->r3[j] = acc;
     }
-    sdae__lu_factored_solve(s->pt.GD, s->pt.piv, n_c, b, b, s->r3, s->gdot);
+    sdae__mbs_gd_solve(s, s->r3, s->gdot);
     out[k] = 0.0;
     for (size_t j = 0; j < n_c; j++) out[k] += s->gdot[j] * Mv[s->dep[j]];
   }
