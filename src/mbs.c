@@ -84,9 +84,10 @@ static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o
   memset(s, 0, sizeof *s);
   s->sys = *sys;
   s->opt = *o;
-  /* an invalid tolerance stays, for the validation to refuse */
-  if (!sys->jacobian && o->newton_tol > 0.0 && o->newton_tol < SDAE_MBS_FD_NEWTON_TOL)
-    s->opt.newton_tol = SDAE_MBS_FD_NEWTON_TOL;
+  /* the noise of the differences (SDAE_MBS_NEWTON_TOL); an invalid tolerance stays, for the
+   * validation to refuse */
+  double least = sys->jacobian ? SDAE_MBS_NEWTON_TOL : SDAE_MBS_FD_NEWTON_TOL;
+  if (o->newton_tol > 0.0 && o->newton_tol < least) s->opt.newton_tol = least;
   s->n_q = sys->n_q;
   s->n_c = sys->n_c;
   s->n_f = sys->n_q - sys->n_c;

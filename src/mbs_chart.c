@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Charts of the constraint manifold: the coordinates split into dependent q_D (n_c) and
  * independent q_I, W = dq/dq_I = P [-G_D^-1 G_I; I] spanning ker G. A chart is measured by the
- * size of dq_D/dq_I = -G_D^-1 G_I (its curvature), not by cond(G_D), which is 1 for any 1 x 1
- * block; the best one comes from GSL's QR with column pivoting of G, and replaces the current
- * one only when better by SDAE_MBS_CHART_FACTOR (hysteresis: no switching back and forth). */
+ * size of dq_D/dq_I = -G_D^-1 G_I (how steep q_D is over q_I), not by cond(G_D), which is 1
+ * for any 1 x 1 block. The best one comes from GSL's QR with column pivoting of G improved by
+ * exchanges to a measure of at most about 1, and replaces the current one only when better by
+ * SDAE_MBS_CHART_FACTOR (hysteresis: no switching back and forth). */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -82,24 +83,60 @@ void sdae__mbs_Wt(const sdae_mbs_stepper *s, const double *u, double *out) {
   }
 }
 
-/* QR with column pivoting of G: the first n_c pivot columns are the best dependent
- * coordinates; SDAE_ERR_RANK when R's last diagonal entry is zero to working precision */
-static int best_chart(sdae_mbs_stepper *s) {
+/* QR with column pivoting of G, its rows scaled to unit length (so that the test below sees
+ * the angles between the constraints' gradients, not their units), proposes the first n_c
+ * pivot columns as q_D. R's last diagonal entry, relative to its first, is the sine of the
+ * smallest angle between a gradient and the span of the others: zero to working precision is
+ * SDAE_ERR_RANK (dependent constraints), below SDAE_MBS_CHART_MIN SDAE_ERR_CHART (nearly
+ * dependent: q_D would be solved for with a condition number above 1 / SDAE_MBS_CHART_MIN). */
+static int proposal(sdae_mbs_stepper *s) {
   size_t n_q = s->n_q, n_c = s->n_c;
   gsl_matrix_view R = gsl_matrix_view_array(s->qr, n_c, n_q);
   gsl_vector_view tau = gsl_vector_view_array(s->tau, n_c);
   gsl_vector_view norm = gsl_vector_view_array(s->norm, n_q);
   gsl_permutation perm = {n_q, s->perm};
+  double last, first;
   int signum;
-  memcpy(s->qr, s->pt.G, n_c * n_q * sizeof *s->qr);
+  for (size_t i = 0; i < n_c; i++) {
+    double row = 0.0;
+    for (size_t j = 0; j < n_q; j++) row = hypot(row, s->pt.G[i * n_q + j]);
+    if (!(row > 0.0)) return SDAE_ERR_RANK;
+    for (size_t j = 0; j < n_q; j++) s->qr[i * n_q + j] = s->pt.G[i * n_q + j] / row;
+  }
   gsl_linalg_QRPT_decomp(&R.matrix, &tau.vector, &perm, &signum, &norm.vector);
-  double tol = (double)n_q * DBL_EPSILON * fabs(s->qr[0]);
-  if (!(fabs(s->qr[(n_c - 1) * n_q + (n_c - 1)]) > tol)) return SDAE_ERR_RANK;
+  first = fabs(s->qr[0]);
+  last = fabs(s->qr[(n_c - 1) * n_q + (n_c - 1)]);
+  if (!(last > (double)n_q * DBL_EPSILON * first)) return SDAE_ERR_RANK;
+  if (last < SDAE_MBS_CHART_MIN * first) return SDAE_ERR_CHART;
   memcpy(s->cand_dep, s->perm, n_c * sizeof *s->perm);
   memcpy(s->cand_ind, s->perm + n_c, s->n_f * sizeof *s->perm);
   sort(s->cand_dep, n_c);
   sort(s->cand_ind, s->n_f);
   return SDAE_OK;
+}
+
+/* An exchange of q_D's j-th and q_I's k-th coordinate multiplies |det G_D| by |A_jk|.
+ * QRPT's proposal is improved by exchanging at the largest |A_jk| while it exceeds
+ * EXCHANGE (the maxvol rule): |det G_D| grows every time, so it ends, with a chart whose
+ * measure is at most EXCHANGE, factored last. */
+#define EXCHANGE 1.05
+static int best_chart(sdae_mbs_stepper *s, double *measure) {
+  size_t n_c = s->n_c, n_f = s->n_f;
+  int rc = proposal(s);
+  for (size_t it = 0; rc == SDAE_OK; it++) {
+    size_t jb = 0, kb = 0, tmp;
+    if ((rc = factor(s, s->cand_dep, s->cand_ind, measure)) != SDAE_OK) break;
+    if (*measure <= EXCHANGE || it == 4 * s->n_q) break;
+    for (size_t j = 0; j < n_c; j++)
+      for (size_t k = 0; k < n_f; k++)
+        if (fabs(s->pt.A[j * n_f + k]) > fabs(s->pt.A[jb * n_f + kb])) jb = j, kb = k;
+    tmp = s->cand_dep[jb];
+    s->cand_dep[jb] = s->cand_ind[kb];
+    s->cand_ind[kb] = tmp;
+    sort(s->cand_dep, n_c);
+    sort(s->cand_ind, n_f);
+  }
+  return rc;
 }
 
 static void adopt(sdae_mbs_stepper *s) {
@@ -111,20 +148,20 @@ static void adopt(sdae_mbs_stepper *s) {
 }
 
 int sdae__mbs_choose_chart(sdae_mbs_stepper *s) {
-  double now = HUGE_VAL, best;
-  int rc = best_chart(s);
+  double now, best;
+  int rc = best_chart(s, &best);
   if (rc != SDAE_OK) return rc;
-  if (s->have_chart && memcmp(s->dep, s->cand_dep, s->n_c * sizeof *s->dep) == 0) {
-    rc = factor(s, s->dep, s->ind, &best);
-  } else {
-    if (s->have_chart && factor(s, s->dep, s->ind, &now) != SDAE_OK) now = HUGE_VAL;
-    if ((rc = factor(s, s->cand_dep, s->cand_ind, &best)) != SDAE_OK) return rc;
-    if (!s->have_chart || now > SDAE_MBS_CHART_FACTOR * best)
+  if (!s->have_chart) {
+    adopt(s);
+  } else if (memcmp(s->dep, s->cand_dep, s->n_c * sizeof *s->dep) != 0) {
+    if (factor(s, s->dep, s->ind, &now) != SDAE_OK) now = HUGE_VAL;
+    if (now > SDAE_MBS_CHART_FACTOR * best) {
       adopt(s);
-    else /* the current one stays: its factors again */
-      rc = factor(s, s->dep, s->ind, &best);
+      rc = factor(s, s->dep, s->ind, &best); /* factored last was the old one */
+    } else {
+      best = now; /* the current one stays, factored */
+    }
   }
-  if (rc != SDAE_OK) return rc;
-  s->stats.chart_measure = best;
-  return best > SDAE_MBS_CHART_MAX ? SDAE_ERR_CHART : SDAE_OK;
+  if (rc == SDAE_OK) s->stats.chart_measure = best;
+  return rc;
 }

@@ -42,12 +42,17 @@ typedef struct sdae_mbs {
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure
- * max |dq_D/dq_I| = max |G_D^-1 G_I| is smaller by this factor (hysteresis). */
+ * max |dq_D/dq_I| = max |G_D^-1 G_I| is smaller by this factor (hysteresis). The best one's
+ * measure is at most about 1 (some n_c columns of G have the largest |det|). */
 #define SDAE_MBS_CHART_FACTOR 1.5
-/* No usable chart (SDAE_ERR_CHART): even the best one's measure is above this. */
-#define SDAE_MBS_CHART_MAX 1e8
+/* No usable chart (SDAE_ERR_CHART): the constraints' gradients are nearly dependent, the sine
+ * of the smallest angle between one of them and the span of the others below this. */
+#define SDAE_MBS_CHART_MIN 1e-8
 
-/* Newton's least tolerance for a mechanism without jacobian (see there). */
+/* Newton's least tolerance in the front-end: its mu-dynamics come from fourth-order
+ * differences, good to about 1e-13 (1e-10 without jacobian, see there), and an implicit map's
+ * Newton cannot settle below that noise. A smaller newton_tol is raised to these. */
+#define SDAE_MBS_NEWTON_TOL 1e-12
 #define SDAE_MBS_FD_NEWTON_TOL 1e-9
 
 typedef struct sdae_mbs_stepper sdae_mbs_stepper;
