@@ -570,6 +570,76 @@ START_TEST(hook_guards) {
 }
 END_TEST
 
+/* ---- the mechanical stepper (<stabdae/mbs.h>) ---- */
+
+#include "mechanisms.h"
+
+typedef struct mbs_call {
+  sdae_mbs sys;
+  sdae_options o;
+  sdae_mbs_stepper *s;
+} mbs_call;
+
+static void mbs_reset(sweep *w) { ((mbs_call *)w->ctx)->s = (sdae_mbs_stepper *)&sentinel; }
+
+static int mbs_untouched(sweep *w) {
+  return ((mbs_call *)w->ctx)->s == (sdae_mbs_stepper *)&sentinel;
+}
+
+static int mbs_attempt(sweep *w) {
+  mbs_call *c = w->ctx;
+  sdae_allocator h = allocator_of(w->ca);
+  return sdae_mbs_stepper_alloc_with(&c->s, &c->sys, &c->o, w->ca ? &h : NULL);
+}
+
+/* 50 dgrad steps of the double pendulum from both arms raised (through its chart choice); no
+ * assertion here: Check's own may allocate while the count is up */
+static int mbs_run(sdae_mbs_stepper *s, double *q, double *v) {
+  int rc = SDAE_OK;
+  for (int n = 0; n < 50 && rc == SDAE_OK; n++) rc = sdae_mbs_step(s, n * 1e-2, 1e-2, q, v);
+  return rc;
+}
+
+/* The sweep through malloc and through a caller's allocator; a stepper built in a caller's block
+ * of sdae_mbs_stepper_size bytes steps bitwise like the allocated one; and the steps take no
+ * allocation, neither from malloc nor from the stepper's allocator. */
+START_TEST(mbs_stepper_alloc_sweep) {
+  double_pendulum p = {1.0, 1.0, 1.0, 1.0, 9.81};
+  const double theta[2] = {2.2, 2.7}, omega[2] = {0.0, 0.0};
+  static max_align_t mem[4096];
+  counting_allocator ca = {0};
+  sdae_mbs_stepper *in_block;
+  double q[4], v[4], q2[4], v2[4];
+  mbs_call c = {double_pendulum_mbs(&p), quartic_options(sdae_map_dgrad,
+                                                          SDAE_SCHEME_SEMI_IMPLICIT), NULL};
+  sweep w = {mbs_reset, mbs_untouched, mbs_attempt, NULL, &c};
+  size_t len = sdae_mbs_stepper_size(&c.sys, &c.o);
+  run_sweep(&w, 1);
+  sdae_mbs_stepper_free(c.s);
+  w.ca = &ca;
+  run_sweep(&w, 1);
+  ck_assert_uint_gt(len, 0);
+  ck_assert_uint_le(len, sizeof mem);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&in_block, mem, len, &c.sys, &c.o), SDAE_OK);
+  double_pendulum_state(&p, theta, omega, q, v);
+  double_pendulum_state(&p, theta, omega, q2, v2);
+  long calls_before = ca.calls;
+  start_counting(0);
+  int rc1 = mbs_run(c.s, q, v), rc2 = mbs_run(in_block, q2, v2);
+  stop_counting();
+  ck_assert_int_eq(rc1, SDAE_OK);
+  ck_assert_int_eq(rc2, SDAE_OK);
+  if (!malloc_unseen("no malloc in sdae_mbs_step")) ck_assert_int_eq(allocations, 0);
+  ck_assert_int_eq(ca.calls, calls_before);
+  ck_assert_mem_eq(q, q2, sizeof q);
+  ck_assert_mem_eq(v, v2, sizeof v);
+  sdae_mbs_stepper_free(in_block);
+  sdae_mbs_stepper_free(c.s);
+  ck_assert_int_eq(ca.live, 0);
+  ck_assert(!ca.bad_free);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("alloc");
   interposed = malloc_is_interposed();
@@ -582,5 +652,6 @@ int main(void) {
   ADD_CASE(s, check_model_sweep);
   ADD_CASE(s, check_model_with_sweep);
   ADD_CASE(s, hook_guards);
+  ADD_CASE(s, mbs_stepper_alloc_sweep);
   return run_suite(s);
 }

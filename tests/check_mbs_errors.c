@@ -1,0 +1,597 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* Every bad input of the mechanical front-end gets its named status, and a failed call leaves
+ * the caller's q, v (and the stepper's step count and chart) exactly as they were. The cases
+ * that need a state are built so that the mathematics says they must fail. */
+#include <math.h>
+#include <string.h>
+
+#include "mechanisms.h"
+#include "testmodels.h"
+
+static sdae_options options(const sdae_map_type *map) {
+  sdae_options o;
+  sdae_options_default(&o);
+  o.map = map;
+  return o;
+}
+
+/* alloc, init and size agree on an invalid configuration, and *s stays as it was */
+static void expect_config(const sdae_mbs *sys, const sdae_options *o, int want) {
+  static max_align_t mem[4096];
+  int marker;
+  sdae_mbs_stepper *s = (sdae_mbs_stepper *)&marker, *before = s;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, sys, o), want);
+  ck_assert_ptr_eq(s, before);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, sys, o, NULL), want);
+  ck_assert_ptr_eq(s, before);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, sizeof mem, sys, o), want);
+  ck_assert_ptr_eq(s, before);
+  ck_assert_uint_eq(sdae_mbs_stepper_size(sys, o), 0);
+}
+
+/* one step that must fail with `want`, after one good step (so a chart and a count exist):
+ * q, v bitwise as they were, the step count still 1, the chart unchanged */
+static void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q, double *v,
+                              size_t n_q, int want) {
+  double q0[8], v0[8];
+  size_t dep[8] = {0}, dep0[8] = {0};
+  int had_chart = sdae_mbs_chart(s, dep0) == SDAE_OK;
+  unsigned long steps = sdae_mbs_stepper_stats(s)->step.steps;
+  memcpy(q0, q, n_q * sizeof *q), memcpy(v0, v, n_q * sizeof *v);
+  ck_assert_int_eq(sdae_mbs_step(s, t, T, q, v), want);
+  ck_assert_mem_eq(q, q0, n_q * sizeof *q);
+  ck_assert_mem_eq(v, v0, n_q * sizeof *v);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, steps);
+  if (had_chart) {
+    ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+    ck_assert_mem_eq(dep, dep0, sizeof dep);
+  }
+  ck_assert_str_ne(sdae_strerror(want), "");
+}
+
+static const pendulum PENDULUM = {1.0, 1.0, 9.81, 0.0};
+
+START_TEST(null_pointers) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p), bad;
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], out[2];
+  size_t dep[1];
+  static max_align_t mem[4096];
+  pendulum_state(&p, 0.3, 0.0, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(NULL, &sys, &o), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, NULL, &o), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, NULL, sizeof mem, &sys, &o), SDAE_ERR_NULL);
+  ck_assert_uint_eq(sdae_mbs_stepper_size(NULL, &o), 0);
+  ck_assert_uint_eq(sdae_mbs_stepper_size(&sys, NULL), 0);
+  bad = sys, bad.mass = NULL, expect_config(&bad, &o, SDAE_ERR_NULL);
+  bad = sys, bad.force = NULL, expect_config(&bad, &o, SDAE_ERR_NULL);
+  bad = sys, bad.constraint = NULL, expect_config(&bad, &o, SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(NULL, 0.0, 0.01, q, v), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, NULL, v), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_lambda(NULL, 0.0, q, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, NULL, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, NULL, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_xi(NULL, 0.0, q, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, NULL, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, NULL, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_energy(NULL, 0.0, q, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, NULL, v, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, NULL, out), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_chart(NULL, dep), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_chart(s, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_integrate(NULL, 0.0, 0.01, 3, 1, q, v, NULL, NULL, NULL),
+                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 3, 1, NULL, v, NULL, NULL, NULL),
+                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 3, 1, q, NULL, NULL, NULL, NULL),
+                   SDAE_ERR_NULL);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, 0);
+  sdae_mbs_stepper_free(s);
+  sdae_mbs_stepper_free(NULL);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_NULL), "");
+}
+END_TEST
+
+START_TEST(bad_dimensions) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p), bad;
+  sdae_options o = options(sdae_map_midpoint);
+  bad = sys, bad.n_c = 0, expect_config(&bad, &o, SDAE_ERR_DIM);
+  bad = sys, bad.n_c = 2, expect_config(&bad, &o, SDAE_ERR_DIM); /* n_c = n_q */
+  bad = sys, bad.n_c = 3, expect_config(&bad, &o, SDAE_ERR_DIM);
+  bad = sys, bad.n_q = 0, bad.n_c = 0, expect_config(&bad, &o, SDAE_ERR_DIM);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_DIM), "");
+}
+END_TEST
+
+START_TEST(bad_options) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  o.delta = 0.0, expect_config(&sys, &o, SDAE_ERR_PARAM);
+  o = options(sdae_map_midpoint), o.epsilon = -1.0, expect_config(&sys, &o, SDAE_ERR_PARAM);
+  o = options(sdae_map_midpoint), o.scheme = (sdae_scheme)12;
+  expect_config(&sys, &o, SDAE_ERR_OPTION);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_PARAM), "");
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_OPTION), "");
+}
+END_TEST
+
+/* one byte short of sdae_mbs_stepper_size: SDAE_ERR_BUFFER, *s untouched; the size itself works */
+START_TEST(block_too_small) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_dgrad);
+  static max_align_t mem[4096];
+  int marker;
+  sdae_mbs_stepper *s = (sdae_mbs_stepper *)&marker;
+  size_t len = sdae_mbs_stepper_size(&sys, &o);
+  ck_assert_uint_gt(len, 0);
+  ck_assert_uint_le(len, sizeof mem);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, len - 1, &sys, &o), SDAE_ERR_BUFFER);
+  ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, 0, &sys, &o), SDAE_ERR_BUFFER);
+  ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, len, &sys, &o), SDAE_OK);
+  sdae_mbs_stepper_free(s);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_BUFFER), "");
+}
+END_TEST
+
+/* the discrete-gradient maps need the potential; no map, or the user map (which needs a
+ * user_phi the front-end cannot give), neither works */
+START_TEST(map_without_potential) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, NULL,
+                                  sdae_map_user};
+  sys.potential = NULL;
+  for (int i = 0; i < 5; i++) {
+    sdae_options o = options(maps[i]);
+    expect_config(&sys, &o, SDAE_ERR_MAP);
+  }
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_MAP), "");
+}
+END_TEST
+
+/* The energy structure needs a constraint that does not move: the rotating wire with a (zero)
+ * potential and dgrad is accepted at init and refused at a step where dc/dt = -w e.q != 0. */
+static int zero_potential(double t, const double *q, double *V, void *params) {
+  (void)t, (void)q, (void)params;
+  *V = 0.0;
+  return 0;
+}
+
+START_TEST(map_with_moving_constraint) {
+  wire w = {1.0, 1.0};
+  sdae_mbs sys = wire_mbs(&w);
+  sdae_options o = options(sdae_map_dgrad);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], lambda;
+  sys.potential = zero_potential;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  wire_exact(&w, 1.0, 0.3, 0.0, q, v, &lambda);
+  expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MAP);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* ---- a spherical pendulum q = (x, y, z) with two constraints ---- */
+
+typedef struct sphere {
+  double eps; /* c2 = c1 + eps z; eps = 0: the same constraint twice */
+} sphere;
+
+static int sphere_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  for (int i = 0; i < 9; i++) M[i] = i % 4 == 0 ? 1.0 : 0.0;
+  return 0;
+}
+
+static int sphere_force(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  F[0] = 0.0, F[1] = -9.81, F[2] = 0.0;
+  return 0;
+}
+
+static int sphere_constraint(double t, const double *q, double *c, void *params) {
+  const sphere *p = params;
+  (void)t;
+  c[0] = 0.5 * (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] - 1.0);
+  c[1] = c[0] + p->eps * q[2];
+  return 0;
+}
+
+static int sphere_jacobian(double t, const double *q, double *G, void *params) {
+  const sphere *p = params;
+  (void)t;
+  G[0] = G[3] = q[0], G[1] = G[4] = q[1], G[2] = q[2], G[5] = q[2] + p->eps;
+  return 0;
+}
+
+static sdae_mbs sphere_mbs(sphere *p) {
+  sdae_mbs s = {3, 2, sphere_mass, sphere_force, sphere_constraint, sphere_jacobian, NULL, NULL,
+                NULL, p};
+  return s;
+}
+
+/* the same constraint twice: rank G = 1 < 2 at every state, SDAE_ERR_RANK at the first step,
+ * and for the multipliers (G M^-1 G^T singular) */
+START_TEST(redundant_constraints) {
+  sphere p = {0.0};
+  sdae_mbs sys = sphere_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[3] = {0.6, -0.8, 0.0}, v[3] = {0.8, 0.6, 0.0}, lambda[2] = {7.0, 7.0};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 0.01, q, v, 3, SDAE_ERR_RANK);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, lambda), SDAE_ERR_RANK);
+  ck_assert_double_eq(lambda[0], 7.0);
+  ck_assert_double_eq(lambda[1], 7.0);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* Nearly parallel gradients, c2 = c1 + 1e-6 z, are still independent, and a usable chart
+ * exists: each entry of G_D^-1 G_I is a ratio of 2 x 2 minors of G (Cramer), so the chart
+ * whose minor is the largest has measure <= 1 however close the rows are (the minors all scale
+ * with 1e-6). At q = (0.6, -0.8, 0): the minors are m_xy = 0, m_xz = 0.6e-6,
+ * m_yz = -0.8e-6, so the best chart is q_D = (y, z) with measure |m_xz / m_yz| = 0.75. (So no
+ * such configuration can produce SDAE_ERR_CHART: that status needs a rank-deficient G in exact
+ * arithmetic, which is SDAE_ERR_RANK.) Not 1e-10: there z = 1e10 (c2 - c1) puts the rounding
+ * of c, 1e-17, at 1e-7 in q_D, and Phi^-1's Newton cannot settle (SDAE_ERR_PHI_INV). */
+START_TEST(nearly_parallel_constraints_have_a_chart) {
+  sphere p = {1e-6};
+  sdae_mbs sys = sphere_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[3] = {0.6, -0.8, 0.0}, v[3] = {0.8, 0.6, 0.0};
+  size_t dep[2];
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+  ck_assert_uint_eq(dep[0], 1);
+  ck_assert_uint_eq(dep[1], 2);
+  ck_assert_double_eq_tol(sdae_mbs_stepper_stats(s)->chart_measure, 0.75, 1e-6);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_CHART), "");
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* Phi^-1 with no solution: the pendulum at the bottom, q = (0, -1), moving sideways at 10 m/s,
+ * chart q_D = y (measure |x/y| = 0). The euler map moves q_I = x to 0 + T 10 = 2 with T = 0.2;
+ * then c = xi_1 = 0 asks y^2 = 1 - 4 < 0: no real q_D, so Newton must fail. */
+START_TEST(phi_inverse_has_no_solution) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_euler);
+  sdae_mbs_stepper *s;
+  double q[2] = {0.0, -1.0}, v[2] = {10.0, 0.0};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 0.2, q, v, 2, SDAE_ERR_PHI_INV);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_PHI_INV), "");
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* ---- a mass matrix that is not SPD ---- */
+
+static int negative_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  M[0] = -1.0, M[1] = 0.0, M[2] = 0.0, M[3] = -1.0;
+  return 0;
+}
+
+static int indefinite_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  M[0] = 1.0, M[1] = 2.0, M[2] = 2.0, M[3] = 1.0; /* eigenvalues 3 and -1 */
+  return 0;
+}
+
+START_TEST(mass_not_spd) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  int (*masses[2])(double, const double *, double *, void *) = {negative_mass, indefinite_mass};
+  for (int i = 0; i < 2; i++) {
+    sdae_options o = options(sdae_map_midpoint);
+    sdae_mbs_stepper *s;
+    double q[2], v[2], lambda = 7.0;
+    sys.mass = masses[i];
+    pendulum_state(&p, 0.3, 0.5, q, v);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
+    ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
+    ck_assert_double_eq(lambda, 7.0);
+    sdae_mbs_stepper_free(s);
+  }
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_MASS), "");
+}
+END_TEST
+
+/* ---- every callback failing ---- */
+
+enum { CB_MASS, CB_FORCE, CB_CONSTRAINT, CB_JACOBIAN, CB_CONSTRAINT_T, CB_POTENTIAL, CB_DAMPING,
+       CB_COUNT };
+enum { FAIL_FATAL, FAIL_RECOVERABLE, FAIL_NAN, FAIL_INF, FAIL_COUNT };
+
+/* the damped pendulum, every callback given, one of them failing at its fail_at-th call */
+typedef struct faulty {
+  pendulum p;
+  int which, how;
+  long calls, fail_at;
+} faulty;
+
+static int inject(faulty *f, int me, double *out, size_t n) {
+  if (f->which != me || ++f->calls != f->fail_at) return 0;
+  switch (f->how) {
+  case FAIL_FATAL: return -3;
+  case FAIL_RECOVERABLE: return 2;
+  case FAIL_NAN: out[n - 1] = NAN; return 0;
+  default: out[0] = INFINITY; return 0;
+  }
+}
+
+static int f_mass(double t, const double *q, double *M, void *params) {
+  faulty *f = params;
+  pendulum_mass(t, q, M, &f->p);
+  return inject(f, CB_MASS, M, 4);
+}
+
+static int f_force(double t, const double *q, const double *v, double *F, void *params) {
+  faulty *f = params;
+  pendulum_force(t, q, v, F, &f->p);
+  return inject(f, CB_FORCE, F, 2);
+}
+
+static int f_constraint(double t, const double *q, double *c, void *params) {
+  faulty *f = params;
+  pendulum_constraint(t, q, c, &f->p);
+  return inject(f, CB_CONSTRAINT, c, 1);
+}
+
+static int f_jacobian(double t, const double *q, double *G, void *params) {
+  faulty *f = params;
+  pendulum_jacobian(t, q, G, &f->p);
+  return inject(f, CB_JACOBIAN, G, 2);
+}
+
+static int f_constraint_t(double t, const double *q, double *ct, void *params) {
+  faulty *f = params;
+  (void)t, (void)q;
+  ct[0] = 0.0;
+  return inject(f, CB_CONSTRAINT_T, ct, 1);
+}
+
+static int f_potential(double t, const double *q, double *V, void *params) {
+  faulty *f = params;
+  pendulum_potential(t, q, V, &f->p);
+  return inject(f, CB_POTENTIAL, V, 1);
+}
+
+static int f_damping(double t, const double *q, double *D, void *params) {
+  faulty *f = params;
+  pendulum_damping(t, q, D, &f->p);
+  return inject(f, CB_DAMPING, D, 4);
+}
+
+static sdae_mbs faulty_mbs(faulty *f) {
+  sdae_mbs s = {2, 1, f_mass, f_force, f_constraint, f_jacobian, f_constraint_t, f_potential,
+                f_damping, f};
+  return s;
+}
+
+static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL,
+                                            SDAE_ERR_CALLBACK_RECOVERABLE, SDAE_ERR_NONFINITE,
+                                            SDAE_ERR_NONFINITE};
+
+/* After one good step, the second step with callback `which` failing at its k-th call there,
+ * for k = the first, a middle and the last of the calls a good second step makes: the step
+ * fails with the callback's status and leaves everything as it was. */
+static void expect_callback_failures(int which) {
+  for (int how = 0; how < FAIL_COUNT; how++) {
+    long calls_in_step, tries[3];
+    faulty f = {{1.0, 1.0, 9.81, 0.2}, which, how, 0, 0};
+    sdae_mbs sys = faulty_mbs(&f);
+    sdae_options o = options(sdae_map_dgrad);
+    sdae_mbs_stepper *s;
+    double q[2], v[2];
+    /* the calls a good second step makes */
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    pendulum_state(&f.p, 0.3, 0.5, q, v);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
+    f.calls = 0;
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01, 0.01, q, v), SDAE_OK);
+    calls_in_step = f.calls;
+    sdae_mbs_stepper_free(s);
+    ck_assert_int_gt(calls_in_step, 0); /* every callback takes part in a dgrad step */
+    tries[0] = 1, tries[1] = (calls_in_step + 1) / 2, tries[2] = calls_in_step;
+    for (int k = 0; k < 3; k++) {
+      ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+      pendulum_state(&f.p, 0.3, 0.5, q, v);
+      f.fail_at = 0;
+      ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
+      f.calls = 0, f.fail_at = tries[k];
+      expect_step_fails(s, 0.01, 0.01, q, v, 2, want_status[how]);
+      f.fail_at = 0;
+      sdae_mbs_stepper_free(s);
+    }
+  }
+  for (int how = 0; how < FAIL_COUNT; how++) ck_assert_str_ne(sdae_strerror(want_status[how]), "");
+}
+
+START_TEST(mass_fails) { expect_callback_failures(CB_MASS); }
+END_TEST
+
+START_TEST(force_fails) { expect_callback_failures(CB_FORCE); }
+END_TEST
+
+START_TEST(constraint_fails) { expect_callback_failures(CB_CONSTRAINT); }
+END_TEST
+
+START_TEST(jacobian_fails) { expect_callback_failures(CB_JACOBIAN); }
+END_TEST
+
+START_TEST(constraint_t_fails) { expect_callback_failures(CB_CONSTRAINT_T); }
+END_TEST
+
+START_TEST(potential_fails) { expect_callback_failures(CB_POTENTIAL); }
+END_TEST
+
+START_TEST(damping_fails) { expect_callback_failures(CB_DAMPING); }
+END_TEST
+
+/* lambda, xi and the energy: a callback they call failing at its first call fails them, the
+ * output untouched. The energy needs mass (and potential), xi constraint, lambda mass and
+ * force: those must be called. */
+START_TEST(queries_report_callback_failures) {
+  static const int must[3][CB_COUNT] = {
+      {1, 1, 0, 0, 0, 0, 0}, /* lambda */
+      {0, 0, 1, 0, 0, 0, 0}, /* xi */
+      {1, 0, 0, 0, 0, 1, 0}, /* energy */
+  };
+  for (int which = 0; which < CB_COUNT; which++)
+    for (int how = 0; how < FAIL_COUNT; how++)
+      for (int query = 0; query < 3; query++) {
+        faulty f = {{1.0, 1.0, 9.81, 0.2}, which, how, 0, 0};
+        sdae_mbs sys = faulty_mbs(&f);
+        sdae_options o = options(sdae_map_dgrad);
+        sdae_mbs_stepper *s;
+        double q[2], v[2], out[2] = {7.0, 7.0};
+        int rc;
+        ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+        pendulum_state(&f.p, 0.3, 0.5, q, v);
+        for (int pass = 0; pass < 2; pass++) {
+          f.calls = 0, f.fail_at = pass == 0 ? 0 : 1;
+          rc = query == 0   ? sdae_mbs_lambda(s, 0.0, q, v, out)
+               : query == 1 ? sdae_mbs_xi(s, 0.0, q, v, out)
+                            : sdae_mbs_energy(s, 0.0, q, v, out);
+          if (pass == 0) {
+            ck_assert_int_eq(rc, SDAE_OK);
+            if (must[query][which]) ck_assert_int_gt(f.calls, 0);
+            if (f.calls == 0) break; /* not called: nothing to fail */
+            out[0] = out[1] = 7.0;
+          } else {
+            ck_assert_int_eq(rc, want_status[how]);
+            ck_assert_double_eq(out[0], 7.0);
+            ck_assert_double_eq(out[1], 7.0);
+          }
+        }
+        sdae_mbs_stepper_free(s);
+      }
+}
+END_TEST
+
+/* NaN or Inf in q or v: SDAE_ERR_STATE, for the step and for the queries */
+START_TEST(nonfinite_state) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  const double bad[3] = {NAN, INFINITY, -INFINITY};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  for (int b = 0; b < 3; b++)
+    for (int i = 0; i < 4; i++) {
+      double q[2], v[2], out[2] = {7.0, 7.0};
+      pendulum_state(&p, 0.3, 0.5, q, v);
+      if (i < 2) q[i] = bad[b];
+      else v[i - 2] = bad[b];
+      expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_STATE);
+      ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, out), SDAE_ERR_STATE);
+      ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, out), SDAE_ERR_STATE);
+      ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, out), SDAE_ERR_STATE);
+      ck_assert_double_eq(out[0], 7.0);
+      ck_assert_double_eq(out[1], 7.0);
+    }
+  sdae_mbs_stepper_free(s);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_STATE), "");
+}
+END_TEST
+
+/* T <= 0 or not finite: SDAE_ERR_STEP, before and after a good step */
+START_TEST(bad_step_size) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  const double bad[5] = {0.0, -0.01, NAN, INFINITY, -INFINITY};
+  double q[2], v[2];
+  size_t done = 99;
+  pendulum_state(&p, 0.3, 0.5, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  for (int b = 0; b < 5; b++) expect_step_fails(s, 0.0, bad[b], q, v, 2, SDAE_ERR_STEP);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
+  for (int b = 0; b < 5; b++) expect_step_fails(s, 0.01, bad[b], q, v, 2, SDAE_ERR_STEP);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, -0.01, 3, 1, q, v, NULL, NULL, &done),
+                   SDAE_ERR_STEP);
+  ck_assert_uint_eq(done, 0);
+  sdae_mbs_stepper_free(s);
+  ck_assert_str_ne(sdae_strerror(SDAE_ERR_STEP), "");
+}
+END_TEST
+
+/* sdae_mbs_integrate stopped by a failure at step 4: q, v hold the state after step 3, exactly
+ * what three calls of sdae_mbs_step give, and steps_done says 3 */
+START_TEST(integrate_failure_keeps_last_good_state) {
+  faulty f = {{1.0, 1.0, 9.81, 0.2}, CB_FORCE, FAIL_FATAL, 0, 0};
+  sdae_mbs sys = faulty_mbs(&f);
+  sdae_options o = options(sdae_map_dgrad);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], q3[2], v3[2];
+  long calls[4];
+  size_t done = 99;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_state(&f.p, 0.3, 0.5, q3, v3);
+  for (int n = 0; n < 4; n++) {
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * n, 0.01, q3, v3), SDAE_OK);
+    calls[n] = f.calls;
+    if (n == 2) memcpy(q, q3, sizeof q), memcpy(v, v3, sizeof v);
+  }
+  sdae_mbs_stepper_free(s);
+  memcpy(q3, q, sizeof q), memcpy(v3, v, sizeof v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_state(&f.p, 0.3, 0.5, q, v);
+  f.calls = 0, f.fail_at = calls[2] + 1; /* the first call of step 4 */
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 10, 1, q, v, NULL, NULL, &done),
+                   SDAE_ERR_CALLBACK_FATAL);
+  ck_assert_uint_eq(done, 3);
+  ck_assert_mem_eq(q, q3, sizeof q);
+  ck_assert_mem_eq(v, v3, sizeof v);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, 3);
+  ck_assert_int_gt(calls[3], calls[2]);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("mbs_errors");
+  ADD_CASE(s, null_pointers);
+  ADD_CASE(s, bad_dimensions);
+  ADD_CASE(s, bad_options);
+  ADD_CASE(s, block_too_small);
+  ADD_CASE(s, map_without_potential);
+  ADD_CASE(s, map_with_moving_constraint);
+  ADD_CASE(s, redundant_constraints);
+  ADD_CASE(s, nearly_parallel_constraints_have_a_chart);
+  ADD_CASE(s, phi_inverse_has_no_solution);
+  ADD_CASE(s, mass_not_spd);
+  ADD_CASE(s, mass_fails);
+  ADD_CASE(s, force_fails);
+  ADD_CASE(s, constraint_fails);
+  ADD_CASE(s, jacobian_fails);
+  ADD_CASE(s, constraint_t_fails);
+  ADD_CASE(s, potential_fails);
+  ADD_CASE(s, damping_fails);
+  ADD_CASE(s, queries_report_callback_failures);
+  ADD_CASE(s, nonfinite_state);
+  ADD_CASE(s, bad_step_size);
+  ADD_CASE(s, integrate_failure_keeps_last_good_state);
+  return run_suite(s);
+}
