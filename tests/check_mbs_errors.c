@@ -244,10 +244,8 @@ END_TEST
  * exists: each entry of G_D^-1 G_I is a ratio of 2 x 2 minors of G (Cramer), so the chart
  * whose minor is the largest has measure <= 1 however close the rows are (the minors all scale
  * with 1e-6). At q = (0.6, -0.8, 0): the minors are m_xy = 0, m_xz = 0.6e-6,
- * m_yz = -0.8e-6, so the best chart is q_D = (y, z) with measure |m_xz / m_yz| = 0.75. (So no
- * such configuration can produce SDAE_ERR_CHART: that status needs a rank-deficient G in exact
- * arithmetic, which is SDAE_ERR_RANK.) Not 1e-10: there z = 1e10 (c2 - c1) puts the rounding
- * of c, 1e-17, at 1e-7 in q_D, and Phi^-1's Newton cannot settle (SDAE_ERR_PHI_INV). */
+ * m_yz = -0.8e-6, so the best chart is q_D = (y, z) with measure |m_xz / m_yz| = 0.75. The
+ * angle between the two gradients, about 1e-6, is above SDAE_MBS_CHART_MIN. */
 START_TEST(nearly_parallel_constraints_have_a_chart) {
   sphere p = {1e-6};
   sdae_mbs sys = sphere_mbs(&p);
@@ -262,6 +260,21 @@ START_TEST(nearly_parallel_constraints_have_a_chart) {
   ck_assert_uint_eq(dep[1], 2);
   ck_assert_double_eq_tol(sdae_mbs_stepper_stats(s)->chart_measure, 0.75, 1e-6);
   ck_assert_str_ne(sdae_strerror(SDAE_ERR_CHART), "");
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* c2 = c1 + 1e-10 z: the gradients' angle, 1e-10 / |(x, y)| = 1e-10, is below
+ * SDAE_MBS_CHART_MIN = 1e-8: z = 1e10 (c2 - c1) would put the rounding of c, 1e-17, at 1e-7 in
+ * q_D. No usable chart: SDAE_ERR_CHART, the state untouched. */
+START_TEST(nearly_dependent_constraints_have_no_chart) {
+  sphere p = {1e-10};
+  sdae_mbs sys = sphere_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[3] = {0.6, -0.8, 0.0}, v[3] = {0.8, 0.6, 0.0};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 1e-3, q, v, 3, SDAE_ERR_CHART);
   sdae_mbs_stepper_free(s);
 }
 END_TEST
@@ -580,6 +593,7 @@ int main(void) {
   ADD_CASE(s, map_with_moving_constraint);
   ADD_CASE(s, redundant_constraints);
   ADD_CASE(s, nearly_parallel_constraints_have_a_chart);
+  ADD_CASE(s, nearly_dependent_constraints_have_no_chart);
   ADD_CASE(s, phi_inverse_has_no_solution);
   ADD_CASE(s, mass_not_spd);
   ADD_CASE(s, mass_fails);
