@@ -84,6 +84,9 @@ static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o
   memset(s, 0, sizeof *s);
   s->sys = *sys;
   s->opt = *o;
+  /* an invalid tolerance stays, for the validation to refuse */
+  if (!sys->jacobian && o->newton_tol > 0.0 && o->newton_tol < SDAE_MBS_FD_NEWTON_TOL)
+    s->opt.newton_tol = SDAE_MBS_FD_NEWTON_TOL;
   s->n_q = sys->n_q;
   s->n_c = sys->n_c;
   s->n_f = sys->n_q - sys->n_c;
@@ -98,8 +101,8 @@ static int measure(const sdae_mbs *sys, const sdae_options *o, size_t *bytes, si
   int rc = validate(sys, o);
   if (rc != SDAE_OK) return rc;
   wire(&probe, sys, o);
-  if ((rc = sdae__stepper_validate(&probe.model, o)) != SDAE_OK) return rc;
-  if ((*inner = sdae_stepper_size(&probe.model, o)) == 0) return SDAE_ERR_OVERFLOW;
+  if ((rc = sdae__stepper_validate(&probe.model, &probe.opt)) != SDAE_OK) return rc;
+  if ((*inner = sdae_stepper_size(&probe.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
   carve(&probe, &a, *inner);
   return sdae__arena_bytes(&a, header_bytes() + alignof(max_align_t) - 1, bytes);
 }

@@ -45,7 +45,7 @@ int sdae__mbs_damping(sdae_mbs_stepper *s, double t, const double *q, double *D)
 
 /* a step h near h0 that x + h represents exactly */
 static double exact_step(double x, double h0) {
-  volatile double xh = x + h0;
+  double xh = x + h0;
   return xh - x;
 }
 

@@ -26,7 +26,9 @@ typedef struct sdae_mbs {
   int (*mass)(double t, const double *q, double *M, void *params); /* n_q x n_q, SPD */
   int (*force)(double t, const double *q, const double *v, double *F, void *params); /* n_q */
   int (*constraint)(double t, const double *q, double *c, void *params);            /* n_c */
-  /* optional: dc/dq, n_c x n_q; NULL: fourth-order central differences of c */
+  /* optional: dc/dq, n_c x n_q; NULL: fourth-order central differences of c. Without it the
+   * mu-dynamics difference those differences again (dG/dt), good to about 1e-10 only: an
+   * implicit map's Newton then stops at SDAE_MBS_FD_NEWTON_TOL if newton_tol is smaller */
   int (*jacobian)(double t, const double *q, double *G, void *params);
   /* optional: dc/dt, n_c; NULL: a fourth-order central difference in t (exactly 0 when c does
    * not depend on t) */
@@ -44,6 +46,9 @@ typedef struct sdae_mbs {
 #define SDAE_MBS_CHART_FACTOR 1.5
 /* No usable chart (SDAE_ERR_CHART): even the best one's measure is above this. */
 #define SDAE_MBS_CHART_MAX 1e8
+
+/* Newton's least tolerance for a mechanism without jacobian (see there). */
+#define SDAE_MBS_FD_NEWTON_TOL 1e-9
 
 typedef struct sdae_mbs_stepper sdae_mbs_stepper;
 
