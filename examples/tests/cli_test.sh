@@ -14,6 +14,16 @@
 #                                        EXPR is awk with the CSV columns as v["name"]
 #   cli_test.sh fail PROG ARGS...        a failure mid-run: exit 1, one line on stderr naming the
 #                                        step, the header and the rows so far kept in the file
+#   cli_test.sh agree PROG OTHER PAIRS TOL ARGS...
+#                                        PROG and OTHER both run with ARGS, exit 0, the same
+#                                        rows (t); PAIRS "a=b,c=d" names a column of PROG and
+#                                        the column of OTHER it must equal within |a - b| < TOL
+#   cli_test.sh advance PROG X Y MIN ARGS...
+#                                        exit 0 and the angle of (v[X], v[Y]), continued from
+#                                        row to row, advances by more than MIN (radians)
+#   cli_test.sh block MARKDOWN HEADING FILE
+#                                        the first ```c block after the line HEADING in
+#                                        MARKDOWN equals FILE without its first (SPDX) line
 #   cli_test.sh value PROG CODE KEY WANT TOL ARGS...
 #                                        exit CODE and a line "KEY: v" on stdout with
 #                                        |v - WANT| <= TOL
@@ -88,6 +98,46 @@ fail)
   [ "$(wc -l <"$dir/stderr")" -eq 1 ] || die "stderr is not exactly one line"
   grep -q 'step [0-9]' "$dir/stderr" || die "the message does not name the step"
   [ "$(wc -l <"$out")" -ge 2 ] || die "the rows computed so far were not kept"
+  exit 0
+  ;;
+agree)
+  other=$1 pairs=$2 tol=$3
+  shift 3
+  "$prog" --out "$out" "$@" || die "exit code $?"
+  "$other" --out "$dir/other.csv" "$@" || die "$other: exit code $?"
+  awk -F, -v pairs="$pairs" -v tol="$tol" '
+    FNR == 1 { for (i = 1; i <= NF; i++) col[FILENAME == ARGV[1], $i] = i; next }
+    FILENAME == ARGV[1] { for (i = 1; i <= NF; i++) a[FNR, i] = $i; rows = FNR; next }
+    { if (a[FNR, 1] != $1) { printf "row %d: t = %s vs %s\n", FNR, a[FNR, 1], $1; bad = 1 }
+      n = split(pairs, p, ",")
+      for (k = 1; k <= n; k++) {
+        split(p[k], ab, "="); d = a[FNR, col[1, ab[1]]] - $(col[0, ab[2]]); if (d < 0) d = -d
+        if (d > worst[k]) worst[k] = d
+        if (!(d < tol)) bad = 1 } }
+    END { if (FNR != rows) { print "row counts differ"; bad = 1 }
+      for (k = 1; k <= n; k++) printf "max |%s| = %.3g\n", p[k], worst[k]; exit bad }' \
+    "$out" "$dir/other.csv" || die "the programs differ by more than $tol"
+  exit 0
+  ;;
+advance)
+  x=$1 y=$2 min=$3
+  shift 3
+  "$prog" --out "$out" "$@" || die "exit code $?"
+  awk_with_columns "{ a = atan2(v[\"$y\"], v[\"$x\"]); pi = atan2(0, -1)
+      if (n++) { d = a - prev; while (d > pi) d -= 2 * pi; while (d < -pi) d += 2 * pi; sum += d }
+      prev = a }
+    END { printf \"%.6g over %d rows\\n\", sum, n; exit !(sum > $min || -sum > $min) }" "$out" \
+    >"$dir/advance" || die "the angle advanced by $(cat "$dir/advance"), not more than $min"
+  echo "the angle of ($x, $y) advanced by $(cat "$dir/advance") (more than $min)"
+  exit 0
+  ;;
+block)
+  heading=$1 file=$2
+  awk -v h="$heading" '$0 == h { found = 1; next }
+    found && !inside && /^```c$/ { inside = 1; next }
+    inside && /^```$/ { exit }
+    inside { print }' "$prog" >"$dir/block"
+  tail -n +2 "$file" | diff -u - "$dir/block" >&2 || die "the block under '$heading' differs from $file"
   exit 0
   ;;
 value)

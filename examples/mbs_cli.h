@@ -1,0 +1,33 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The driver of the mechanical programs (pendulum_mbs, double_pendulum, fourbar): the shared
+ * run settings and maps, and the integration through <stabdae/mbs.h> writing
+ * t,q1..qn,v1..vn,lambda1..lambdam,max_abs_c,E,switches with the exit codes of cli.h. */
+#ifndef STABDAE_EXAMPLES_MBS_CLI_H
+#define STABDAE_EXAMPLES_MBS_CLI_H
+
+#include <stabdae/mbs.h>
+
+#include "cli.h"
+
+/* every mechanism here has a potential, so every map but the user map */
+extern const char *const mbs_map_choices[];
+
+/* The defaults of the mechanical programs: delta 2, epsilon 1, T 0.001, tf 10, scheme 15,
+ * map dgrad, a row every step. */
+cli_run mbs_run_defaults(void);
+
+/* Appends the shared flags (cli_run_flags with mbs_map_choices) to dst. */
+size_t mbs_run_flags(cli_flag *dst, cli_run *run);
+
+typedef struct mbs_program {
+  const char *name;     /* for messages */
+  const sdae_mbs *sys;
+  double *q, *v;        /* the initial state (n_q each), updated in place */
+} mbs_program;
+
+/* Opens the output, builds the stepper and integrates run->nsteps steps, writing rows.
+ * Returns the exit code: 2 (no file left) when the library rejects the settings, 1 with the
+ * rows so far kept and one line naming the step when a step or a row fails, else 0. */
+int mbs_execute(const mbs_program *p, const cli_run *run);
+
+#endif /* STABDAE_EXAMPLES_MBS_CLI_H */
