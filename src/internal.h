@@ -92,6 +92,19 @@ struct sdae_stepper {
   double *phi;    /* n_mu: the map's value at the predictor */
 };
 
+/* SDAE_OK when the model and options make a stepper, the status saying why not otherwise */
+int sdae__stepper_validate(const sdae_model *m, const sdae_options *o);
+
+/* integrate.c: nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every
+ * `every`-th step and the last; step and observe receive ctx */
+typedef struct sdae_drive {
+  int (*step)(void *ctx, double t, double T);
+  int (*observe)(void *ctx, size_t step, double t); /* NULL: none; non-zero stops */
+  void *ctx;
+} sdae_drive;
+int sdae__drive(const sdae_drive *d, double t0, double T, size_t nsteps, size_t every,
+                size_t *steps_done);
+
 /* model.c: callbacks with their status and their outputs checked */
 /* The SUNDIALS rule: 0 success, > 0 recoverable, < 0 fatal. Inline, as sdae__all_finite: both
  * run on every callback, a few values each for small models. */
@@ -148,5 +161,10 @@ void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, si
 int sdae__lu_small_factor(double *A, unsigned *piv, size_t n);
 void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,
                           double *x);
+
+/* Symmetric positive definite A (n x n) in place: Cholesky's factor, SDAE_ERR_MASS when A is not
+ * symmetric positive definite to working precision; then x = A^-1 x with the factor. */
+int sdae__cholesky_factor(double *A, size_t n);
+void sdae__cholesky_solve(const double *LLT, size_t n, double *x);
 
 #endif /* STABDAE_INTERNAL_H */

@@ -148,3 +148,36 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
   default: break; /* refused by the factorization */
   }
 }
+
+/* ---- symmetric positive definite systems ----------------------------------------------------
+ * Cholesky's factorization, written out because GSL's reports a matrix that is not positive
+ * definite through its error handler, which aborts by default, and the library must return a
+ * status instead. The factor is laid out as gsl_linalg_cholesky_decomp1 leaves it (L below the
+ * diagonal, L^T above), so GSL's solves take it. A is taken as not symmetric positive definite
+ * when it is not symmetric to n eps of its largest entry or a pivot falls to n eps of it. */
+int sdae__cholesky_factor(double *A, size_t n) {
+  double scale = 0.0, tol;
+  for (size_t i = 0; i < n * n; i++) scale = fabs(A[i]) > scale ? fabs(A[i]) : scale;
+  tol = (double)n * DBL_EPSILON * scale;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < i; j++)
+      if (!(fabs(A[i * n + j] - A[j * n + i]) <= tol)) return SDAE_ERR_MASS;
+  for (size_t j = 0; j < n; j++) {
+    double d = A[j * n + j];
+    for (size_t k = 0; k < j; k++) d -= A[j * n + k] * A[j * n + k];
+    if (!(d > tol)) return SDAE_ERR_MASS;
+    A[j * n + j] = d = sqrt(d);
+    for (size_t i = j + 1; i < n; i++) {
+      double l = A[i * n + j];
+      for (size_t k = 0; k < j; k++) l -= A[i * n + k] * A[j * n + k];
+      A[i * n + j] = A[j * n + i] = l / d;
+    }
+  }
+  return SDAE_OK;
+}
+
+void sdae__cholesky_solve(const double *LLT, size_t n, double *x) {
+  gsl_matrix_const_view L = gsl_matrix_const_view_array(LLT, n, n);
+  gsl_vector_view X = gsl_vector_view_array(x, n);
+  gsl_linalg_cholesky_svx(&L.matrix, &X.vector);
+}

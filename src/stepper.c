@@ -25,7 +25,7 @@ void sdae_options_default(sdae_options *o) {
 
 static int positive_finite(double v) { return isfinite(v) && v > 0.0; }
 
-static int validate(const sdae_model *m, const sdae_options *o) {
+int sdae__stepper_validate(const sdae_model *m, const sdae_options *o) {
   const sdae_stabilizer_type *stab;
   int rc;
   if (!m || !o) return SDAE_ERR_NULL;
@@ -85,7 +85,7 @@ static int measure(const sdae_model *m, const sdae_options *o, size_t *bytes) {
 
 size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
   size_t bytes;
-  if (validate(m, o) != SDAE_OK || measure(m, o, &bytes) != SDAE_OK) return 0;
+  if (sdae__stepper_validate(m, o) != SDAE_OK || measure(m, o, &bytes) != SDAE_OK) return 0;
   return bytes;
 }
 
@@ -104,7 +104,7 @@ int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model 
   size_t bytes;
   int rc;
   if (!s || !mem) return SDAE_ERR_NULL;
-  if ((rc = validate(m, o)) != SDAE_OK) return rc;
+  if ((rc = sdae__stepper_validate(m, o)) != SDAE_OK) return rc;
   if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
   *s = build(mem, m, o);
@@ -117,7 +117,7 @@ int sdae_stepper_alloc_with(sdae_stepper **s, const sdae_model *m, const sdae_op
   void *mem;
   int rc;
   if (!s) return SDAE_ERR_NULL;
-  if ((rc = validate(m, o)) != SDAE_OK) return rc;
+  if ((rc = sdae__stepper_validate(m, o)) != SDAE_OK) return rc;
   if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
   if (!(mem = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
   *s = build(mem, m, o);
