@@ -5,7 +5,7 @@ returns one state per time in `times`: [q..., v...] in the examples' Cartesian c
 
   pendulum_exact       the Cartesian pendulum (c = (x^2 + y^2 - L^2)/2) from rest at theta0
                        from the bottom: exact.pendulum_exact's Jacobi sn mapped to (x, y, vx, vy)
-  pendulum_lambda      its multiplier in closed form, m (|v|^2 - ga y) / L^2
+  pendulum_lambda      its multiplier in closed form, m (|v|^2 - ga y) / |q|^2
   double_pendulum      two point masses, |p1| = L1, |p2 - p1| = L2: the Lagrangian ODE in the
                        angles from the downward vertical, by mpmath's Taylor-series solver
   bars                 any chain of bars c_j = (|p_a - p_b|^2 - l_j^2)/2 between masses or
@@ -31,10 +31,12 @@ def pendulum_exact(theta0, times, L=1.0, m=1.0, ga=9.81, dps=30):
 
 
 def pendulum_lambda(state, L=1.0, m=1.0, ga=9.81):
-    """lambda of m v' = (0, -m ga) - q lambda on |q| = L: q.v' = -|v|^2 (the second derivative
-    of c) gives lambda = (q.F + m |v|^2) / L^2."""
+    """lambda of m v' = (0, -m ga) - q lambda with c'' = 0: q.v' = -|v|^2 gives
+    lambda = (q.F + m |v|^2) / |q|^2 (|q|^2 = L^2 on the circle; off it, the library's
+    (G M^-1 G^T)^-1 (G M^-1 F + gamma) is the same)."""
+    del L  # the formula holds off the circle too
     x, y, vx, vy = state
-    return m * (vx * vx + vy * vy - ga * y) / (L * L)
+    return m * (vx * vx + vy * vy - ga * y) / (x * x + y * y)
 
 
 def double_pendulum(theta0, omega0, times, L1=1.0, L2=1.0, m1=1.0, m2=1.0, ga=9.81, dps=25):
