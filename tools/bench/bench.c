@@ -10,6 +10,11 @@
  * interposed and counted while steps run: the library promises none. A last section checks the
  * conservation of W by dgrad, dg4 and dg6 over 10^6 steps (d = 0, on the manifold).
  *
+ * The mechanical front-end (<stabdae/mbs.h>, sdae_mbs_step) is timed on the Cartesian pendulum
+ * (beside the hand-written pendulum model, the same map: their ratio), the Cartesian double
+ * pendulum and a four-bar, with the mechanisms' callbacks defined here (point masses joined by
+ * bars) and their evaluations counted per step.
+ *
  * The table goes to stdout and, in full mode, to the Markdown report (default
  * build/report/bench.md) with the machine, the date and the command. --smoke runs every case
  * briefly (a second or two) for ctest: it fails (exit 1) on a failed step or an allocation,
@@ -25,6 +30,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <stabdae/mbs.h>
 #include <stabdae/stabdae.h>
 
 #include "chain_model.h"
@@ -63,7 +69,7 @@ void *realloc(void *p, size_t n) {
 
 /* ---- the cases ------------------------------------------------------------------------------ */
 
-typedef enum model_kind { OSCILLATOR, PENDULUM, CHAIN } model_kind;
+typedef enum model_kind { OSCILLATOR, PENDULUM, CHAIN, MBS_PENDULUM, MBS_DOUBLE, MBS_FOURBAR } model_kind;
 
 typedef struct bench_case {
   model_kind kind;
@@ -130,6 +136,10 @@ static int problem_init(problem *P, const bench_case *c) {
     if (chain_random_start(&P->chain, 1, P->x)) return -1;
     chain_to_coords(&P->chain, P->x, P->xi0, P->mu0);
     return 0;
+  case MBS_PENDULUM: /* measure_mbs's: no model of the normal form */
+  case MBS_DOUBLE:
+  case MBS_FOURBAR:
+    break;
   }
   return -1;
 }
@@ -167,6 +177,139 @@ static int run_steps(sdae_stepper *s, problem *P, size_t nsteps, double *ns) {
   return rc;
 }
 
+/* ---- the front-end's mechanisms: point masses in the plane joined by bars ------------------ */
+
+/* c_j = (|p_a - p_b|^2 - len^2)/2 between mass a and mass b, or the fixed point at when b < 0 */
+typedef struct bar {
+  int a, b;
+  double at[2], len;
+} bar;
+
+enum { EV_MASS, EV_FORCE, EV_CONSTRAINT, EV_JACOBIAN, EV_POTENTIAL, EV_KINDS };
+
+typedef struct mechanism {
+  size_t n_masses, n_bars;
+  double m[2], ga;
+  bar bars[3];
+  unsigned long evals[EV_KINDS]; /* callback evaluations, for the cost per step */
+} mechanism;
+
+static int mech_mass(double t, const double *q, double *M, void *params) {
+  mechanism *k = params;
+  size_t n = 2 * k->n_masses;
+  (void)t, (void)q;
+  k->evals[EV_MASS]++;
+  for (size_t i = 0; i < n * n; i++) M[i] = 0.0;
+  for (size_t i = 0; i < n; i++) M[i * n + i] = k->m[i / 2];
+  return 0;
+}
+
+static int mech_force(double t, const double *q, const double *v, double *F, void *params) {
+  mechanism *k = params;
+  (void)t, (void)q, (void)v;
+  k->evals[EV_FORCE]++;
+  for (size_t i = 0; i < k->n_masses; i++) F[2 * i] = 0.0, F[2 * i + 1] = -k->m[i] * k->ga;
+  return 0;
+}
+
+static void bar_vector(const bar *b, const double *q, double d[2]) {
+  const double *pb = b->b < 0 ? b->at : q + 2 * b->b;
+  d[0] = q[2 * b->a] - pb[0], d[1] = q[2 * b->a + 1] - pb[1];
+}
+
+static int mech_constraint(double t, const double *q, double *c, void *params) {
+  mechanism *k = params;
+  (void)t;
+  k->evals[EV_CONSTRAINT]++;
+  for (size_t j = 0; j < k->n_bars; j++) {
+    double d[2];
+    bar_vector(&k->bars[j], q, d);
+    c[j] = 0.5 * (d[0] * d[0] + d[1] * d[1] - k->bars[j].len * k->bars[j].len);
+  }
+  return 0;
+}
+
+static int mech_jacobian(double t, const double *q, double *G, void *params) {
+  mechanism *k = params;
+  size_t n = 2 * k->n_masses;
+  (void)t;
+  k->evals[EV_JACOBIAN]++;
+  for (size_t j = 0; j < k->n_bars; j++) {
+    const bar *b = &k->bars[j];
+    double d[2], *row = G + j * n;
+    bar_vector(b, q, d);
+    for (size_t i = 0; i < n; i++) row[i] = 0.0;
+    row[2 * b->a] = d[0], row[2 * b->a + 1] = d[1];
+    if (b->b >= 0) row[2 * b->b] = -d[0], row[2 * b->b + 1] = -d[1];
+  }
+  return 0;
+}
+
+static int mech_potential(double t, const double *q, double *V, void *params) {
+  mechanism *k = params;
+  (void)t;
+  k->evals[EV_POTENTIAL]++;
+  *V = 0.0;
+  for (size_t i = 0; i < k->n_masses; i++) *V += k->m[i] * k->ga * q[2 * i + 1];
+  return 0;
+}
+
+/* A four-bar: ground pivots A = (0, 0) and D = (2, 0), crank AB 1, coupler BC 2, rocker CD 1.5
+ * (a crank-rocker); B straight above A, C where the circles about B and D meet above. */
+static void fourbar_start(double *q) {
+  const double B[2] = {0.0, 1.0}, D[2] = {2.0, 0.0}, r1 = 2.0, r2 = 1.5;
+  double e[2] = {D[0] - B[0], D[1] - B[1]}, d = hypot(e[0], e[1]);
+  double a = (r1 * r1 - r2 * r2 + d * d) / (2 * d), h = sqrt(r1 * r1 - a * a);
+  e[0] /= d, e[1] /= d;
+  q[0] = B[0], q[1] = B[1];
+  q[2] = B[0] + a * e[0] - h * e[1], q[3] = B[1] + a * e[1] + h * e[0];
+}
+
+/* The mechanism of kind, its start (from rest) and n_q. */
+static size_t mechanism_init(mechanism *k, model_kind kind, double *q) {
+  static const bar pendulum[1] = {{0, -1, {0.0, 0.0}, 1.0}};
+  static const bar doubled[2] = {{0, -1, {0.0, 0.0}, 1.0}, {1, 0, {0.0, 0.0}, 1.0}};
+  static const bar fourbar[3] = {{0, -1, {0.0, 0.0}, 1.0}, {1, 0, {0.0, 0.0}, 2.0},
+                                 {1, -1, {2.0, 0.0}, 1.5}};
+  memset(k, 0, sizeof *k);
+  k->m[0] = k->m[1] = 1.0, k->ga = 9.81;
+  if (kind == MBS_PENDULUM) { /* the hand-written pendulum's start: rest at 0.5 rad */
+    k->n_masses = 1, k->n_bars = 1, memcpy(k->bars, pendulum, sizeof pendulum);
+    q[0] = sin(0.5), q[1] = -cos(0.5);
+  } else if (kind == MBS_DOUBLE) { /* rest at angles (1, 1.5) from the downward vertical */
+    k->n_masses = 2, k->n_bars = 2, memcpy(k->bars, doubled, sizeof doubled);
+    q[0] = sin(1.0), q[1] = -cos(1.0), q[2] = q[0] + sin(1.5), q[3] = q[1] - cos(1.5);
+  } else {
+    k->n_masses = 2, k->n_bars = 3, memcpy(k->bars, fourbar, sizeof fourbar);
+    fourbar_start(q);
+  }
+  return 2 * k->n_masses;
+}
+
+static void mechanism_sys(sdae_mbs *sys, mechanism *k) {
+  memset(sys, 0, sizeof *sys);
+  sys->n_q = 2 * k->n_masses, sys->n_c = k->n_bars;
+  sys->mass = mech_mass, sys->force = mech_force, sys->constraint = mech_constraint;
+  sys->jacobian = mech_jacobian, sys->potential = mech_potential, sys->params = k;
+}
+
+static int is_mbs(model_kind k) { return k == MBS_PENDULUM || k == MBS_DOUBLE || k == MBS_FOURBAR; }
+
+/* nsteps front-end steps from the start (q0, v0 = 0) */
+static int run_mbs_steps(sdae_mbs_stepper *s, const double *q0, size_t n_q, size_t nsteps,
+                         double *ns) {
+  double q[4], v[4] = {0.0, 0.0, 0.0, 0.0};
+  int rc = SDAE_OK;
+  memcpy(q, q0, n_q * sizeof(double));
+  double t0 = now_ns();
+  counting = 1;
+  for (size_t i = 0; i < nsteps && rc == SDAE_OK; i++)
+    rc = sdae_mbs_step(s, (double)i * step_T, step_T, q, v);
+  counting = 0;
+  *ns = now_ns() - t0;
+  return rc;
+}
+
 typedef struct result {
   const bench_case *c;
   size_t steps;
@@ -174,13 +317,48 @@ typedef struct result {
   double iters_step;   /* Newton iterations per step */
   long allocs;
   int rc;
+  /* the front-end: callback evaluations, Phi^-1 iterations per step, chart switches */
+  double evals_step[EV_KINDS], phi_inv_step;
+  unsigned long switches;
 } result;
 
 enum { MAX_REPS = 101 };
 
+static result measure_mbs(const bench_case *c, size_t steps, int reps) {
+  result r = {.c = c, .steps = steps, .rc = SDAE_ERR_NOMEM};
+  mechanism k;
+  sdae_mbs sys;
+  sdae_options opt;
+  sdae_mbs_stepper *s = NULL;
+  double q0[4], t[MAX_REPS];
+  size_t n_q = mechanism_init(&k, c->kind, q0);
+  mechanism_sys(&sys, &k);
+  sdae_options_default(&opt);
+  opt.delta = 2.0, opt.epsilon = 1.0, opt.scheme = c->scheme, opt.map = sdae_map_by_name(c->map);
+  if ((r.rc = sdae_mbs_stepper_alloc(&s, &sys, &opt)) != SDAE_OK) return r;
+  allocations = 0;
+  r.rc = run_mbs_steps(s, q0, n_q, steps, &t[0]); /* warm-up */
+  sdae_mbs_stepper_reset_stats(s);
+  memset(k.evals, 0, sizeof k.evals);
+  for (int i = 0; i < reps && r.rc == SDAE_OK; i++) r.rc = run_mbs_steps(s, q0, n_q, steps, &t[i]);
+  r.allocs = allocations;
+  if (r.rc == SDAE_OK) {
+    const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
+    double total = (double)steps * reps;
+    r.ns_step = median(t, (size_t)reps) / (double)steps;
+    r.iters_step = (double)st->step.newton_iters_total / total;
+    r.phi_inv_step = (double)st->phi_inv_iters / total;
+    r.switches = st->chart_switches;
+    for (int e = 0; e < EV_KINDS; e++) r.evals_step[e] = (double)k.evals[e] / total;
+  }
+  sdae_mbs_stepper_free(s);
+  return r;
+}
+
 static result measure(const bench_case *c, size_t steps, int reps) {
   result r = {.c = c, .steps = steps, .rc = SDAE_ERR_NOMEM};
   problem P;
+  if (is_mbs(c->kind)) return measure_mbs(c, steps, reps);
   sdae_stepper *s = NULL;
   double t[MAX_REPS];
   if (problem_init(&P, c) == 0 && (r.rc = sdae_stepper_alloc(&s, &P.model, &P.opt)) == SDAE_OK) {
@@ -234,7 +412,9 @@ static drift w_drift(const char *map, const sdae_map_type *type, size_t steps) {
 /* ---- report ---------------------------------------------------------------------------------- */
 
 static const char *model_name(model_kind k) {
-  return k == OSCILLATOR ? "oscillator" : k == PENDULUM ? "pendulum" : "chain";
+  static const char *const names[] = {"oscillator",   "pendulum",        "chain",
+                                      "pendulum_mbs", "double_pendulum", "fourbar"};
+  return names[k];
 }
 
 static void cpu_model(char *out, size_t len) {
@@ -314,6 +494,34 @@ static void print_targets(FILE *f, const result *res, size_t n, const drift *dr,
 #endif
 }
 
+/* The front-end's cases: their cost per step against the hand-written pendulum of the same map
+ * (target: at most 3x), and the callback evaluations that make it. */
+static void print_mbs(FILE *f, const result *res, size_t n) {
+  int header = 0;
+  for (size_t i = 0; i < n; i++) {
+    const result *r = &res[i];
+    if (!is_mbs(r->c->kind) || r->rc != SDAE_OK) continue;
+    if (!header++)
+      fprintf(f, "\n| front-end | map | ns/step | hand-written pendulum | ratio | target <= 3x | "
+                 "M | F | c | G | V per step | Phi^-1 it/step | Newton it/step | "
+                 "chart switches |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
+                 "---:|---:|\n");
+    const result *h = r->c->kind == MBS_PENDULUM
+                          ? find(res, n, PENDULUM, r->c->map, r->c->scheme, 1)
+                          : NULL;
+    fprintf(f, "| %s | %s | %.1f | ", model_name(r->c->kind), r->c->map, r->ns_step);
+    if (h)
+      fprintf(f, "%.1f | %.2fx | %s | ", h->ns_step, r->ns_step / h->ns_step,
+              verdict(r->ns_step <= 3.0 * h->ns_step));
+    else
+      fprintf(f, "| | | ");
+    fprintf(f, "%.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %lu |\n",
+            r->evals_step[EV_MASS], r->evals_step[EV_FORCE], r->evals_step[EV_CONSTRAINT],
+            r->evals_step[EV_JACOBIAN], r->evals_step[EV_POTENTIAL], r->phi_inv_step,
+            r->iters_step, r->switches);
+  }
+}
+
 static void print_header(FILE *f, int argc, char **argv, int reps) {
   char cpu[256], date[64];
   time_t now = time(NULL);
@@ -347,6 +555,11 @@ static size_t make_cases(bench_case *out) {
     for (size_t i = 0; i < 5; i++) /* about 2e6 mass-steps per repetition */
       out[n++] = (bench_case){CHAIN, m ? "dgrad" : "euler", SDAE_SCHEME_SEMI_IMPLICIT, chain_N[i],
                               chain_N[i] < 100000 ? 2000000 / chain_N[i] : 20};
+  for (size_t m = 0; m < 3; m++) { /* the front-end, the hand-written pendulum's maps */
+    out[n++] = (bench_case){MBS_PENDULUM, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 1, 100000};
+    out[n++] = (bench_case){MBS_DOUBLE, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
+    out[n++] = (bench_case){MBS_FOURBAR, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
+  }
   return n;
 }
 
@@ -429,6 +642,7 @@ static int write_report(const char *path, int argc, char **argv, int reps, const
   print_header(f, argc, argv, reps);
   print_table(f, res, n);
   print_targets(f, res, n, dr, ndr, allocs);
+  print_mbs(f, res, n);
   return fclose(f) == 0 ? 0 : -1;
 }
 
@@ -441,8 +655,8 @@ int main(int argc, char **argv) {
   if (!report && !smoke) report = BENCH_REPORT;
   if (reps == 0) reps = smoke ? 3 : 7;
 
-  bench_case cases[32];
-  result res[32];
+  bench_case cases[48];
+  result res[48];
   size_t n = select_cases(cases, make_cases(cases), only);
   long allocs = 0;
   for (size_t i = 0; i < n; i++) {
@@ -464,6 +678,7 @@ int main(int argc, char **argv) {
   print_header(stdout, argc, argv, reps);
   print_table(stdout, res, n);
   print_targets(stdout, res, n, dr, ndr, allocs);
+  print_mbs(stdout, res, n);
   if (report && write_report(report, argc, argv, reps, res, n, dr, ndr, allocs)) return 1;
   if (failed) fprintf(stderr, "bench: a case failed (see the table)\n");
   if (allocs) fprintf(stderr, "bench: %ld heap allocations while stepping\n", allocs);

@@ -11,6 +11,9 @@ float64 and mpmath) and the SUNDIALS IDA reference (build/tools/ida_reference), 
      step bound on a constant gain
   d  conservation of W by dgrad over 1e6 steps, IDA's energy drift       (check_energy)
   e  constraint drift: index reduction, Baumgarte, the paper          (check_drift)
+  f  the mechanical front-end's examples (pendulum_mbs,               (check_mbs)
+     double_pendulum): orders against the exact pendulum and the
+     double pendulum in angles, energy by dgrad, constraint drift
 
 and writes a Markdown report with PNG plots (report). Modules: runs (running the three
 implementations), profiles (the fast and full settings), plots, report, main.

@@ -12,8 +12,8 @@ import time
 
 from stabdae_ref import stepper
 
-from . import (check_drift, check_energy, check_offmanifold, check_order, check_scheme,
-               profiles, report, runs)
+from . import (check_drift, check_energy, check_mbs, check_offmanifold, check_order,
+               check_scheme, profiles, report, runs)
 
 CHECKS = collections.OrderedDict([
     ("a", ("same discrete scheme: C against mpmath", check_scheme.check)),
@@ -21,7 +21,10 @@ CHECKS = collections.OrderedDict([
     ("c", ("off the manifold: decay of xi, scheme 11's step bound", check_offmanifold.check)),
     ("d", ("energy: dgrad over many steps, IDA's drift", check_energy.check)),
     ("e", ("constraint drift: index reduction, Baumgarte, the paper", check_drift.check)),
+    ("f", ("mechanical front-end: orders, energy, drift against mpmath", check_mbs.check)),
 ])
+# the programs each check runs (besides the examples every check needs)
+PROGRAMS = {"f": ("examples/pendulum_mbs", "examples/double_pendulum")}
 
 Context = collections.namedtuple("Context", "build outdir profile workers")
 
@@ -43,8 +46,9 @@ def parse(argv):
         p.error("--only: unknown check(s) %s (known: %s)" % (",".join(unknown), ",".join(CHECKS)))
     if args.workers < 1:
         p.error("--workers must be >= 1")
+    extra = tuple(exe for key in args.only for exe in PROGRAMS.get(key, ()))
     for exe in ("examples/oscillator", "examples/pendulum", "examples/chain",
-                "tools/ida_reference"):
+                "tools/ida_reference") + extra:
         if not os.access(os.path.join(args.build, exe), os.X_OK):
             p.error("%s/%s is missing: build first (cmake -S . -B build && cmake --build "
                     "build)" % (args.build, exe))
