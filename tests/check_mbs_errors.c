@@ -406,13 +406,16 @@ static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL,
                                             SDAE_ERR_NONFINITE};
 
 /* After one good step, the second step with callback `which` failing at its k-th call there,
- * for k = the first, a middle and the last of the calls a good second step makes: the step
- * fails with the callback's status and leaves everything as it was. */
-static void expect_callback_failures(int which) {
+ * for k = the first, the second, a middle and the last of the calls a good second step makes:
+ * the step fails with the callback's status and leaves everything as it was. With
+ * `differences`, without jacobian and constraint_t: the constraint is then also called inside
+ * their differences (its second call is the first of G's). */
+static void expect_failures(int which, int differences) {
   for (int how = 0; how < FAIL_COUNT; how++) {
-    long calls_in_step, tries[3];
+    long calls_in_step, tries[4];
     faulty f = {{1.0, 1.0, 9.81, 0.2}, which, how, 0, 0};
     sdae_mbs sys = faulty_mbs(&f);
+    if (differences) sys.jacobian = NULL, sys.constraint_t = NULL;
     sdae_options o = options(sdae_map_dgrad);
     sdae_mbs_stepper *s;
     double q[2], v[2];
@@ -425,8 +428,8 @@ static void expect_callback_failures(int which) {
     calls_in_step = f.calls;
     sdae_mbs_stepper_free(s);
     ck_assert_int_gt(calls_in_step, 0); /* every callback takes part in a dgrad step */
-    tries[0] = 1, tries[1] = (calls_in_step + 1) / 2, tries[2] = calls_in_step;
-    for (int k = 0; k < 3; k++) {
+    tries[0] = 1, tries[1] = 2, tries[2] = (calls_in_step + 1) / 2, tries[3] = calls_in_step;
+    for (int k = 0; k < 4; k++) {
       ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
       pendulum_state(&f.p, 0.3, 0.5, q, v);
       f.fail_at = 0;
@@ -440,6 +443,8 @@ static void expect_callback_failures(int which) {
   for (int how = 0; how < FAIL_COUNT; how++) ck_assert_str_ne(sdae_strerror(want_status[how]), "");
 }
 
+static void expect_callback_failures(int which) { expect_failures(which, 0); }
+
 START_TEST(mass_fails) { expect_callback_failures(CB_MASS); }
 END_TEST
 
@@ -450,6 +455,9 @@ START_TEST(constraint_fails) { expect_callback_failures(CB_CONSTRAINT); }
 END_TEST
 
 START_TEST(jacobian_fails) { expect_callback_failures(CB_JACOBIAN); }
+END_TEST
+
+START_TEST(constraint_fails_in_differences) { expect_failures(CB_CONSTRAINT, 1); }
 END_TEST
 
 START_TEST(constraint_t_fails) { expect_callback_failures(CB_CONSTRAINT_T); }
@@ -600,6 +608,7 @@ int main(void) {
   ADD_CASE(s, force_fails);
   ADD_CASE(s, constraint_fails);
   ADD_CASE(s, jacobian_fails);
+  ADD_CASE(s, constraint_fails_in_differences);
   ADD_CASE(s, constraint_t_fails);
   ADD_CASE(s, potential_fails);
   ADD_CASE(s, damping_fails);
