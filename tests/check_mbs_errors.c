@@ -279,6 +279,29 @@ START_TEST(nearly_dependent_constraints_have_no_chart) {
 }
 END_TEST
 
+/* The pendulum's chart after a step near the bottom is q_D = y (|y| > |x|). A step from the
+ * horizontal, q = (1, 0), finds that chart's G_D = y = 0 singular: the chart must be replaced
+ * by q_D = x (measure 0), the step succeed, and the constraint stay at rounding. */
+START_TEST(singular_current_chart_is_replaced) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2] = {0.0, -1.0}, v[2] = {0.5, 0.0}, h[2] = {1.0, 0.0}, hv[2] = {0.0, 0.5};
+  size_t dep[1];
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+  ck_assert_uint_eq(dep[0], 1);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, h, hv), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+  ck_assert_uint_eq(dep[0], 0);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->chart_switches, 1);
+  ck_assert_double_le(fabs(h[0] * h[0] + h[1] * h[1] - 1.0), 1e-15);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* Phi^-1 with no solution: the pendulum at the bottom, q = (0, -1), moving sideways at 10 m/s,
  * chart q_D = y (measure |x/y| = 0). The euler map moves q_I = x to 0 + T 10 = 2 with T = 0.2;
  * then c = xi_1 = 0 asks y^2 = 1 - 4 < 0: no real q_D, so Newton must fail. */
@@ -602,6 +625,7 @@ int main(void) {
   ADD_CASE(s, redundant_constraints);
   ADD_CASE(s, nearly_parallel_constraints_have_a_chart);
   ADD_CASE(s, nearly_dependent_constraints_have_no_chart);
+  ADD_CASE(s, singular_current_chart_is_replaced);
   ADD_CASE(s, phi_inverse_has_no_solution);
   ADD_CASE(s, mass_not_spd);
   ADD_CASE(s, mass_fails);

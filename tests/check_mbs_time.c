@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanical front-end with time everywhere: a bead of mass m(t) = 1 + 0.3 sin 2t on a wire
  * that turns at rate w and shifts, c(t, q) = -sin(w t) x + cos(w t) y - a sin t, pulled to the
- * origin by a spring k and by a constant force -g0 along y. A wrong time in the mass, the
+ * origin by a spring k and by a force -g0 (1 + sin t / 2) along y. A wrong time in the mass, the
  * constraint, its derivatives or the step changes the trajectory; the reference is the index-1
  * ODE M v' = F - G^T lambda with lambda from G v' + gamma = 0 (gamma in closed form here),
  * integrated by GSL's rk8pd to 1e-13. */
@@ -27,9 +27,9 @@ static int mass(double t, const double *q, double *M, void *p) {
 }
 
 static int force(double t, const double *q, const double *v, double *F, void *p) {
-  (void)t, (void)v, (void)p;
+  (void)v, (void)p;
   F[0] = -k * q[0];
-  F[1] = -k * q[1] - g0;
+  F[1] = -k * q[1] - g0 * (1.0 + 0.5 * sin(t));
   return 0;
 }
 
