@@ -76,8 +76,9 @@ int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x) {
   return SDAE_ERR_NEWTON;
 }
 
-static double max_abs(const double *v, size_t n) {
-  double m = 0.0;
+/* max(1, |v|_inf): a size, the unit scale its floor */
+static double size_of(const double *v, size_t n) {
+  double m = 1.0;
   for (size_t i = 0; i < n; i++) m = fmax(m, fabs(v[i]));
   return m;
 }
@@ -93,7 +94,7 @@ int sdae__coords_mu_rate(sdae_coords *c, double t, const double *x, double *out)
   size_t n = c->n, n_xi = c->n_xi;
   int rc = sdae__dae_call(d->f, t, x, c->fx, n, d->params);
   if (rc != SDAE_OK) return rc;
-  double s = pow(DBL_EPSILON, 0.2) * fmax(1.0, max_abs(x, n)) / fmax(1.0, max_abs(c->fx, n));
+  double s = pow(DBL_EPSILON, 0.2) * size_of(x, n) / size_of(c->fx, n);
   memset(out, 0, (n - n_xi) * sizeof *out);
   for (int k = 0; k < 4; k++) {
     for (size_t i = 0; i < n; i++) c->xa[i] = x[i] + at[k] * s * c->fx[i];

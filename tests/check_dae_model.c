@@ -150,14 +150,16 @@ END_TEST
 
 /* ---- a time-dependent DAE with closed forms ----
  * x = (y, v), f = (a v, -y^3/c^2 + w cos t), g = (1, -(t + cos(y/c))), xi = y,
- * mu = v + t y + c sin(y/c) (L_g mu = 0; c the scale of x). Phi^-1: y = xi,
- * v = mu - t xi - c sin(xi/c); mu_dot = y + (t + cos(y/c)) a v - y^3/c^2 + w cos t, so
- *   G(t, xi, mu) = xi + (t + cos(xi/c)) a (mu - t xi - c sin(xi/c)) - xi^3/c^2 + w cos t,
- * q0 = G(t, 0, mu), Q xi = G(t, xi, mu) - G(t, 0, mu), q_1 = Q xi / xi. mu(t + s, x + s f) is
- * not a polynomial in s (the sine), so the difference's truncation is there. */
+ * mu = v + t y + c sin(y/c) + b sin t (L_g mu = 0; c the scale of x). Phi^-1: y = xi,
+ * v = mu - t xi - c sin(xi/c) - b sin t; mu_dot = y + (t + cos(y/c)) a v - y^3/c^2 + w cos t +
+ * b cos t, so G(t, xi, mu) is mu_dot at that point, q0 = G(t, 0, mu),
+ * Q xi = G(t, xi, mu) - G(t, 0, mu), q_1 = Q xi / xi. mu(t + s, x + s f) is not a polynomial in
+ * s (the sines), so the difference's truncation is there. */
 typedef struct tdae {
-  double w, c, a;
-  int jac; /* Phi_jac given */
+  double w, c, a, b;
+  int jac;      /* Phi_jac given */
+  int analytic; /* mu_dot given */
+  int still;    /* mu follows t so that v = 0 at xi = 0: x and f of size |xi| at q0 */
 } tdae;
 
 static int td_f(double t, const double *x, double *out, void *params) {
@@ -175,7 +177,7 @@ static int td_g(double t, const double *x, double *out, void *params) {
 
 static int td_Phi(double t, const double *x, double *z, void *params) {
   const tdae *p = params;
-  z[0] = x[0], z[1] = x[1] + t * x[0] + p->c * sin(x[0] / p->c);
+  z[0] = x[0], z[1] = x[1] + t * x[0] + p->c * sin(x[0] / p->c) + p->b * sin(t);
   return 0;
 }
 
@@ -185,24 +187,33 @@ static int td_Phi_jac(double t, const double *x, double *J, void *params) {
   return 0;
 }
 
+static double td_rate(const tdae *p, double t, double y, double v) {
+  return y + (t + cos(y / p->c)) * p->a * v - y * y * y / (p->c * p->c) + p->w * cos(t) +
+         p->b * cos(t);
+}
+
+static int td_mu_dot(double t, const double *x, double *out, void *params) {
+  out[0] = td_rate(params, t, x[0], x[1]);
+  return 0;
+}
+
 static double td_G(const tdae *p, double t, double xi, double mu) {
-  double c = p->c;
-  return xi + (t + cos(xi / c)) * p->a * (mu - t * xi - c * sin(xi / c)) - xi * xi * xi / (c * c) +
-         p->w * cos(t);
+  return td_rate(p, t, xi, mu - t * xi - p->c * sin(xi / p->c) - p->b * sin(t));
 }
 
 /* at t = 0, 0.37, ..., 2.96: q0, Q xi and |q_1| within tol of the terms' size */
 static void td_check(tdae p, double xi, double mu, double tol) {
   sdae_dae dae = {2, 1, td_f, td_g, td_Phi, NULL, p.jac ? td_Phi_jac : NULL, &p};
   sdae_dae_model *d = NULL;
-  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 1, NULL, NULL), SDAE_OK);
+  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 1, p.analytic ? td_mu_dot : NULL, NULL),
+                   SDAE_OK);
   const sdae_model *m = sdae_dae_model_get(d);
   for (double t = 0.0; t < 3.0; t += 0.37) {
-    double q0, Qxi, qn2, want_q0 = td_G(&p, t, 0.0, mu);
-    double want_Qxi = td_G(&p, t, xi, mu) - want_q0;
+    double q0, Qxi, qn2, mu_t = p.still ? p.b * sin(t) : mu;
+    double want_q0 = td_G(&p, t, 0.0, mu_t), want_Qxi = td_G(&p, t, xi, mu_t) - want_q0;
     double size = fabs(want_q0) + fabs(want_Qxi);
-    ck_assert_int_eq(m->q0(t, &mu, &q0, m->params), 0);
-    ck_assert_int_eq(m->Q_apply(t, &xi, &mu, &Qxi, &qn2, m->params), 0);
+    ck_assert_int_eq(m->q0(t, &mu_t, &q0, m->params), 0);
+    ck_assert_int_eq(m->Q_apply(t, &xi, &mu_t, &Qxi, &qn2, m->params), 0);
     ck_assert_double_le(fabs(q0 - want_q0), tol * size);
     ck_assert_double_le(fabs(Qxi - want_Qxi), tol * size);
     ck_assert_double_le(fabs(sqrt(qn2) - fabs(want_Qxi / xi)) * fabs(xi), tol * size);
@@ -210,20 +221,24 @@ static void td_check(tdae p, double xi, double mu, double tol) {
   sdae_dae_model_free(d);
 }
 
-/* the time reaches Phi, f and the difference in t; 1e-10 as for the examples' FD cases */
+/* the time reaches Phi, f, mu_dot and the difference in t: 1e-12 with mu_dot (rounding), 1e-10
+ * with the difference as for the examples */
 START_TEST(time_dependent) {
-  td_check((tdae){1.0, 1.0, 1.0, 0}, 0.4, -0.7, 1e-10);
-  td_check((tdae){1.0, 1.0, 1.0, 1}, 0.4, -0.7, 1e-10);
+  td_check((tdae){1.0, 1.0, 1.0, 0.5, 0, 0, 0}, 0.4, -0.7, 1e-10);
+  td_check((tdae){1.0, 1.0, 1.0, 0.5, 1, 0, 0}, 0.4, -0.7, 1e-10);
+  td_check((tdae){1.0, 1.0, 1.0, 0.5, 1, 1, 0}, 0.4, -0.7, 1e-12);
 }
 END_TEST
 
 /* The difference's step s follows the motion: y' = a v with a = 1e5 makes s 1e5 times shorter,
  * or y would move 50 units across the sine (an error of the size of the terms); x and f of
  * 1e4 with the sine's scale c = 1e4 leave s at eps^(1/5), or the rounding of x + s f (eps |x|)
- * over s would be 2e-9 of the terms. */
+ * over s would be 2e-9 of the terms. A slow motion (|f| = 1e-9) of a small x (1e-3) keeps s at
+ * eps^(1/5): not 1e9 times longer across sin t, nor 1e3 times shorter (rounding 3e-10). */
 START_TEST(fd_step_scaled) {
-  td_check((tdae){1.0, 1.0, 1e5, 0}, 0.4, -0.7, 1e-10);
-  td_check((tdae){1e4, 1e4, 1.0, 0}, 4e3, -7e3, 1e-10);
+  td_check((tdae){1.0, 1.0, 1e5, 0.0, 0, 0, 0}, 0.4, -0.7, 1e-10);
+  td_check((tdae){1e4, 1e4, 1.0, 0.0, 0, 0, 0}, 4e3, -7e3, 1e-10);
+  td_check((tdae){0.0, 1.0, 1e-6, 1.0, 0, 0, 1}, 1e-3, 0.0, 1e-10);
 }
 END_TEST
 
