@@ -16,6 +16,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "alloc.h"
+#include "coords.h"
 #include "internal.h"
 
 typedef struct work {
@@ -23,63 +24,17 @@ typedef struct work {
   const sdae_dae *dae;
   double t;
   size_t n, n_xi, n_mu;
-  double *z, *x, *z2, *J, *F, *G, *q0, *Q, *Qxi, *qn2, *LU, *dx, *fa, *fb;
-  unsigned *piv;
+  sdae_coords coords;        /* Phi's Jacobian (in coords.J) and Phi^-1 */
+  double *z, *x, *z2, *F, *G, *q0, *Q, *Qxi, *qn2, *fb;
   unsigned char *chain_last; /* n_xi: 1 for the last coordinate of a chain (L_g may be != 0) */
   gsl_rng rng;               /* mt19937, its state in the block (gsl_rng_alloc would malloc) */
   double *worst_z;           /* the caller's, n values, or NULL */
 } work;
 
-static int call(int (*cb)(double, const double *, double *, void *), double t, const double *in,
-                double *out, size_t n_out, void *params) {
-  int rc = sdae__status_of_callback(cb(t, in, out, params));
-  if (rc != SDAE_OK) return rc;
-  return sdae__all_finite(out, n_out) ? SDAE_OK : SDAE_ERR_NONFINITE;
-}
-
-/* dPhi/dx: the callback, or central differences column by column */
-static int jacobian(work *w, const double *x) {
-  const sdae_dae *d = w->dae;
-  size_t n = w->n;
-  if (d->Phi_jac) return call(d->Phi_jac, w->t, x, w->J, n * n, d->params);
-  memcpy(w->dx, x, n * sizeof *x);
-  for (size_t j = 0; j < n; j++) {
-    double h = cbrt(DBL_EPSILON) * fmax(1.0, fabs(x[j]));
-    int rc;
-    w->dx[j] = x[j] + h;
-    h = w->dx[j] - x[j];
-    rc = call(d->Phi, w->t, w->dx, w->fa, n, d->params);
-    w->dx[j] = x[j] - h;
-    if (rc == SDAE_OK) rc = call(d->Phi, w->t, w->dx, w->fb, n, d->params);
-    w->dx[j] = x[j];
-    if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) w->J[i * n + j] = (w->fa[i] - w->fb[i]) / (2.0 * h);
-  }
-  return SDAE_OK;
-}
-
-/* x = Phi^-1(z): the callback, or Newton from x = z on Phi(x) - z = 0 */
+/* x = Phi^-1(z): the callback, or Newton from x = z */
 static int invert(work *w) {
-  const sdae_dae *d = w->dae;
-  size_t n = w->n;
-  if (d->Phi_inv) return call(d->Phi_inv, w->t, w->z, w->x, n, d->params);
-  memcpy(w->x, w->z, n * sizeof *w->x);
-  for (int it = 0; it < 50; it++) {
-    double step = 0.0, size = 0.0;
-    int rc = call(d->Phi, w->t, w->x, w->z2, n, d->params);
-    if (rc == SDAE_OK) rc = jacobian(w, w->x);
-    if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) w->z2[i] -= w->z[i];
-    sdae__lu_pack(w->J, n, n - 1, n - 1, w->LU);
-    if ((rc = sdae__lu_solve(w->LU, w->piv, n, n - 1, n - 1, w->z2, w->fa)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) {
-      w->x[i] -= w->fa[i];
-      step = fmax(step, fabs(w->fa[i]));
-      size = fmax(size, fabs(w->x[i]));
-    }
-    if (step <= 1e-15 * (1.0 + size)) return SDAE_OK;
-  }
-  return SDAE_ERR_NEWTON;
+  memcpy(w->x, w->z, w->n * sizeof *w->x);
+  return sdae__coords_invert(&w->coords, w->t, w->z, w->x);
 }
 
 static double rel(double residual, double scale) {
@@ -101,8 +56,8 @@ static double row_dot(const work *w, size_t i, const double *v, size_t stride, d
   double acc = 0.0;
   *size = 0.0;
   for (size_t k = 0; k < w->n; k++) {
-    acc += w->J[i * w->n + k] * v[k * stride];
-    *size += fabs(w->J[i * w->n + k] * v[k * stride]);
+    acc += w->coords.J[i * w->n + k] * v[k * stride];
+    *size += fabs(w->coords.J[i * w->n + k] * v[k * stride]);
   }
   return acc;
 }
@@ -128,7 +83,7 @@ static void check_lie(work *w, sdae_check_report *r) {
 static int normal_form(work *w) {
   const sdae_model *m = w->model;
   const double *xi = w->z, *mu = w->z + w->n_xi;
-  int rc = call(m->q0, w->t, mu, w->q0, w->n_mu, m->params);
+  int rc = sdae__dae_call(m->q0, w->t, mu, w->q0, w->n_mu, m->params);
   if (rc != SDAE_OK) return rc;
   if (m->Q) {
     rc = sdae__status_of_callback(m->Q(w->t, xi, mu, w->Q, m->params));
@@ -153,7 +108,7 @@ static int check_point(work *w, sdae_check_report *r) {
   double size = 0.0, res = 0.0;
   size_t at = 0; /* the component of the largest |Phi(x) - z|, the first of equals */
   int rc = invert(w);
-  if (rc == SDAE_OK) rc = call(d->Phi, w->t, w->x, w->z2, w->n, d->params);
+  if (rc == SDAE_OK) rc = sdae__dae_call(d->Phi, w->t, w->x, w->z2, w->n, d->params);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < w->n; i++) {
     double e = fabs(w->z2[i] - w->z[i]);
@@ -161,9 +116,9 @@ static int check_point(work *w, sdae_check_report *r) {
     if (e > res) res = e, at = i;
   }
   note(r, w, SDAE_CHECK_INVERSE, at, rel(res, size));
-  if ((rc = jacobian(w, w->x)) != SDAE_OK) return rc;
-  if ((rc = call(d->f, w->t, w->x, w->F, w->n, d->params)) != SDAE_OK) return rc;
-  if ((rc = call(d->g, w->t, w->x, w->G, w->n * d->m, d->params)) != SDAE_OK) return rc;
+  if ((rc = sdae__coords_jacobian(&w->coords, w->t, w->x)) != SDAE_OK) return rc;
+  if ((rc = sdae__dae_call(d->f, w->t, w->x, w->F, w->n, d->params)) != SDAE_OK) return rc;
+  if ((rc = sdae__dae_call(d->g, w->t, w->x, w->G, w->n * d->m, d->params)) != SDAE_OK) return rc;
   check_lie(w, r);
   if ((rc = normal_form(w)) != SDAE_OK) return rc;
   for (size_t a = 0; a < w->n_mu; a++) {
@@ -218,13 +173,12 @@ static void carve(work *w, sdae_arena *a) {
   size_t n = w->n, n_xi = w->n_xi, n_mu = w->n_mu;
   w->rng.type = gsl_rng_mt19937;
   w->rng.state = sdae__take_array(a, 1, gsl_rng_mt19937->size, _Alignof(max_align_t));
+  sdae__coords_carve(&w->coords, w->dae, n_xi, a);
   w->z = sdae__take(a, n, 1), w->x = sdae__take(a, n, 1), w->z2 = sdae__take(a, n, 1);
-  w->J = sdae__take(a, n, n), w->F = sdae__take(a, n, 1), w->G = sdae__take(a, n, w->dae->m);
+  w->F = sdae__take(a, n, 1), w->G = sdae__take(a, n, w->dae->m);
   w->q0 = sdae__take(a, n_mu, 1), w->Q = sdae__take(a, n_mu, n_xi);
   w->Qxi = sdae__take(a, n_mu, 1), w->qn2 = sdae__take(a, n_xi, 1);
-  w->LU = sdae__take(a, n, sdae__lu_band_cols(n - 1, n - 1));
-  w->dx = sdae__take(a, n, 1), w->fa = sdae__take(a, n, 1), w->fb = sdae__take(a, n, 1);
-  w->piv = sdae__take_pivots(a, n);
+  w->fb = sdae__take(a, n, 1);
   w->chain_last = sdae__take_array(a, n_xi, 1, 1);
 }
 

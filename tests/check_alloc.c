@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <stabdae/dae.h>
+
 #include "testmodels.h"
 
 #include "../src/alloc.h"
@@ -487,6 +489,64 @@ START_TEST(check_model_with_sweep) {
 END_TEST
 
 
+/* ---- sdae_dae_model_alloc_with: the generic front-end on the oscillator's DAE above ---- */
+
+typedef struct dae_model_call {
+  sdae_dae d;
+  sdae_dae_model *dm;
+} dae_model_call;
+
+static void dae_model_reset(sweep *w) {
+  ((dae_model_call *)w->ctx)->dm = (sdae_dae_model *)&sentinel;
+}
+
+static int dae_model_untouched(sweep *w) {
+  return ((dae_model_call *)w->ctx)->dm == (sdae_dae_model *)&sentinel;
+}
+
+static int dae_model_attempt(sweep *w) {
+  dae_model_call *c = w->ctx;
+  if (!w->ca) return sdae_dae_model_alloc(&c->dm, &c->d, 2, NULL, NULL);
+  sdae_allocator h = allocator_of(w->ca);
+  return sdae_dae_model_alloc_with(&c->dm, &c->d, 2, NULL, NULL, &h);
+}
+
+/* the model the sweep made gives the q0 of a plain one, and its free gives the block back
+ * through the allocator that made it */
+static void dae_model_sweep(counting_allocator *ca) {
+  quartic p = {2.0, 0.03, 0, 0};
+  dae_model_call c = {.d = {4, 1, dae_f, dae_g, dae_Phi, NULL, NULL, &p}};
+  sweep w = {dae_model_reset, dae_model_untouched, dae_model_attempt, ca, &c};
+  sdae_dae_model *plain;
+  double mu[2] = {0.7, 0.6}, a[2], b[2];
+  run_sweep(&w, 1);
+  ck_assert_int_eq(sdae_dae_model_alloc(&plain, &c.d, 2, NULL, NULL), SDAE_OK);
+  const sdae_model *m = sdae_dae_model_get(c.dm), *mp = sdae_dae_model_get(plain);
+  ck_assert_int_eq(m->q0(0.0, mu, a, m->params), 0);
+  ck_assert_int_eq(mp->q0(0.0, mu, b, mp->params), 0);
+  ck_assert_mem_eq(a, b, sizeof a);
+  sdae_dae_model_free(plain);
+  start_counting(0);
+  sdae_dae_model_free(c.dm);
+  stop_counting();
+  if (ca) {
+    ck_assert_int_eq(allocations, 0);
+    ck_assert_int_eq(ca->live, 0);
+    ck_assert(!ca->bad_free);
+  } else if (interposed) {
+    ck_assert_int_eq(live, -1); /* the block of the sweep's successful call */
+  }
+}
+
+START_TEST(dae_model_alloc_sweep) { dae_model_sweep(NULL); }
+END_TEST
+
+START_TEST(dae_model_alloc_with_sweep) {
+  counting_allocator ca = {0};
+  dae_model_sweep(&ca);
+}
+END_TEST
+
 /* ---- the hook itself (src/alloc.c) ---- */
 
 /* counts its calls and remembers the sizes; blocks from __libc_malloc, so not counted above */
@@ -653,5 +713,7 @@ int main(void) {
   ADD_CASE(s, check_model_with_sweep);
   ADD_CASE(s, hook_guards);
   ADD_CASE(s, mbs_stepper_alloc_sweep);
+  ADD_CASE(s, dae_model_alloc_sweep);
+  ADD_CASE(s, dae_model_alloc_with_sweep);
   return run_suite(s);
 }
