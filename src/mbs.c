@@ -218,6 +218,12 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
   memcpy(s->saved, s->dep, s->n_c * sizeof *s->dep);
   memcpy(s->saved + s->n_c, s->ind, s->n_f * sizeof *s->ind);
   rc = try_step(s, t, T, q, v);
+  if (rc == SDAE_ERR_PHI_INV && s->kept) {
+    /* the chart kept by hysteresis folds within the step: once more in the best one */
+    s->force_best = 1;
+    rc = try_step(s, t, T, q, v);
+    s->force_best = 0;
+  }
   if (rc != SDAE_OK) { /* the chart and the statistics as they were */
     memcpy(s->dep, s->saved, s->n_c * sizeof *s->dep);
     memcpy(s->ind, s->saved + s->n_c, s->n_f * sizeof *s->ind);
@@ -323,7 +329,7 @@ int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double
 
 int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
   if (!s || !dependent) return SDAE_ERR_NULL;
-  if (!s->have_chart) return SDAE_ERR_STATE;
+  if (!s->have_chart) return SDAE_ERR_CHART;
   memcpy(dependent, s->dep, s->n_c * sizeof *dependent);
   return SDAE_OK;
 }

@@ -39,6 +39,8 @@ struct sdae_mbs_stepper {
   int energy_map;        /* the map conserves H: the constraints must not depend on t */
   /* the chart: dependent and independent coordinates, ascending */
   int have_chart;
+  int kept;              /* the last choice kept the current chart over a better proposal */
+  int force_best;        /* take the best chart whatever the hysteresis (a retry) */
   size_t *dep, *ind;     /* n_c, n_f */
   size_t *perm;          /* n_q: QRPT's column permutation, a candidate chart */
   size_t *cand_dep, *cand_ind;

@@ -150,16 +150,18 @@ static void adopt(sdae_mbs_stepper *s) {
 int sdae__mbs_choose_chart(sdae_mbs_stepper *s) {
   double now, best;
   int rc = best_chart(s, &best);
+  s->kept = 0;
   if (rc != SDAE_OK) return rc;
   if (!s->have_chart) {
     adopt(s);
   } else if (memcmp(s->dep, s->cand_dep, s->n_c * sizeof *s->dep) != 0) {
     if (factor(s, s->dep, s->ind, &now) != SDAE_OK) now = HUGE_VAL;
-    if (now > SDAE_MBS_CHART_FACTOR * best) {
+    if (s->force_best || now > SDAE_MBS_CHART_FACTOR * best) {
       adopt(s);
       rc = factor(s, s->dep, s->ind, &best); /* factored last was the old one */
     } else {
       best = now; /* the current one stays, factored */
+      s->kept = 1;
     }
   }
   if (rc == SDAE_OK) s->stats.chart_measure = best;

@@ -21,7 +21,10 @@ const char *sdae_strerror(int status) {
   case SDAE_ERR_NONFINITE: return "a callback wrote NaN or Inf, or the new state is not finite";
   case SDAE_ERR_SINGULAR: return "the Newton matrix I - T dphi/dmu+ is singular";
   case SDAE_ERR_NEWTON: return "Newton did not converge within the iteration cap";
-  case SDAE_ERR_MAP: return "no map, or the map needs callbacks that the model does not give";
+  case SDAE_ERR_MAP:
+    return "no map, or the map needs callbacks that the model does not give (the mechanical "
+           "front-end: a discrete gradient needs a potential and constraints that do not "
+           "depend on t)";
   case SDAE_ERR_BUFFER: return "the memory block is smaller than sdae_stepper_size";
   case SDAE_ERR_NOMEM: return "out of memory";
   case SDAE_ERR_REL_DEGREE:

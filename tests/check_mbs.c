@@ -289,7 +289,7 @@ START_TEST(pendulum_chart_hysteresis) {
   const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
   size_t dep[1] = {99};
   double q[2], v[2];
-  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_ERR_STATE); /* no chart before a step */
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_ERR_CHART); /* no chart before a step */
   ck_assert_uint_eq(dep[0], 99);
   pendulum_state(&p, 0.7, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);

@@ -302,6 +302,31 @@ START_TEST(singular_current_chart_is_replaced) {
 }
 END_TEST
 
+/* Hysteresis keeps the pendulum's chart q_D = y at theta = 0.87 (measure tan 0.87 = 1.19,
+ * the best q_D = x has cot 0.87 = 0.84: 1.42 times better, below 1.5). A step of T = 0.1 at
+ * omega = 10 turns the rod past the horizontal, where x = sin theta > 1 has no y: that chart
+ * cannot hold the step (Phi^-1 fails). The step is taken again in the best chart and succeeds
+ * there, on the circle. */
+START_TEST(folding_chart_is_left_for_the_best) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2], v[2];
+  size_t dep[1];
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_state(&p, 0.3, 0.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  pendulum_state(&p, 0.87, 10.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.1, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+  ck_assert_uint_eq(dep[0], 0);
+  ck_assert_double_gt(q[1], 0.0); /* past the horizontal */
+  ck_assert_double_le(fabs(q[0] * q[0] + q[1] * q[1] - 1.0), 1e-14);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* Phi^-1 with no solution: the pendulum at the bottom, q = (0, -1), moving sideways at 10 m/s,
  * chart q_D = y (measure |x/y| = 0). The euler map moves q_I = x to 0 + T 10 = 2 with T = 0.2;
  * then c = xi_1 = 0 asks y^2 = 1 - 4 < 0: no real q_D, so Newton must fail. */
@@ -626,6 +651,7 @@ int main(void) {
   ADD_CASE(s, nearly_parallel_constraints_have_a_chart);
   ADD_CASE(s, nearly_dependent_constraints_have_no_chart);
   ADD_CASE(s, singular_current_chart_is_replaced);
+  ADD_CASE(s, folding_chart_is_left_for_the_best);
   ADD_CASE(s, phi_inverse_has_no_solution);
   ADD_CASE(s, mass_not_spd);
   ADD_CASE(s, mass_fails);

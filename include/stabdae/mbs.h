@@ -79,7 +79,11 @@ SDAE_API void sdae_mbs_stepper_free(sdae_mbs_stepper *s); /* NULL and init'ed on
 
 /* One step from (t, q, v) in the current chart (chosen anew at the boundary); q, v updated in
  * place, untouched on error (and the chart as it was). A start off c = 0 needs no assembly:
- * the scheme brings it onto the constraints, as long as Phi^-1 exists there. */
+ * the scheme brings it onto the constraints, as long as Phi^-1 exists there; each coordinate
+ * of xi decays at least as 1 / (1 + T epsilon) per step (scheme 15), so the velocity level
+ * G v + dc/dt, whose gain is often near -epsilon, may take a while: a larger epsilon assembles
+ * faster. SDAE_ERR_PHI_INV when the step leaves the chart's domain (q_I past a fold of the
+ * chart) even after one retry in the best chart: a smaller T helps, the state being kept. */
 SDAE_API int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v);
 
 /* The constraint forces lambda (n_c) at a state: (G M^-1 G^T) lambda = G M^-1 F + gamma, from
@@ -94,7 +98,7 @@ SDAE_API int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const d
 SDAE_API int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                              double *E);
 /* The dependent coordinates of the current chart: n_c indices into q, ascending (none before
- * the first step: SDAE_ERR_STATE). */
+ * the first step: SDAE_ERR_CHART). */
 SDAE_API int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent);
 
 SDAE_API const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s);
