@@ -362,8 +362,8 @@ START_TEST(G0_cache) {
 }
 END_TEST
 
-/* a failed G(0, mu) is not kept (it wrote 999): the next call evaluates it again, and the
- * failure of a column is returned with the outputs of q0 untouched */
+/* a failed G(0, mu) is not kept (it wrote 999): the next call evaluates it again; the failure
+ * of G(0, mu) or of a column is returned, with q0's and Q_apply's outputs untouched */
 START_TEST(G0_failure_not_kept) {
   poly_derive pd;
   double xi[2] = {0.3, -0.2}, mu[2] = {0.5, -1.5}, q0[2] = {7, 7}, Qxi[2], qn2[2];
@@ -381,6 +381,12 @@ START_TEST(G0_failure_not_kept) {
   ck_assert_int_eq(pd.p.calls, 5);
   pd.p.fail_at = 6, pd.p.status = SDAE_ERR_NONFINITE;
   ck_assert_int_eq(sdae__derive_Q_apply(&pd.d, 2.0, xi, mu, Qxi, qn2), SDAE_ERR_NONFINITE);
+  /* G(0, mu) itself fails at a new time: Q_apply stops there, its outputs untouched */
+  pd.p.fail_at = pd.p.calls + 1, pd.p.status = SDAE_ERR_CALLBACK_RECOVERABLE;
+  Qxi[0] = Qxi[1] = qn2[0] = qn2[1] = 7.0;
+  ck_assert_int_eq(sdae__derive_Q_apply(&pd.d, 4.0, xi, mu, Qxi, qn2),
+                   SDAE_ERR_CALLBACK_RECOVERABLE);
+  ck_assert(Qxi[0] == 7.0 && Qxi[1] == 7.0 && qn2[0] == 7.0 && qn2[1] == 7.0);
 }
 END_TEST
 
