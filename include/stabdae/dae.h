@@ -25,7 +25,7 @@ extern "C" {
 #endif
 
 /* d/dt mu(t, x) along xdot = f(t, x): n_mu values (the dae's params). Optional: without it, a
- * fourth-order central difference of mu(t + s, x + s f) in s (about 1e-12 relative). */
+ * fourth-order central difference of mu(t + s, x + s f) in s (about 3e-12 relative). */
 typedef int (*sdae_mu_dot_fn)(double t, const double *x, double *mu_dot, void *params);
 
 /* The derived model: an sdae_model whose q0 and Q_apply are the rule above. Its callbacks work
