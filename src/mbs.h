@@ -80,6 +80,9 @@ int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double
                     double *Gdot, double *Mdv, double *gdot);
 
 /* ---- mbs_chart.c ---- */
+/* from the last and first diagonal entries of the QR of G (rows of unit length), n_q columns:
+ * SDAE_ERR_RANK when last <= n_q eps first, SDAE_ERR_CHART when below SDAE_MBS_CHART_MIN first */
+int sdae__mbs_chart_verdict(double last, double first, size_t n_q);
 /* the best chart at (t, q) by column-pivoted QR of G = s->pt.G (already evaluated there), kept
  * unless it beats the current one by SDAE_MBS_CHART_FACTOR; SDAE_ERR_RANK, SDAE_ERR_CHART */
 int sdae__mbs_choose_chart(sdae_mbs_stepper *s);

@@ -83,6 +83,11 @@ void sdae__mbs_Wt(const sdae_mbs_stepper *s, const double *u, double *out) {
   }
 }
 
+int sdae__mbs_chart_verdict(double last, double first, size_t n_q) {
+  if (!(last > (double)n_q * DBL_EPSILON * first)) return SDAE_ERR_RANK;
+  return last < SDAE_MBS_CHART_MIN * first ? SDAE_ERR_CHART : SDAE_OK;
+}
+
 /* QR with column pivoting of G, its rows scaled to unit length (so that the test below sees
  * the angles between the constraints' gradients, not their units), proposes the first n_c
  * pivot columns as q_D. R's last diagonal entry, relative to its first, is the sine of the
@@ -96,7 +101,7 @@ static int proposal(sdae_mbs_stepper *s) {
   gsl_vector_view norm = gsl_vector_view_array(s->norm, n_q);
   gsl_permutation perm = {n_q, s->perm};
   double last, first;
-  int signum;
+  int signum, rc;
   for (size_t i = 0; i < n_c; i++) {
     double row = 0.0;
     for (size_t j = 0; j < n_q; j++) row = hypot(row, s->pt.G[i * n_q + j]);
@@ -106,8 +111,7 @@ static int proposal(sdae_mbs_stepper *s) {
   gsl_linalg_QRPT_decomp(&R.matrix, &tau.vector, &perm, &signum, &norm.vector);
   first = fabs(s->qr[0]);
   last = fabs(s->qr[(n_c - 1) * n_q + (n_c - 1)]);
-  if (!(last > (double)n_q * DBL_EPSILON * first)) return SDAE_ERR_RANK;
-  if (last < SDAE_MBS_CHART_MIN * first) return SDAE_ERR_CHART;
+  if ((rc = sdae__mbs_chart_verdict(last, first, n_q)) != SDAE_OK) return rc;
   memcpy(s->cand_dep, s->perm, n_c * sizeof *s->perm);
   memcpy(s->cand_ind, s->perm + n_c, s->n_f * sizeof *s->perm);
   sort(s->cand_dep, n_c);

@@ -2,9 +2,11 @@
 /* Every bad input of the mechanical front-end gets its named status, and a failed call leaves
  * the caller's q, v (and the stepper's step count and chart) exactly as they were. The cases
  * that need a state are built so that the mathematics says they must fail. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
+#include "../src/mbs.h"
 #include "mechanisms.h"
 #include "testmodels.h"
 
@@ -327,6 +329,21 @@ START_TEST(folding_chart_is_left_for_the_best) {
 }
 END_TEST
 
+/* The verdict on G's pivots at its two boundaries, where the comparisons decide: a last pivot
+ * of exactly n_q eps (first = 1) is rank-deficient, the next double above is not; one of
+ * exactly SDAE_MBS_CHART_MIN is a usable chart, the next double below is not. */
+START_TEST(chart_verdict_boundaries) {
+  double rank_edge = 3.0 * DBL_EPSILON;
+  ck_assert_int_eq(sdae__mbs_chart_verdict(rank_edge, 1.0, 3), SDAE_ERR_RANK);
+  ck_assert_int_eq(sdae__mbs_chart_verdict(nextafter(rank_edge, 1.0), 1.0, 3), SDAE_ERR_CHART);
+  ck_assert_int_eq(sdae__mbs_chart_verdict(SDAE_MBS_CHART_MIN, 1.0, 3), SDAE_OK);
+  ck_assert_int_eq(sdae__mbs_chart_verdict(nextafter(SDAE_MBS_CHART_MIN, 0.0), 1.0, 3),
+                   SDAE_ERR_CHART);
+  ck_assert_int_eq(sdae__mbs_chart_verdict(0.5, 1.0, 3), SDAE_OK);
+  ck_assert_int_eq(sdae__mbs_chart_verdict(0.0, 0.0, 3), SDAE_ERR_RANK);
+}
+END_TEST
+
 /* Phi^-1 with no solution: the pendulum at the bottom, q = (0, -1), moving sideways at 10 m/s,
  * chart q_D = y (measure |x/y| = 0). The euler map moves q_I = x to 0 + T 10 = 2 with T = 0.2;
  * then c = xi_1 = 0 asks y^2 = 1 - 4 < 0: no real q_D, so Newton must fail. */
@@ -356,6 +373,27 @@ static int indefinite_mass(double t, const double *q, double *M, void *params) {
   M[0] = 1.0, M[1] = 2.0, M[2] = 2.0, M[3] = 1.0; /* eigenvalues 3 and -1 */
   return 0;
 }
+
+/* lower triangle [[1, 0], [0.5, 1]] is positive definite, but the matrix is not symmetric */
+static int asymmetric_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  M[0] = 1.0, M[1] = 0.0, M[2] = 0.5, M[3] = 1.0;
+  return 0;
+}
+
+START_TEST(mass_not_symmetric) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2], v[2];
+  sys.mass = asymmetric_mass;
+  pendulum_state(&p, 0.3, 0.5, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
 
 START_TEST(mass_not_spd) {
   pendulum p = PENDULUM;
@@ -651,9 +689,11 @@ int main(void) {
   ADD_CASE(s, nearly_parallel_constraints_have_a_chart);
   ADD_CASE(s, nearly_dependent_constraints_have_no_chart);
   ADD_CASE(s, singular_current_chart_is_replaced);
+  ADD_CASE(s, chart_verdict_boundaries);
   ADD_CASE(s, folding_chart_is_left_for_the_best);
   ADD_CASE(s, phi_inverse_has_no_solution);
   ADD_CASE(s, mass_not_spd);
+  ADD_CASE(s, mass_not_symmetric);
   ADD_CASE(s, mass_fails);
   ADD_CASE(s, force_fails);
   ADD_CASE(s, constraint_fails);
