@@ -152,14 +152,14 @@ static void adopt(sdae_mbs_stepper *s) {
 }
 
 int sdae__mbs_choose_chart(sdae_mbs_stepper *s) {
-  double now, best;
+  double now = HUGE_VAL, best; /* a current chart gone singular keeps HUGE_VAL: replaced */
   int rc = best_chart(s, &best);
   s->kept = 0;
   if (rc != SDAE_OK) return rc;
   if (!s->have_chart) {
     adopt(s);
   } else if (memcmp(s->dep, s->cand_dep, s->n_c * sizeof *s->dep) != 0) {
-    if (factor(s, s->dep, s->ind, &now) != SDAE_OK) now = HUGE_VAL;
+    factor(s, s->dep, s->ind, &now); /* sets now only when G_D is regular */
     if (s->force_best || now > SDAE_MBS_CHART_FACTOR * best) {
       adopt(s);
       rc = factor(s, s->dep, s->ind, &best); /* factored last was the old one */
