@@ -374,7 +374,7 @@ static int observe(size_t step, double t, const double *xi, const double *mu, vo
   return 0;
 }
 
-static FILE *open_output(const cli_run *run, const char *prog) {
+FILE *cli_open_output(const cli_run *run, const char *prog) {
   if (!run->out) return stdout;
   FILE *f = fopen(run->out, "w");
   if (!f) fprintf(stderr, "%s: --out: cannot open '%s' for writing: %s\n", prog, run->out,
@@ -382,7 +382,7 @@ static FILE *open_output(const cli_run *run, const char *prog) {
   return f;
 }
 
-static void discard_output(FILE *f, const cli_run *run) {
+void cli_discard_output(FILE *f, const cli_run *run) {
   if (f == stdout) return;
   fclose(f);
   remove(run->out);
@@ -408,14 +408,14 @@ static int report_failure(const cli_program *p, const cli_run *run, int status, 
 }
 
 int cli_execute(const cli_program *p, const cli_run *run) {
-  FILE *f = open_output(run, p->name);
+  FILE *f = cli_open_output(run, p->name);
   if (!f) return CLI_EXIT_USAGE;
   sdae_stepper *s = NULL;
   int status = sdae_stepper_alloc(&s, p->model, p->options);
   if (status != SDAE_OK) {
     /* the library rejected the model or options: bad input, leave no file behind */
     fprintf(stderr, "%s: invalid settings: %s\n", p->name, sdae_strerror(status));
-    discard_output(f, run);
+    cli_discard_output(f, run);
     return CLI_EXIT_USAGE;
   }
   observer_data od = {p, s, f, run->T, NULL};

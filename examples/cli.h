@@ -89,6 +89,10 @@ void cli_run_options(const cli_run *run, sdae_options *o);
 
 /* Writes n values with %.17g, then the Newton iteration count, one row. */
 int cli_csv_row(FILE *f, const double *v, size_t n, unsigned newton_iters);
+/* The run's --out opened for writing (stdout without it), or NULL with one line on stderr
+ * naming prog; and the file closed and removed when the run ends in bad input. */
+FILE *cli_open_output(const cli_run *run, const char *prog);
+void cli_discard_output(FILE *f, const cli_run *run);
 
 /* ---- the driver ---------------------------------------------------------------------------- */
 

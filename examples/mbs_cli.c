@@ -70,23 +70,6 @@ static int observe(size_t step, double t, const double *q, const double *v, void
   return 0;
 }
 
-/* ---- the output file ----------------------------------------------------------------------- */
-
-static FILE *open_output(const cli_run *run, const char *prog) {
-  if (!run->out) return stdout;
-  FILE *f = fopen(run->out, "w");
-  if (!f) fprintf(stderr, "%s: --out: cannot open '%s' for writing: %s\n", prog, run->out,
-                  strerror(errno));
-  return f;
-}
-
-static int discard_output(FILE *f, const cli_run *run) {
-  if (f != stdout) {
-    fclose(f);
-    remove(run->out);
-  }
-  return CLI_EXIT_USAGE;
-}
 
 static int close_output(FILE *f, const char *prog) {
   int bad = fflush(f) != 0 || ferror(f);
@@ -117,7 +100,7 @@ static int integrate(const mbs_program *p, const cli_run *run, row_data *d) {
 }
 
 int mbs_execute(const mbs_program *p, const cli_run *run) {
-  FILE *f = open_output(run, p->name);
+  FILE *f = cli_open_output(run, p->name);
   if (!f) return CLI_EXIT_USAGE;
   sdae_options opt;
   sdae_options_default(&opt);
@@ -128,13 +111,15 @@ int mbs_execute(const mbs_program *p, const cli_run *run) {
   if (status != SDAE_OK) {
     /* the library rejected the mechanism or the options: bad input, leave no file behind */
     fprintf(stderr, "%s: invalid settings: %s\n", p->name, sdae_strerror(status));
-    return discard_output(f, run);
+    cli_discard_output(f, run);
+    return CLI_EXIT_USAGE;
   }
   double *row = malloc((3 + 2 * p->sys->n_q + p->sys->n_c) * sizeof *row);
   if (!row) {
     fprintf(stderr, "%s: out of memory\n", p->name);
     sdae_mbs_stepper_free(s);
-    return discard_output(f, run);
+    cli_discard_output(f, run);
+    return CLI_EXIT_USAGE;
   }
   row_data d = {.p = p, .s = s, .f = f, .T = run->T, .row = row};
   int rc = integrate(p, run, &d);
