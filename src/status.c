@@ -29,7 +29,7 @@ const char *sdae_strerror(int status) {
   case SDAE_ERR_NOMEM: return "out of memory";
   case SDAE_ERR_REL_DEGREE:
     return "the baselines need rel_degree: n_constraints values in 1..SDAE_MAX_REL_DEGREE "
-           "summing to n_xi";
+           "summing to n_xi (the front-ends offer the paper's stabilizer only)";
   case SDAE_ERR_OVERFLOW: return "the workspace size overflows size_t";
   case SDAE_ERR_RANK:
     return "the constraints are dependent at this state (rank of G = dc/dq below n_c): "
