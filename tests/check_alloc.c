@@ -270,6 +270,18 @@ static int stepper_attempt(sweep *w) {
   return sdae_stepper_alloc_with(&c->s, &c->m, &c->o, &h);
 }
 
+/* after the free of what a sweep's successful call made, counted: that block went back to the
+ * allocator that made it (nothing through malloc for a custom one) */
+static void expect_freed(const counting_allocator *ca) {
+  if (ca) {
+    ck_assert_int_eq(allocations, 0);
+    ck_assert_int_eq(ca->live, 0);
+    ck_assert(!ca->bad_free);
+  } else if (interposed) {
+    ck_assert_int_eq(live, -1); /* the block of the sweep's successful call */
+  }
+}
+
 /* the stepper the sweep made steps like one from sdae_stepper_alloc, and its free gives the
  * block back through the allocator that made it */
 static void stepper_sweep(counting_allocator *ca) {
@@ -291,13 +303,7 @@ static void stepper_sweep(counting_allocator *ca) {
   start_counting(0);
   sdae_stepper_free(c.s);
   stop_counting();
-  if (ca) {
-    ck_assert_int_eq(allocations, 0);
-    ck_assert_int_eq(ca->live, 0);
-    ck_assert(!ca->bad_free);
-  } else if (interposed) {
-    ck_assert_int_eq(live, -1); /* the block of the sweep's successful call */
-  }
+  expect_freed(ca);
 }
 
 START_TEST(stepper_alloc_sweep) { stepper_sweep(NULL); }
@@ -529,13 +535,7 @@ static void dae_model_sweep(counting_allocator *ca) {
   start_counting(0);
   sdae_dae_model_free(c.dm);
   stop_counting();
-  if (ca) {
-    ck_assert_int_eq(allocations, 0);
-    ck_assert_int_eq(ca->live, 0);
-    ck_assert(!ca->bad_free);
-  } else if (interposed) {
-    ck_assert_int_eq(live, -1); /* the block of the sweep's successful call */
-  }
+  expect_freed(ca);
 }
 
 START_TEST(dae_model_alloc_sweep) { dae_model_sweep(NULL); }
