@@ -2,6 +2,8 @@
 /* One block of memory, handed out array by array: the stepper's workspace, certify's search and
  * the model check's arrays. The same walk serves twice: without a base it only counts
  * (overflow-checked), with a base it hands out the pointers. */
+#include <stdalign.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "internal.h"
@@ -40,4 +42,23 @@ int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes) {
   if (a->overflow || a->used > SIZE_MAX - header) return SDAE_ERR_OVERFLOW;
   *bytes = header + a->used;
   return SDAE_OK;
+}
+
+/* A block holding an object (header bytes) and then its arrays, in memory of any alignment: the
+ * object at the first max_align_t boundary, the arrays after it rounded to one. */
+static size_t header_room(size_t header) {
+  size_t al = alignof(max_align_t);
+  return (header + al - 1) / al * al;
+}
+
+int sdae__block_bytes(const sdae_arena *a, size_t header, size_t *bytes) {
+  return sdae__arena_bytes(a, header_room(header) + alignof(max_align_t) - 1, bytes);
+}
+
+void *sdae__block_start(void *mem, size_t header, sdae_arena *a) {
+  uintptr_t al = alignof(max_align_t), at = ((uintptr_t)mem + al - 1) / al * al;
+  a->base = (char *)at + header_room(header);
+  a->used = 0;
+  a->overflow = 0;
+  return (void *)at;
 }

@@ -87,11 +87,6 @@ static int validate(const sdae_dae *dae, size_t n_xi) {
 
 /* ---- the block: the object, then its arrays ---- */
 
-static size_t header_bytes(void) {
-  return (sizeof(sdae_dae_model) + alignof(max_align_t) - 1) / alignof(max_align_t) *
-         alignof(max_align_t);
-}
-
 static void wire(sdae_dae_model *d, const sdae_dae *dae, size_t n_xi, sdae_mu_dot_fn mu_dot) {
   memset(d, 0, sizeof *d);
   d->dae = *dae;
@@ -117,14 +112,13 @@ static int measure(const sdae_dae *dae, size_t n_xi, size_t *bytes) {
   sdae_arena a = {0};
   wire(&probe, dae, n_xi, NULL);
   carve(&probe, &a);
-  return sdae__arena_bytes(&a, header_bytes() + alignof(max_align_t) - 1, bytes);
+  return sdae__block_bytes(&a, sizeof(sdae_dae_model), bytes);
 }
 
 static sdae_dae_model *build(void *mem, const sdae_dae *dae, size_t n_xi,
                              sdae_mu_dot_fn mu_dot, const double *x_guess) {
-  uintptr_t al = alignof(max_align_t), p = ((uintptr_t)mem + al - 1) / al * al;
-  sdae_dae_model *d = (sdae_dae_model *)p;
-  sdae_arena a = {(char *)d + header_bytes(), 0, 0};
+  sdae_arena a;
+  sdae_dae_model *d = sdae__block_start(mem, sizeof(sdae_dae_model), &a);
   wire(d, dae, n_xi, mu_dot);
   carve(d, &a);
   if (x_guess) {

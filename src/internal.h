@@ -31,6 +31,11 @@ double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
 unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
 /* header + the arrays counted, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
 int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes);
+/* a block of an object (header bytes) and the arrays counted in a, in memory of any alignment:
+ * its bytes (with room to align the caller's memory); and, in mem, where the object goes, with
+ * a set to hand out the arrays after it */
+int sdae__block_bytes(const sdae_arena *a, size_t header, size_t *bytes);
+void *sdae__block_start(void *mem, size_t header, sdae_arena *a);
 
 /* ---- newton.c: solves y = x + h (phi(x, y) + shift) for y (shift may be NULL), from y ---- */
 typedef struct sdae_newton {

@@ -74,11 +74,6 @@ static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   s->inner = sdae__take_array(a, inner_bytes, 1, alignof(max_align_t));
 }
 
-static size_t header_bytes(void) {
-  size_t al = alignof(max_align_t);
-  return (sizeof(sdae_mbs_stepper) + al - 1) / al * al;
-}
-
 /* the stepper's fields that do not live in the arrays */
 static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o) {
   memset(s, 0, sizeof *s);
@@ -105,7 +100,7 @@ static int measure(const sdae_mbs *sys, const sdae_options *o, size_t *bytes, si
   if ((rc = sdae__stepper_validate(&probe.model, &probe.opt)) != SDAE_OK) return rc;
   if ((*inner = sdae_stepper_size(&probe.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
   carve(&probe, &a, *inner);
-  return sdae__arena_bytes(&a, header_bytes() + alignof(max_align_t) - 1, bytes);
+  return sdae__block_bytes(&a, sizeof(sdae_mbs_stepper), bytes);
 }
 
 size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
@@ -115,9 +110,8 @@ size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
 
 static sdae_mbs_stepper *build(void *mem, const sdae_mbs *sys, const sdae_options *o,
                                size_t inner) {
-  uintptr_t al = alignof(max_align_t), at = ((uintptr_t)mem + al - 1) / al * al;
-  sdae_mbs_stepper *s = (sdae_mbs_stepper *)at;
-  sdae_arena a = {(char *)s + header_bytes(), 0, 0};
+  sdae_arena a;
+  sdae_mbs_stepper *s = sdae__block_start(mem, sizeof(sdae_mbs_stepper), &a);
   void *inner_mem;
   wire(s, sys, o);
   carve(s, &a, inner);

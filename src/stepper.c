@@ -58,9 +58,6 @@ static void carve(sdae_stepper *s, sdae_arena *a) {
   if (sdae__map_uses_newton(map)) sdae__newton_carve(&s->newton, m, &s->opt, a);
 }
 
-static size_t round_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
-
-static size_t header_bytes(void) { return round_up(sizeof(sdae_stepper), alignof(max_align_t)); }
 
 /* the stepper's parts wired to its model and options, arrays not yet handed out */
 static void wire(sdae_stepper *s, const sdae_model *m, const sdae_options *o) {
@@ -80,7 +77,7 @@ static int measure(const sdae_model *m, const sdae_options *o, size_t *bytes) {
   sdae_arena a = {0};
   wire(&probe, m, o);
   carve(&probe, &a);
-  return sdae__arena_bytes(&a, header_bytes() + alignof(max_align_t) - 1, bytes);
+  return sdae__block_bytes(&a, sizeof(sdae_stepper), bytes);
 }
 
 size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
@@ -90,9 +87,8 @@ size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
 }
 
 static sdae_stepper *build(void *mem, const sdae_model *m, const sdae_options *o) {
-  uintptr_t al = alignof(max_align_t), p = ((uintptr_t)mem + al - 1) / al * al;
-  sdae_stepper *s = (sdae_stepper *)p;
-  sdae_arena a = {(char *)s + header_bytes(), 0, 0};
+  sdae_arena a;
+  sdae_stepper *s = sdae__block_start(mem, sizeof(sdae_stepper), &a);
   wire(s, m, o);
   carve(s, &a);
   s->stab.qnorm2 = s->qnorm2;
