@@ -42,8 +42,10 @@ struct sdae_map_type {
   size_t stages;
 };
 
-/* the discrete gradient's table, the base of the composed maps (map_compose.c) */
+/* the discrete gradient's and the midpoint map's tables, the bases of the composed maps
+ * (map_compose.c) */
 extern const sdae_map_type sdae__dgrad_type;
+extern const sdae_map_type sdae__midpoint_type;
 
 /* The one door to a map's phi: evaluates and counts. */
 static inline int sdae__map_phi(const sdae_map_type *map, sdae_map_ctx *c, double t, double T,

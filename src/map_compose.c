@@ -1,17 +1,24 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* Energy-conserving maps of higher order: the symmetric discrete-gradient map Psi_h (Gonzalez's,
- * with S at the midpoint, so Psi_-h is the inverse of Psi_h) composed symmetrically,
+/* Maps of higher order: a symmetric map Psi_h of order 2 (Psi_-h the inverse of Psi_h) composed
+ * symmetrically,
  *
  *   Psi_T = Psi_{g_s T} o ... o Psi_{g_1 T},   g_i = g_{s+1-i},   sum g_i = 1,
  *
- * and phi_T(mu) = (Psi_T(mu) - mu)/T. Each stage conserves H when S is skew, so the composition
- * does. The map is explicit in mu+ (its stages are solved inside), so the step stays one
- * scheme-11/15 step: xi is updated once per T, never by a negative substep.
+ * and phi_T(mu) = (Psi_T(mu) - mu)/T. The map is explicit in mu+ (its stages are solved
+ * inside), so the step stays one scheme-11/15 step: xi is updated once per T, never by a
+ * negative substep. Two symmetric bases:
  *
- *   dg4: Yoshida's triple jump, g = (g1, 1 - 2 g1, g1), g1 = 1/(2 - 2^(1/3)): order 4;
- *   dg6: Kahan and Li's s9odr6a (Hairer, Lubich, Wanner, Geometric Numerical Integration,
- *        V.3.2): order 6, 9 stages, with an error constant so much smaller than dg4's that it is
- *        the cheaper of the two for tight tolerances (docs/performance.md). */
+ *   the discrete gradient (Gonzalez's, with S at the midpoint): each stage conserves H when S
+ *     is skew, so dg4 and dg6 do;
+ *   the implicit midpoint map, which needs q0 only (any forces, time-dependent models):
+ *     midpoint4 and midpoint6.
+ *
+ * and two compositions:
+ *
+ *   order 4: Yoshida's triple jump, g = (g1, 1 - 2 g1, g1), g1 = 1/(2 - 2^(1/3));
+ *   order 6: Kahan and Li's s9odr6a (Hairer, Lubich, Wanner, Geometric Numerical Integration,
+ *            V.3.2), 9 stages, with an error constant so much smaller than the triple jump's
+ *            that it is the cheaper of the two for tight tolerances (docs/performance.md). */
 #include "internal.h"
 
 /* both satisfy sum g = 1 and sum g^3 = 0; s9odr6a also sum g^5 = 0 (to 1e-26) */
@@ -22,11 +29,20 @@ static const double s9odr6a[9] = {
     0.08221359629355080023, 0.79854399093482996340, 0.08221359629355080023,
     -0.70624617255763935981, 0.33259913678935943860, 0.39216144400731413928};
 
-static int compose_needs(const sdae_model *m) { return sdae__dgrad_type.needs(m); }
+static int dg_needs(const sdae_model *m) { return sdae__dgrad_type.needs(m); }
 
-/* the stage's start and end, then the discrete gradient's scratch */
-static size_t compose_scratch(const sdae_model *m, const sdae_options *o) {
-  return 2 * m->n_mu + sdae__dgrad_type.scratch(m, o);
+/* the stage's start and end, then the base map's scratch */
+static size_t stage_scratch(const sdae_map_type *base, const sdae_model *m,
+                            const sdae_options *o) {
+  return 2 * m->n_mu + base->scratch(m, o);
+}
+
+static size_t dg_scratch(const sdae_model *m, const sdae_options *o) {
+  return stage_scratch(&sdae__dgrad_type, m, o);
+}
+
+static size_t midpoint_scratch(const sdae_model *m, const sdae_options *o) {
+  return stage_scratch(&sdae__midpoint_type, m, o);
 }
 
 /* Psi_T(mu) by the map's stages, each y = Psi_h(x): Newton on y = x + h phi(x, y) from the
@@ -67,14 +83,26 @@ static int dg6_phi(sdae_map_ctx *c, double t, double T, const double *mu,
   return compose(sdae_map_dg6, c, t, T, mu, out);
 }
 
+static int midpoint4_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                         const double *mu_next, double *out) {
+  (void)mu_next;
+  return compose(sdae_map_midpoint4, c, t, T, mu, out);
+}
+
+static int midpoint6_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                         const double *mu_next, double *out) {
+  (void)mu_next;
+  return compose(sdae_map_midpoint6, c, t, T, mu, out);
+}
+
 #define STAGES(g) (sizeof(g) / sizeof *(g))
 
 static const sdae_map_type dg4_type = {
     .name = "dg4",
     .order = 4,
     .implicit = 0,
-    .needs = compose_needs,
-    .scratch = compose_scratch,
+    .needs = dg_needs,
+    .scratch = dg_scratch,
     .phi = dg4_phi,
     .base = &sdae__dgrad_type,
     .gamma = triple_jump,
@@ -85,13 +113,37 @@ static const sdae_map_type dg6_type = {
     .name = "dg6",
     .order = 6,
     .implicit = 0,
-    .needs = compose_needs,
-    .scratch = compose_scratch,
+    .needs = dg_needs,
+    .scratch = dg_scratch,
     .phi = dg6_phi,
     .base = &sdae__dgrad_type,
     .gamma = s9odr6a,
     .stages = STAGES(s9odr6a),
 };
 
+static const sdae_map_type midpoint4_type = {
+    .name = "midpoint4",
+    .order = 4,
+    .implicit = 0,
+    .scratch = midpoint_scratch,
+    .phi = midpoint4_phi,
+    .base = &sdae__midpoint_type,
+    .gamma = triple_jump,
+    .stages = STAGES(triple_jump),
+};
+
+static const sdae_map_type midpoint6_type = {
+    .name = "midpoint6",
+    .order = 6,
+    .implicit = 0,
+    .scratch = midpoint_scratch,
+    .phi = midpoint6_phi,
+    .base = &sdae__midpoint_type,
+    .gamma = s9odr6a,
+    .stages = STAGES(s9odr6a),
+};
+
 const sdae_map_type *const sdae_map_dg4 = &dg4_type;
 const sdae_map_type *const sdae_map_dg6 = &dg6_type;
+const sdae_map_type *const sdae_map_midpoint4 = &midpoint4_type;
+const sdae_map_type *const sdae_map_midpoint6 = &midpoint6_type;

@@ -30,7 +30,7 @@ static int midpoint_jac(sdae_map_ctx *c, double t, double T, const double *mu,
 
 static int midpoint_jac_given(const sdae_model *m) { return m->q0_jac != NULL; }
 
-static const sdae_map_type midpoint_type = {
+const sdae_map_type sdae__midpoint_type = {
     .name = "midpoint",
     .order = 2,
     .implicit = 1,
@@ -40,4 +40,4 @@ static const sdae_map_type midpoint_type = {
     .jac_given = midpoint_jac_given,
 };
 
-const sdae_map_type *const sdae_map_midpoint = &midpoint_type;
+const sdae_map_type *const sdae_map_midpoint = &sdae__midpoint_type;

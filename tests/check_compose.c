@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The composition coefficients of dg4 and dg6, read from the map tables themselves
+/* The composition coefficients of dg4 and dg6 (and midpoint4, midpoint6: the same ones), read
+ * from the map tables themselves
  * (src/map.h: gamma, stages, base), against the order conditions of a symmetric composition
  * Psi_T = Phi_{g_s T} o ... o Phi_{g_1 T} of the symmetric order-2 discrete gradient Phi
  * (Hairer, Lubich, Wanner, Geometric Numerical Integration, II.4 and V.3): consistency
@@ -53,7 +54,7 @@ static double commutator_condition(const sdae_map_type *map, double *bound) {
 static void expect_symmetric_consistent(const sdae_map_type *map, size_t stages) {
   double bound, sum;
   ck_assert_uint_eq(map->stages, stages);
-  ck_assert_ptr_eq(map->base, sdae_map_dgrad); /* the symmetric discrete gradient */
+  ck_assert_int_eq(map->implicit, 0); /* one scheme step: xi updated once per T */
   for (size_t i = 0; i < stages; i++)
     ck_assert_double_eq(map->gamma[i], map->gamma[stages - 1 - i]);
   sum = power_sum(map, 1, &bound);
@@ -100,12 +101,29 @@ END_TEST
 
 /* Every map's declared order is the one theory gives it (the orders measured against exact
  * solutions are in check_time.c and check_maps.c), and the user's map declares none. */
+/* The two families are the same compositions of two symmetric order-2 bases: the discrete
+ * gradient and the implicit midpoint map. */
+START_TEST(bases_and_coefficients) {
+  const sdae_map_type *dg[2] = {sdae_map_dg4, sdae_map_dg6};
+  const sdae_map_type *mid[2] = {sdae_map_midpoint4, sdae_map_midpoint6};
+  for (int k = 0; k < 2; k++) {
+    ck_assert_ptr_eq(dg[k]->base, sdae_map_dgrad);
+    ck_assert_ptr_eq(mid[k]->base, sdae_map_midpoint);
+    ck_assert_uint_eq(mid[k]->stages, dg[k]->stages);
+    for (size_t i = 0; i < dg[k]->stages; i++)
+      ck_assert_double_eq(mid[k]->gamma[i], dg[k]->gamma[i]);
+  }
+}
+END_TEST
+
 START_TEST(declared_orders) {
   ck_assert_uint_eq(sdae_map_order(sdae_map_euler), 1);
   ck_assert_uint_eq(sdae_map_order(sdae_map_midpoint), 2);
   ck_assert_uint_eq(sdae_map_order(sdae_map_dgrad), 2);
   ck_assert_uint_eq(sdae_map_order(sdae_map_dg4), 4);
   ck_assert_uint_eq(sdae_map_order(sdae_map_dg6), 6);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_midpoint4), 4);
+  ck_assert_uint_eq(sdae_map_order(sdae_map_midpoint6), 6);
   ck_assert_uint_eq(sdae_map_order(sdae_map_user), 0);
   ck_assert_uint_eq(sdae_map_order(NULL), 0);
   ck_assert_ptr_eq(sdae_map_by_name("dg6"), sdae_map_dg6);
@@ -121,7 +139,8 @@ END_TEST
  * predictor y = x + h_k phi(x, x) of stage k is its Newton root: the first iteration's update
  * is at rounding level and stops (1 iteration a stage, 2 evaluations: predictor and residual;
  * hess_H = 0 gives M without evaluations). A predictor from another time, or not x + h phi,
- * is off the root by O(h): a second iteration. */
+ * is off the root by O(h): a second iteration. The midpoint map's stage phi(x, y) = q0 at
+ * t_k + h_k/2 is the same constant, with q0_jac = 0. */
 static int linear_H(double t, const double *mu, double *out, void *params) {
   (void)t, (void)params;
   out[0] = mu[0];
@@ -134,7 +153,7 @@ static int linear_grad_H(double t, const double *mu, double *out, void *params) 
   return 0;
 }
 
-static int zero_hess_H(double t, const double *mu, double *out, void *params) {
+static int zero_matrix(double t, const double *mu, double *out, void *params) {
   (void)t, (void)mu, (void)params;
   out[0] = out[1] = out[2] = out[3] = 0.0;
   return 0;
@@ -155,8 +174,8 @@ static void predictor_is_root(const sdae_map_type *map) {
   sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
   double t = 0.7, T = 0.25, xi[1] = {0.0}, mu[2] = {0.6, -0.8};
-  m.q0 = linear_q0, m.q0_jac = NULL;
-  m.H = linear_H, m.grad_H = linear_grad_H, m.hess_H = zero_hess_H;
+  m.q0 = linear_q0, m.q0_jac = zero_matrix; /* the midpoint's Jacobian: q0 is constant */
+  m.H = linear_H, m.grad_H = linear_grad_H, m.hess_H = zero_matrix;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
   ck_assert_int_eq(sdae_step(s, t, T, xi, mu), SDAE_OK);
   ck_assert_uint_eq(sdae_stepper_stats(s)->newton_iters_last, map->stages);
@@ -172,12 +191,21 @@ END_TEST
 START_TEST(dg6_stage_predictor_is_root) { predictor_is_root(sdae_map_dg6); }
 END_TEST
 
+START_TEST(midpoint4_stage_predictor_is_root) { predictor_is_root(sdae_map_midpoint4); }
+END_TEST
+
+START_TEST(midpoint6_stage_predictor_is_root) { predictor_is_root(sdae_map_midpoint6); }
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("compose");
   ADD_CASE(s, dg4_order_conditions);
   ADD_CASE(s, dg4_is_yoshida_triple_jump);
   ADD_CASE(s, dg6_order_conditions);
   ADD_CASE(s, declared_orders);
+  ADD_CASE(s, bases_and_coefficients);
+  ADD_CASE(s, midpoint4_stage_predictor_is_root);
+  ADD_CASE(s, midpoint6_stage_predictor_is_root);
   ADD_CASE(s, dg4_stage_predictor_is_root);
   ADD_CASE(s, dg6_stage_predictor_is_root);
   return run_suite(s);

@@ -145,6 +145,15 @@ START_TEST(midpoint_callbacks_fail_cleanly) {
 }
 END_TEST
 
+/* midpoint4 and midpoint6: the same callbacks, in every stage */
+START_TEST(midpoint_composed_callbacks_fail_cleanly) {
+  long inj[NCB] = {0};
+  every_fault(sdae_map_midpoint4, SDAE_SCHEME_SEMI_IMPLICIT, 0, inj);
+  every_fault(sdae_map_midpoint6, SDAE_SCHEME_EXPLICIT, WITH_Q_APPLY | WITH_Q0_JAC, inj);
+  expect_covered(inj, (const int[]){Q0, QD, Q_APPLY, Q0_JAC}, 4);
+}
+END_TEST
+
 /* the discrete gradient: H, grad_H, S or S_apply in phi; grad_H, hess_H and S or S_apply in
  * its Jacobian */
 START_TEST(dgrad_callbacks_fail_cleanly) {
@@ -325,6 +334,7 @@ int main(void) {
   Suite *s = suite_create("failures");
   ADD_CASE(s, euler_callbacks_fail_cleanly);
   ADD_CASE(s, midpoint_callbacks_fail_cleanly);
+  ADD_CASE(s, midpoint_composed_callbacks_fail_cleanly);
   ADD_CASE(s, dgrad_callbacks_fail_cleanly);
   ADD_CASE(s, composed_callbacks_fail_cleanly);
   ADD_CASE(s, user_callbacks_fail_cleanly);

@@ -49,6 +49,19 @@ START_TEST(order_dg6_is_6) {
 }
 END_TEST
 
+/* the same compositions of the implicit midpoint map (q0 only): orders 4 and 6 */
+START_TEST(order_midpoint4_is_4) {
+  sdae_options o = quartic_options(sdae_map_midpoint4, SDAE_SCHEME_SEMI_IMPLICIT);
+  expect_order(&o, 4, 0.04);
+}
+END_TEST
+
+START_TEST(order_midpoint6_is_6) {
+  sdae_options o = quartic_options(sdae_map_midpoint6, SDAE_SCHEME_SEMI_IMPLICIT);
+  expect_order(&o, 6, 0.2);
+}
+END_TEST
+
 /* The paper's Section IV map (the model's user map) for k = 1, d = 0 is the coordinate discrete
  * gradient of H: symmetric, so order 2. */
 START_TEST(order_user_paper_map_is_2) {
@@ -254,12 +267,13 @@ END_TEST
 
 /* Every map is found by its own name, and declares the order of accuracy its construction gives
  * (euler 1; midpoint and Gonzalez's discrete gradient 2, both symmetric; the triple jump 4;
- * s9odr6a 6); the order tests above measure the same numbers. */
+ * s9odr6a 6, with either base); the order tests above measure the same numbers. */
 START_TEST(maps_by_name_and_order) {
-  const sdae_map_type *maps[6] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
-                                  sdae_map_user,  sdae_map_dg4,      sdae_map_dg6};
-  const unsigned order[6] = {1, 2, 2, 0, 4, 6};
-  for (int i = 0; i < 6; i++) {
+  const sdae_map_type *maps[8] = {sdae_map_euler, sdae_map_midpoint,  sdae_map_dgrad,
+                                  sdae_map_user,  sdae_map_dg4,       sdae_map_dg6,
+                                  sdae_map_midpoint4, sdae_map_midpoint6};
+  const unsigned order[8] = {1, 2, 2, 0, 4, 6, 4, 6};
+  for (int i = 0; i < 8; i++) {
     ck_assert_ptr_eq(sdae_map_by_name(sdae_map_name(maps[i])), maps[i]);
     ck_assert_uint_eq(sdae_map_order(maps[i]), order[i]);
   }
@@ -376,6 +390,8 @@ int main(void) {
   ADD_CASE(s, order_midpoint_is_2);
   ADD_CASE(s, order_dgrad_is_2);
   ADD_CASE(s, order_dg4_is_4);
+  ADD_CASE(s, order_midpoint4_is_4);
+  ADD_CASE(s, order_midpoint6_is_6);
   ADD_CASE(s, order_dg6_is_6);
   ADD_CASE(s, order_user_paper_map_is_2);
   ADD_CASE(s, dgrad_conserves_H);

@@ -50,7 +50,7 @@ static double pendulum_error(const sdae_mbs *sys, const sdae_options *o, double 
 }
 
 /* The error divides by 2^p when T halves, within 10 %: p = 1 (euler), 2 (midpoint, dgrad),
- * 4 (dg4). The chart of the pendulum is q_D = y while |x/y| = tan theta is below 1.5 times
+ * 4 (dg4, midpoint4), 6 (midpoint6). The chart of the pendulum is q_D = y while |x/y| = tan theta is below 1.5 times
  * |y/x| = cot theta, i.e. tan theta < 1.22: a swing of theta0 = 0.5 (tan 0.55) never switches,
  * one of theta0 = 1 switches four times in 2 s. tf = 2 s is past a half-period (about 1.0 s).
  * The errors stay far above the front-end's difference quotients (about 1e-12): asserted above
@@ -105,6 +105,21 @@ START_TEST(pendulum_order_dg4) {
   pendulum p = PENDULUM;
   sdae_mbs sys = pendulum_mbs(&p);
   expect_pendulum_order(&sys, sdae_map_dg4, 4, 0.05);
+}
+END_TEST
+
+/* the midpoint map composed (q0 only, so any forces): orders 4 and 6 through the front-end */
+START_TEST(pendulum_order_midpoint4) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  expect_pendulum_order(&sys, sdae_map_midpoint4, 4, 0.05);
+}
+END_TEST
+
+START_TEST(pendulum_order_midpoint6) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  expect_pendulum_order(&sys, sdae_map_midpoint6, 6, 0.1);
 }
 END_TEST
 
@@ -531,6 +546,8 @@ int main(void) {
   ADD_CASE(s, pendulum_order_midpoint_no_jacobian);
   ADD_CASE(s, pendulum_order_dgrad);
   ADD_CASE(s, pendulum_order_dg4);
+  ADD_CASE(s, pendulum_order_midpoint4);
+  ADD_CASE(s, pendulum_order_midpoint6);
   ADD_CASE(s, pendulum_order_midpoint_through_switches);
   ADD_CASE(s, wire_order_midpoint);
   ADD_CASE(s, wire_order_midpoint_differences);

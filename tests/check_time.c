@@ -152,6 +152,19 @@ START_TEST(order_dg6_time_dependent) {
 }
 END_TEST
 
+/* the midpoint map composed: the stages' times tile the step as dg4's and dg6's do */
+START_TEST(order_midpoint4_time_dependent) {
+  sdae_model m = rotation_model(NULL);
+  expect_order(&m, sdae_map_midpoint4, 4, 0.025);
+}
+END_TEST
+
+START_TEST(order_midpoint6_time_dependent) {
+  sdae_model m = rotation_model(NULL);
+  expect_order(&m, sdae_map_midpoint6, 6, 0.1);
+}
+END_TEST
+
 /* ---- time in Q: the gain k_1(t_n) of every step ---- */
 
 /* From t0 = 0.3, n steps of T: xi_N = xi_0 prod_n 1/(1 - T k(t_n)) (scheme 15) or
@@ -264,6 +277,8 @@ int main(void) {
   ADD_CASE(s, order_dgrad_time_dependent);
   ADD_CASE(s, order_dg4_time_dependent);
   ADD_CASE(s, order_dg6_time_dependent);
+  ADD_CASE(s, order_midpoint4_time_dependent);
+  ADD_CASE(s, order_midpoint6_time_dependent);
   ADD_CASE(s, gain_uses_step_time_dense_Q);
   ADD_CASE(s, gain_uses_step_time_Q_apply);
   ADD_CASE(s, gains_at_given_time);

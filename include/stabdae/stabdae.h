@@ -93,6 +93,10 @@ SDAE_API extern const sdae_map_type *const sdae_map_user; /* "user": the model's
  * triple jump (order 4, 3 stages), "dg6" by Kahan and Li's s9odr6a (order 6, 9 stages) */
 SDAE_API extern const sdae_map_type *const sdae_map_dg4;
 SDAE_API extern const sdae_map_type *const sdae_map_dg6;
+/* midpoint composed the same ways, for any forces and time-dependent models (q0 only):
+ * "midpoint4" (order 4, 3 stages) and "midpoint6" (order 6, 9 stages) */
+SDAE_API extern const sdae_map_type *const sdae_map_midpoint4;
+SDAE_API extern const sdae_map_type *const sdae_map_midpoint6;
 
 /* The map's name ("(none)" for NULL), and the map of a name (NULL when there is none). */
 SDAE_API const char *sdae_map_name(const sdae_map_type *map);
