@@ -15,18 +15,15 @@
  * CSV (%.17g): d,tf,solver,setting,param,steps,reps,cpu_s,error,status; status is ok or the
  * reason a run failed (a failed run is a point, not the end of the study). Bad input: one line
  * on stderr, exit 2, no file. */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
-
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <stabdae/stabdae.h>
 
 #include "ida_solve.h"
+#include "measure.h"
 #include "oscillator_model.h"
 
 #define PROG "workprecision"
@@ -47,22 +44,6 @@ typedef struct settings {
 
 /* ---- measurement ------------------------------------------------------------------------- */
 
-static double cpu_seconds(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* One run: final (X, Xdot), steps taken, and a status text ("ok" or why it failed). */
 typedef struct outcome {
   double X, Xdot;
@@ -72,8 +53,6 @@ typedef struct outcome {
 
 typedef void (*run_fn)(const study_case *c, const void *setting, double param, outcome *o);
 
-enum { MAX_REPS = 15 };
-
 typedef struct point {
   const char *solver, *setting;
   double param, cpu, error;
@@ -81,19 +60,26 @@ typedef struct point {
   outcome o;
 } point;
 
+typedef struct trial {
+  const study_case *c;
+  run_fn run;
+  const void *setting;
+  double param;
+  outcome *o;
+} trial;
+
+static int run_trial(void *ctx) {
+  trial *tr = ctx;
+  tr->run(tr->c, tr->setting, tr->param, tr->o);
+  return strcmp(tr->o->status, "ok") != 0;
+}
+
 /* Runs one point up to s->reps times (fewer past the budget); the median CPU time. */
 static point measure(const study_case *c, const settings *s, run_fn run, const void *setting,
                      const char *solver, const char *name, double param) {
   point p = {.solver = solver, .setting = name, .param = param, .error = NAN};
-  double t[MAX_REPS], used = 0.0;
-  while (p.reps < s->reps && (p.reps == 0 || used < s->budget)) {
-    double t0 = cpu_seconds();
-    run(c, setting, param, &p.o);
-    t[p.reps] = cpu_seconds() - t0;
-    used += t[p.reps++];
-    if (strcmp(p.o.status, "ok") != 0) break;
-  }
-  p.cpu = median(t, p.reps);
+  trial tr = {c, run, setting, param, &p.o};
+  p.reps = wp_repeat(s->reps, s->budget, run_trial, &tr, &p.cpu);
   if (strcmp(p.o.status, "ok") == 0) p.error = fmax(fabs(p.o.X - c->X), fabs(p.o.Xdot - c->Xdot));
   return p;
 }
@@ -214,10 +200,7 @@ static void study(const settings *s, const study_case *c) {
 
 /* ---- input --------------------------------------------------------------------------------- */
 
-static int bad(const char *what, const char *arg) {
-  fprintf(stderr, PROG ": %s%s\n", what, arg ? arg : "");
-  return 2;
-}
+static int bad(const char *what, const char *arg) { return wp_bad(PROG, what, arg); }
 
 /* d,tf,X,Xdot rows; both cases must be present */
 static int read_reference(const char *path, study_case *cases, size_t n) {
@@ -243,15 +226,7 @@ static int read_reference(const char *path, study_case *cases, size_t n) {
 }
 
 static int parse_positive(const char *flag, const char *v, double max, double *out) {
-  char *end;
-  errno = 0;
-  *out = strtod(v, &end);
-  if (errno || end == v || *end || !(*out > 0.0) || *out > max) {
-    char msg[96];
-    snprintf(msg, sizeof msg, "%s must be a number in (0, %g], not ", flag, max);
-    return bad(msg, v);
-  }
-  return 0;
+  return wp_parse_positive(PROG, flag, v, max, out);
 }
 
 static const char usage[] =
@@ -282,7 +257,7 @@ int main(int argc, char **argv) {
     } else if (strcmp(flag, "--out") == 0) {
       out = val;
     } else if (strcmp(flag, "--reps") == 0) {
-      if (parse_positive(flag, val, MAX_REPS, &v)) return 2;
+      if (parse_positive(flag, val, WP_MAX_REPS, &v)) return 2;
       if (v != floor(v)) return bad("--reps must be an integer, not ", val);
       s.reps = (int)v;
     } else if (parse_positive(flag, val, 3600.0, &s.budget)) {
