@@ -1,23 +1,25 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Runs ida_reference once and checks what the command-line rules promise.
+# Runs a program of tools/ida (ida_reference, ida_mbs) once and checks what the command-line
+# rules promise.
 #   cmake -DPROG=<program> -DARGS=<arguments separated by |> -DEXPECT=<exit status>
 #         -DOUT=<the --out file of the run> [-DSTDOUT_REGEX=] [-DSTDERR_REGEX=] [-DFILE_REGEX=]
 #         -P check_cli.cmake
 # A nonzero exit must come with exactly one line on stderr; exit 2 (bad input) must leave no
 # output file behind.
 string(REPLACE "|" ";" args "${ARGS}")
+get_filename_component(name "${PROG}" NAME)
 file(REMOVE "${OUT}")
 execute_process(COMMAND "${PROG}" ${args}
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 
-set(ran "ida_reference ${args}\n  exit ${rc}\n  stderr: ${err}")
+set(ran "${name} ${args}\n  exit ${rc}\n  stderr: ${err}")
 if(NOT rc STREQUAL EXPECT)
   message(FATAL_ERROR "expected exit status ${EXPECT}: ${ran}")
 endif()
 if(NOT EXPECT EQUAL 0)
   string(REGEX MATCHALL "\n" newlines "${err}")
   list(LENGTH newlines lines)
-  if(NOT lines EQUAL 1 OR NOT err MATCHES "^ida_reference: ")
+  if(NOT lines EQUAL 1 OR NOT err MATCHES "^${name}: ")
     message(FATAL_ERROR "expected one line on stderr: ${ran}")
   endif()
 endif()

@@ -332,11 +332,7 @@ int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *
 
 typedef struct run {
   mech m;
-  SUNContext ctx;
-  void *mem;
-  N_Vector yy, yp, id;
-  SUNMatrix A;
-  SUNLinearSolver ls;
+  idaref_ida ida;
   int configured; /* the linear solver attached: the counters can be read */
 } run;
 
@@ -346,68 +342,13 @@ static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *
                   N_VGetArrayPointer(rr));
 }
 
-/* Keeps IDA's error message (one line) instead of letting IDA print it; warnings are dropped. */
-static void error_cb(int code, const char *module, const char *function, char *msg, void *data)
-{
-  idaref_result *res = data;
-  (void)module;
-  if (code >= 0)
-    return;
-  snprintf(res->message, sizeof res->message, "%s: %s", function, msg);
-  for (char *c = res->message; *c; c++)
-    if (*c == '\n' || *c == '\r')
-      *c = ' ';
-}
-
-/* Records a failing SUNDIALS call; returns -1 when flag is an error. */
-static int failed(idaref_result *res, int flag, const char *function)
-{
-  char *name;
-  if (flag >= 0)
-    return 0;
-  name = IDAGetReturnFlagName(flag); /* malloc'd by IDA */
-  res->ida_flag = flag;
-  res->function = function;
-  snprintf(res->flag_name, sizeof res->flag_name, "%s", name ? name : "?");
-  free(name);
-  return -1;
-}
-
-static int create(run *r, idaref_result *res)
-{
-  sunindextype n = (sunindextype)idambs_dim(r->m.sys, r->m.form);
-  if (failed(res, SUNContext_Create(NULL, &r->ctx), "SUNContext_Create"))
-    return -1;
-  r->mem = IDACreate(r->ctx);
-  r->yy = N_VNew_Serial(n, r->ctx);
-  r->yp = N_VNew_Serial(n, r->ctx);
-  r->id = N_VNew_Serial(n, r->ctx);
-  r->A = SUNDenseMatrix(n, n, r->ctx);
-  if (!r->mem || !r->yy || !r->yp || !r->id || !r->A)
-    return failed(res, IDA_MEM_FAIL, "IDACreate");
-  r->ls = SUNLinSol_Dense(r->yy, r->A, r->ctx);
-  return r->ls ? 0 : failed(res, IDA_MEM_FAIL, "SUNLinSol_Dense");
-}
-
-static void destroy(run *r)
-{
-  IDAFree(&r->mem);
-  SUNLinSolFree(r->ls);
-  SUNMatDestroy(r->A);
-  N_VDestroy(r->id);
-  N_VDestroy(r->yp);
-  N_VDestroy(r->yy);
-  SUNContext_Free(&r->ctx);
-  mech_free(&r->m);
-}
-
 /* y = (q0, v0, lambda[, nu = 0]), y' = (v0, v'[, 0, 0]) and the id vector (1 for q and v). */
 static int consistent_start(run *r, double t0, const double *q0, const double *v0,
                             idaref_result *res)
 {
   size_t nq = r->m.n_q, n = idambs_dim(r->m.sys, r->m.form);
-  double *y = N_VGetArrayPointer(r->yy), *yp = N_VGetArrayPointer(r->yp);
-  double *id = N_VGetArrayPointer(r->id);
+  double *y = N_VGetArrayPointer(r->ida.yy), *yp = N_VGetArrayPointer(r->ida.yp);
+  double *id = N_VGetArrayPointer(r->ida.id);
   for (size_t i = 0; i < n; i++) {
     y[i] = yp[i] = 0.0;
     id[i] = i < 2 * nq ? 1.0 : 0.0;
@@ -428,14 +369,14 @@ static int consistent_start(run *r, double t0, const double *q0, const double *v
  * solution and which IDA computes as rounding noise of size eps |q| cj (as ida_solve.c says). */
 static int set_tolerances(run *r, const idaref_options *o)
 {
-  N_Vector atol = N_VClone(r->yy);
+  N_Vector atol = N_VClone(r->ida.yy);
   size_t nq = r->m.n_q, nc = r->m.n_c;
   int flag;
   if (!atol)
     return IDA_MEM_FAIL;
   for (size_t i = 0; i < idambs_dim(r->m.sys, r->m.form); i++)
     N_VGetArrayPointer(atol)[i] = i >= 2 * nq + nc ? 1.0 : o->atol;
-  flag = IDASVtolerances(r->mem, o->rtol, atol);
+  flag = IDASVtolerances(r->ida.mem, o->rtol, atol);
   N_VDestroy(atol);
   return flag;
 }
@@ -447,7 +388,8 @@ static int set_tolerances(run *r, const idaref_options *o)
  * 1e-10: IDA_CONV_FAIL at t = 0 with h = 3e-19). */
 static double first_step(const run *r, const idaref_options *o)
 {
-  const double *q = N_VGetArrayPointer(r->yy), *qdd = N_VGetArrayPointer(r->yp) + r->m.n_q;
+  const double *q = N_VGetArrayPointer(r->ida.yy);
+  const double *qdd = N_VGetArrayPointer(r->ida.yp) + r->m.n_q;
   double worst = 0.0;
   for (size_t j = 0; j < r->m.n_q; j++)
     worst = fmax(worst, fabs(qdd[j]) / (o->rtol * fabs(q[j]) + o->atol));
@@ -456,70 +398,38 @@ static double first_step(const run *r, const idaref_options *o)
 
 static int configure(run *r, double t0, const idaref_options *o, idaref_result *res)
 {
-  void *mem = r->mem;
-  if (failed(res, IDASetErrHandlerFn(mem, error_cb, res), "IDASetErrHandlerFn") ||
-      failed(res, IDAInit(mem, residual_cb, t0, r->yy, r->yp), "IDAInit") ||
-      failed(res, IDASetUserData(mem, &r->m), "IDASetUserData") ||
-      failed(res, set_tolerances(r, o), "IDASVtolerances") ||
-      failed(res, IDASetLinearSolver(mem, r->ls, r->A), "IDASetLinearSolver") ||
-      failed(res, IDASetId(mem, r->id), "IDASetId") ||
-      failed(res, IDASetMaxNumSteps(mem, o->max_steps), "IDASetMaxNumSteps"))
+  void *mem = r->ida.mem;
+  if (idaref_failed(res, IDASetErrHandlerFn(mem, idaref_error_handler, res),
+                    "IDASetErrHandlerFn") ||
+      idaref_failed(res, IDAInit(mem, residual_cb, t0, r->ida.yy, r->ida.yp), "IDAInit") ||
+      idaref_failed(res, IDASetUserData(mem, &r->m), "IDASetUserData") ||
+      idaref_failed(res, set_tolerances(r, o), "IDASVtolerances") ||
+      idaref_failed(res, IDASetLinearSolver(mem, r->ida.ls, r->ida.A), "IDASetLinearSolver") ||
+      idaref_failed(res, IDASetId(mem, r->ida.id), "IDASetId") ||
+      idaref_failed(res, IDASetMaxNumSteps(mem, o->max_steps), "IDASetMaxNumSteps"))
     return -1;
   /* lambda (and nu) out of the error test: they are functions of (q, v), as accurate as those
    * to the Newton tolerance; their own BDF error estimate, lambda changing much faster than q
    * on a mechanism, only costs steps (index 1: the four-bar's steps fall from 20000 to 2400) */
-  if (failed(res, IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg") ||
-      failed(res, IDASetInitStep(mem, first_step(r, o)), "IDASetInitStep"))
+  if (idaref_failed(res, IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg") ||
+      idaref_failed(res, IDASetInitStep(mem, first_step(r, o)), "IDASetInitStep"))
     return -1;
   r->configured = 1;
   return 0;
 }
 
-static void collect_stats(void *mem, idaref_stats *s)
-{
-  IDAGetNumSteps(mem, &s->steps);
-  IDAGetNumResEvals(mem, &s->res_evals);
-  IDAGetNumJacEvals(mem, &s->jac_evals);
-  IDAGetNumErrTestFails(mem, &s->err_test_fails);
-  IDAGetNumNonlinSolvConvFails(mem, &s->nonlin_conv_fails);
-  IDAGetNumNonlinSolvIters(mem, &s->nonlin_iters);
-}
+/* the rows as the caller wants them: (t, q, v, lambda) */
+typedef struct emit_ctx {
+  const run *r;
+  idambs_row_fn row;
+  void *ctx;
+} emit_ctx;
 
-static int emit(const run *r, double t, idambs_row_fn row, void *ctx)
+static int emit(double t, const double *y, void *data)
 {
-  const double *y = N_VGetArrayPointer(r->yy);
-  return row(t, y, y + r->m.n_q, y + 2 * r->m.n_q, ctx) != 0;
-}
-
-/* The k-th output time from t0: t0 + k DT, the last one tf itself. */
-static int output_time(double t0, double tf, double dt, double k, double *t)
-{
-  double s;
-  if (idaref_output_time(tf - t0, dt, k, &s) != 0)
-    return -1;
-  *t = s == tf - t0 ? tf : t0 + s;
-  return 0;
-}
-
-static int march(run *r, double t0, const idaref_options *o, idambs_row_fn row, void *ctx,
-                 idaref_result *res)
-{
-  double t;
-  res->t_reached = t0;
-  if (emit(r, t0, row, ctx))
-    return IDAREF_OUTPUT_FAILED;
-  for (double k = 1.0; output_time(t0, o->tf, o->dt, k, &t) == 0; k += 1.0) {
-    realtype tret = res->t_reached;
-    if (failed(res, IDASetStopTime(r->mem, t), "IDASetStopTime") ||
-        failed(res, IDASolve(r->mem, t, &tret, r->yy, r->yp, IDA_NORMAL), "IDASolve")) {
-      IDAGetCurrentTime(r->mem, &res->t_reached);
-      return IDAREF_IDA_FAILED;
-    }
-    res->t_reached = tret;
-    if (emit(r, tret, row, ctx))
-      return IDAREF_OUTPUT_FAILED;
-  }
-  return IDAREF_OK;
+  const emit_ctx *e = data;
+  size_t nq = e->r->m.n_q;
+  return e->row(t, y, y + nq, y + 2 * nq, e->ctx);
 }
 
 int idambs_solve(const sdae_mbs *sys, idambs_form form, double t0, const double *q0,
@@ -530,18 +440,20 @@ int idambs_solve(const sdae_mbs *sys, idambs_form form, double t0, const double 
   int status = IDAREF_IDA_FAILED;
   memset(res, 0, sizeof *res);
   res->t_reached = t0;
+  emit_ctx e = {&r, row, ctx};
   if (mech_init(&r.m, sys, form) != 0) {
-    failed(res, IDA_MEM_FAIL, "calloc");
+    idaref_failed(res, IDA_MEM_FAIL, "calloc");
     return status;
   }
-  if (create(&r, res) == 0) {
+  if (idaref_ida_create(&r.ida, idambs_dim(sys, form), res) == 0) {
     if (consistent_start(&r, t0, q0, v0, res) != 0)
       status = IDAMBS_START_FAILED;
     else if (configure(&r, t0, o, res) == 0)
-      status = march(&r, t0, o, row, ctx, res);
+      status = idaref_march(&r.ida, t0, o, emit, &e, res);
   }
   if (r.configured)
-    collect_stats(r.mem, &res->stats);
-  destroy(&r);
+    idaref_collect_stats(r.ida.mem, &res->stats);
+  idaref_ida_destroy(&r.ida);
+  mech_free(&r.m);
   return status;
 }

@@ -22,11 +22,7 @@ typedef struct problem {
 
 typedef struct run {
   problem pb;
-  SUNContext ctx;
-  void *mem;
-  N_Vector yy, yp, id;
-  SUNMatrix A;
-  SUNLinearSolver ls;
+  idaref_ida ida;
 } run;
 
 static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *user_data)
@@ -55,8 +51,8 @@ static int jacobian_cb(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vect
   return 0;
 }
 
-/* Keeps IDA's error message (one line) instead of letting IDA print it; warnings are dropped. */
-static void error_cb(int code, const char *module, const char *function, char *msg, void *data)
+void idaref_error_handler(int code, const char *module, const char *function, char *msg,
+                          void *data)
 {
   idaref_result *res = data;
   (void)module;
@@ -68,8 +64,7 @@ static void error_cb(int code, const char *module, const char *function, char *m
       *c = ' ';
 }
 
-/* Records a failing SUNDIALS call; returns -1 when flag is an error. */
-static int failed(idaref_result *res, int flag, const char *function)
+int idaref_failed(idaref_result *res, int flag, const char *function)
 {
   if (flag >= 0)
     return 0;
@@ -81,23 +76,23 @@ static int failed(idaref_result *res, int flag, const char *function)
   return -1;
 }
 
-static int create(run *r, idaref_result *res)
+int idaref_ida_create(idaref_ida *r, size_t n, idaref_result *res)
 {
-  sunindextype n = (sunindextype)idaref_dim(r->pb.form);
-  if (failed(res, SUNContext_Create(NULL, &r->ctx), "SUNContext_Create"))
+  sunindextype len = (sunindextype)n;
+  if (idaref_failed(res, SUNContext_Create(NULL, &r->ctx), "SUNContext_Create"))
     return -1;
   r->mem = IDACreate(r->ctx);
-  r->yy = N_VNew_Serial(n, r->ctx);
-  r->yp = N_VNew_Serial(n, r->ctx);
-  r->id = N_VNew_Serial(n, r->ctx);
-  r->A = SUNDenseMatrix(n, n, r->ctx);
+  r->yy = N_VNew_Serial(len, r->ctx);
+  r->yp = N_VNew_Serial(len, r->ctx);
+  r->id = N_VNew_Serial(len, r->ctx);
+  r->A = SUNDenseMatrix(len, len, r->ctx);
   if (!r->mem || !r->yy || !r->yp || !r->id || !r->A)
-    return failed(res, IDA_MEM_FAIL, "IDACreate");
+    return idaref_failed(res, IDA_MEM_FAIL, "IDACreate");
   r->ls = SUNLinSol_Dense(r->yy, r->A, r->ctx);
-  return r->ls ? 0 : failed(res, IDA_MEM_FAIL, "SUNLinSol_Dense");
+  return r->ls ? 0 : idaref_failed(res, IDA_MEM_FAIL, "SUNLinSol_Dense");
 }
 
-static void destroy(run *r)
+void idaref_ida_destroy(idaref_ida *r)
 {
   IDAFree(&r->mem);
   SUNLinSolFree(r->ls);
@@ -115,13 +110,13 @@ static void destroy(run *r)
  * still held to q's own tolerance. */
 static int set_tolerances(run *r, const idaref_options *o)
 {
-  N_Vector atol = N_VClone(r->yy);
+  N_Vector atol = N_VClone(r->ida.yy);
   int flag;
   if (!atol)
     return IDA_MEM_FAIL;
   for (size_t i = 0; i < idaref_dim(r->pb.form); i++)
     N_VGetArrayPointer(atol)[i] = i == IDAREF_NU ? 1.0 : o->atol;
-  flag = IDASVtolerances(r->mem, o->rtol, atol);
+  flag = IDASVtolerances(r->ida.mem, o->rtol, atol);
   N_VDestroy(atol);
   return flag;
 }
@@ -131,23 +126,24 @@ static int set_tolerances(run *r, const idaref_options *o)
 static int configure(run *r, const double *y, const double *yp, const idaref_options *o,
                      idaref_result *res)
 {
-  void *mem = r->mem;
+  void *mem = r->ida.mem;
   size_t n = idaref_dim(r->pb.form);
-  memcpy(N_VGetArrayPointer(r->yy), y, n * sizeof *y);
-  memcpy(N_VGetArrayPointer(r->yp), yp, n * sizeof *yp);
-  idaref_id(r->pb.form, N_VGetArrayPointer(r->id));
-  if (failed(res, IDASetErrHandlerFn(mem, error_cb, res), "IDASetErrHandlerFn") ||
-      failed(res, IDAInit(mem, residual_cb, 0.0, r->yy, r->yp), "IDAInit") ||
-      failed(res, IDASetUserData(mem, &r->pb), "IDASetUserData") ||
-      failed(res, set_tolerances(r, o), "IDASVtolerances") ||
-      failed(res, IDASetLinearSolver(mem, r->ls, r->A), "IDASetLinearSolver") ||
-      failed(res, IDASetJacFn(mem, jacobian_cb), "IDASetJacFn") ||
-      failed(res, IDASetId(mem, r->id), "IDASetId") ||
-      failed(res, IDASetMaxNumSteps(mem, o->max_steps), "IDASetMaxNumSteps"))
+  memcpy(N_VGetArrayPointer(r->ida.yy), y, n * sizeof *y);
+  memcpy(N_VGetArrayPointer(r->ida.yp), yp, n * sizeof *yp);
+  idaref_id(r->pb.form, N_VGetArrayPointer(r->ida.id));
+  if (idaref_failed(res, IDASetErrHandlerFn(mem, idaref_error_handler, res),
+                    "IDASetErrHandlerFn") ||
+      idaref_failed(res, IDAInit(mem, residual_cb, 0.0, r->ida.yy, r->ida.yp), "IDAInit") ||
+      idaref_failed(res, IDASetUserData(mem, &r->pb), "IDASetUserData") ||
+      idaref_failed(res, set_tolerances(r, o), "IDASVtolerances") ||
+      idaref_failed(res, IDASetLinearSolver(mem, r->ida.ls, r->ida.A), "IDASetLinearSolver") ||
+      idaref_failed(res, IDASetJacFn(mem, jacobian_cb), "IDASetJacFn") ||
+      idaref_failed(res, IDASetId(mem, r->ida.id), "IDASetId") ||
+      idaref_failed(res, IDASetMaxNumSteps(mem, o->max_steps), "IDASetMaxNumSteps"))
     return -1;
   /* GGL is index 2: its algebraic variables cannot be error-controlled like differential ones */
   if (r->pb.form == IDAREF_GGL &&
-      failed(res, IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg"))
+      idaref_failed(res, IDASetSuppressAlg(mem, SUNTRUE), "IDASetSuppressAlg"))
     return -1;
   return 0;
 }
@@ -167,18 +163,20 @@ static int consistent_start(const idaref_model *p, const double *x0, const idare
   memset(y, 0, IDAREF_MAX_DIM * sizeof *y);
   memset(yp, 0, IDAREF_MAX_DIM * sizeof *yp);
   idaref_initial_guess(p, IDAREF_INDEX1, x0, y, yp);
-  if (create(&r, res) == 0 && configure(&r, y, yp, o, res) == 0 &&
-      !failed(res, IDACalcIC(r.mem, IDA_YA_YDP_INIT, t1), "IDACalcIC") &&
-      !failed(res, IDAGetConsistentIC(r.mem, r.yy, r.yp), "IDAGetConsistentIC")) {
-    memcpy(y, N_VGetArrayPointer(r.yy), idaref_dim(IDAREF_INDEX1) * sizeof *y);
-    memcpy(yp, N_VGetArrayPointer(r.yp), idaref_dim(IDAREF_INDEX1) * sizeof *yp);
+  if (idaref_ida_create(&r.ida, idaref_dim(IDAREF_INDEX1), res) == 0 &&
+      configure(&r, y, yp, o, res) == 0 &&
+      !idaref_failed(res, IDACalcIC(r.ida.mem, IDA_YA_YDP_INIT, t1), "IDACalcIC") &&
+      !idaref_failed(res, IDAGetConsistentIC(r.ida.mem, r.ida.yy, r.ida.yp),
+                     "IDAGetConsistentIC")) {
+    memcpy(y, N_VGetArrayPointer(r.ida.yy), idaref_dim(IDAREF_INDEX1) * sizeof *y);
+    memcpy(yp, N_VGetArrayPointer(r.ida.yp), idaref_dim(IDAREF_INDEX1) * sizeof *yp);
     status = 0;
   }
-  destroy(&r);
+  idaref_ida_destroy(&r.ida);
   return status;
 }
 
-static void collect_stats(void *mem, idaref_stats *s)
+void idaref_collect_stats(void *mem, idaref_stats *s)
 {
   if (!mem)
     return;
@@ -190,16 +188,27 @@ static void collect_stats(void *mem, idaref_stats *s)
   IDAGetNumNonlinSolvIters(mem, &s->nonlin_iters);
 }
 
-static int march(run *r, const idaref_options *o, idaref_row_fn row, void *ctx,
-                 idaref_result *res)
+/* The k-th output time from t0: t0 + k DT, the last one tf itself. */
+static int output_time(double t0, double tf, double dt, double k, double *t)
+{
+  double s;
+  if (idaref_output_time(tf - t0, dt, k, &s) != 0)
+    return -1;
+  *t = s == tf - t0 ? tf : t0 + s;
+  return 0;
+}
+
+int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row,
+                 void *ctx, idaref_result *res)
 {
   double t;
-  if (row(0.0, N_VGetArrayPointer(r->yy), ctx) != 0)
+  res->t_reached = t0;
+  if (row(t0, N_VGetArrayPointer(r->yy), ctx) != 0)
     return IDAREF_OUTPUT_FAILED;
-  for (double k = 1.0; idaref_output_time(o->tf, o->dt, k, &t) == 0; k += 1.0) {
+  for (double k = 1.0; output_time(t0, o->tf, o->dt, k, &t) == 0; k += 1.0) {
     realtype tret = res->t_reached;
-    if (failed(res, IDASetStopTime(r->mem, t), "IDASetStopTime") ||
-        failed(res, IDASolve(r->mem, t, &tret, r->yy, r->yp, IDA_NORMAL), "IDASolve")) {
+    if (idaref_failed(res, IDASetStopTime(r->mem, t), "IDASetStopTime") ||
+        idaref_failed(res, IDASolve(r->mem, t, &tret, r->yy, r->yp, IDA_NORMAL), "IDASolve")) {
       IDAGetCurrentTime(r->mem, &res->t_reached);
       return IDAREF_IDA_FAILED;
     }
@@ -235,9 +244,10 @@ int idaref_solve(const idaref_model *p, idaref_form form, const double *x0,
   memset(res, 0, sizeof *res);
   if (consistent_start(p, x0, o, y, yp, res) != 0)
     return status;
-  if (create(&r, res) == 0 && configure(&r, y, yp, o, res) == 0)
-    status = march(&r, o, row, ctx, res);
-  collect_stats(r.mem, &res->stats);
-  destroy(&r);
+  if (idaref_ida_create(&r.ida, idaref_dim(form), res) == 0 &&
+      configure(&r, y, yp, o, res) == 0)
+    status = idaref_march(&r.ida, 0.0, o, row, ctx, res);
+  idaref_collect_stats(r.ida.mem, &res->stats);
+  idaref_ida_destroy(&r.ida);
   return status;
 }

@@ -4,6 +4,9 @@
 #ifndef STABDAE_TOOLS_IDA_SOLVE_H
 #define STABDAE_TOOLS_IDA_SOLVE_H
 
+#include <ida/ida.h>
+#include <sundials/sundials_context.h>
+
 #include "ida_models.h"
 
 typedef struct idaref_options {
@@ -39,5 +42,36 @@ int idaref_output_time(double tf, double dt, double k, double *t);
  * IDAREF_OK, IDAREF_IDA_FAILED (details in *res) or IDAREF_OUTPUT_FAILED. */
 int idaref_solve(const idaref_model *p, idaref_form form, const double *x0,
                  const idaref_options *o, idaref_row_fn row, void *ctx, idaref_result *res);
+
+/* ---- shared by the drivers (this one and ida_mbs.c) ---------------------------------------- */
+
+/* IDA's objects for one run: context, memory, y, y', the id vector, the dense matrix and solver */
+typedef struct idaref_ida {
+  SUNContext ctx;
+  void *mem;
+  N_Vector yy, yp, id;
+  SUNMatrix A;
+  SUNLinearSolver ls;
+} idaref_ida;
+
+/* Creates them for n components; 0, or -1 with the failing call in *res. */
+int idaref_ida_create(idaref_ida *r, size_t n, idaref_result *res);
+void idaref_ida_destroy(idaref_ida *r); /* any part NULL is fine */
+
+/* Records a failing SUNDIALS call in *res; returns -1 when flag is an error, else 0. */
+int idaref_failed(idaref_result *res, int flag, const char *function);
+
+/* IDASetErrHandlerFn's handler with data = the idaref_result: keeps IDA's error message (one
+ * line) instead of letting IDA print it; warnings are dropped. */
+void idaref_error_handler(int code, const char *module, const char *function, char *msg,
+                          void *data);
+
+void idaref_collect_stats(void *mem, idaref_stats *s);
+
+/* From the configured run at t0: row(t, y) at t0, then IDASolve to t0 + DT, t0 + 2 DT, ... and
+ * o->tf, each hit exactly through tstop. IDAREF_OK, IDAREF_IDA_FAILED or IDAREF_OUTPUT_FAILED;
+ * res->t_reached the time of the last state IDA holds. */
+int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row,
+                 void *ctx, idaref_result *res);
 
 #endif

@@ -40,23 +40,33 @@ def cpu_model():
     return platform.processor() or "unknown"
 
 
-def read_points(path):
+def read_rows(path, floats, ints):
+    """The CSV's rows as dicts, the named columns converted."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
     for r in rows:
-        for key in ("d", "tf", "param", "cpu_s", "error"):
+        for key in floats:
             r[key] = float(r[key])
-        r["steps"], r["reps"] = int(r["steps"]), int(r["reps"])
+        for key in ints:
+            r[key] = int(r[key])
     return rows
 
 
-def series(rows, d):
-    """(solver, setting) -> rows of case d in sweep order."""
+def read_points(path):
+    return read_rows(path, ("d", "tf", "param", "cpu_s", "error"), ("steps", "reps"))
+
+
+def series_where(rows, field, value):
+    """(solver, setting) -> the rows with row[field] == value, in sweep order."""
     out = {}
     for r in rows:
-        if r["d"] == d:
+        if r[field] == value:
             out.setdefault((r["solver"], r["setting"]), []).append(r)
     return out
+
+
+def series(rows, d):
+    return series_where(rows, "d", d)
 
 
 def cpu_at(points, error):
