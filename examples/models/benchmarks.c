@@ -21,15 +21,17 @@ static int fixed_constraint_t(double t, const double *q, double *ct, void *param
 /* ---- slider crank ------------------------------------------------------------------------- */
 
 /* The spring's length l = |R - P| and its gradient dl/dq, from dP/dtheta = (a/2)(-sin theta,
- * cos theta), dR/dx = (1, 0), dR/dphi = (sin phi, -cos phi)/2; 0 when P = R */
-static double crank_spring(const bench_slider_crank *p, const double *q, double *grad) {
+ * cos theta), dR/dx = (1, 0), dR/dphi = (sin phi, -cos phi)/2; 1 (recoverable) when P = R,
+ * where the spring has no direction (l is set even then) */
+static int crank_spring(const bench_slider_crank *p, const double *q, double *l, double *grad) {
   double st = sin(q[0]), ct = cos(q[0]), sp = sin(q[2]), cp = cos(q[2]);
-  double dx = q[1] - cp / 2 - p->a * ct / 2, dy = -sp / 2 - p->a * st / 2, l = hypot(dx, dy);
-  if (!(l > 0)) return 0.0;
-  grad[0] = p->a * (dx * st - dy * ct) / (2 * l);
-  grad[1] = dx / l;
-  grad[2] = (dx * sp - dy * cp) / (2 * l);
-  return l;
+  double dx = q[1] - cp / 2 - p->a * ct / 2, dy = -sp / 2 - p->a * st / 2;
+  *l = hypot(dx, dy);
+  if (!(*l > 0)) return 1;
+  grad[0] = p->a * (dx * st - dy * ct) / (2 * *l);
+  grad[1] = dx / *l;
+  grad[2] = (dx * sp - dy * cp) / (2 * *l);
+  return 0;
 }
 
 static int crank_mass(double t, const double *q, double *M, void *params) {
@@ -43,9 +45,9 @@ static int crank_mass(double t, const double *q, double *M, void *params) {
 /* F = -f grad l + (0, F, -F sin phi), f = k (l - l0) + c dl/dt: idaSlCrank_dns's force() */
 static int crank_force(double t, const double *q, const double *v, double *F, void *params) {
   const bench_slider_crank *p = params;
-  double g[3], l = crank_spring(p, q, g);
+  double g[3], l;
   (void)t;
-  if (l == 0.0) return 1; /* the spring's direction is undefined */
+  if (crank_spring(p, q, &l, g)) return 1;
   double f = p->k * (l - p->l0) + p->c * (g[0] * v[0] + g[1] * v[1] + g[2] * v[2]);
   for (int i = 0; i < 3; i++) F[i] = -f * g[i];
   F[1] += p->F;
@@ -75,17 +77,18 @@ static int crank_constraint_t(double t, const double *q, double *ct, void *param
 
 static int crank_potential(double t, const double *q, double *V, void *params) {
   const bench_slider_crank *p = params;
-  double g[3], l = crank_spring(p, q, g);
+  double g[3], l;
   (void)t;
+  (void)crank_spring(p, q, &l, g); /* V needs l only, defined at l = 0 too */
   *V = p->k * (l - p->l0) * (l - p->l0) / 2 - p->F * (q[1] + cos(q[2]));
   return 0;
 }
 
 static int crank_damping(double t, const double *q, double *D, void *params) {
   const bench_slider_crank *p = params;
-  double g[3];
+  double g[3], l;
   (void)t;
-  if (crank_spring(p, q, g) == 0.0) return 1;
+  if (crank_spring(p, q, &l, g)) return 1;
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) D[3 * i + j] = p->c * g[i] * g[j];
   return 0;

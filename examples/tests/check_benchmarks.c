@@ -125,7 +125,8 @@ START_TEST(test_slider_crank_forces) {
   const sdae_mbs *s = &b.sys[0];
   const double inertia[3] = {1, 1, 2}; /* J1, m2, J2 */
   for (int trial = 0; trial < 50; trial++) {
-    double q[3], v[3], F[3], D[9], M[9], V, gl[3];
+    /* one more value each: the callbacks write n_q (n_q^2) values, no more */
+    double q[3], v[3], F[4] = {0, 0, 0, -1}, D[10] = {[9] = -1}, M[9], V, gl[3];
     for (int i = 0; i < 3; i++) q[i] = tu_flat(r, -3, 3), v[i] = tu_flat(r, -3, 3);
     q[1] = tu_flat(r, 0.5, 1.5); /* the slider near its range: the spring away from l = 0 */
     ck_assert_int_eq(s->force(0, q, v, F, s->params), 0);
@@ -144,6 +145,7 @@ START_TEST(test_slider_crank_forces) {
       }
       ck_assert_double_eq_tol(F[i], -partial(potential_of, s, q, (size_t)i, 1e-6) - Dv, 1e-8);
     }
+    ck_assert(F[3] == -1 && D[9] == -1);
   }
   gsl_rng_free(r);
 }
@@ -240,6 +242,28 @@ START_TEST(test_andrews_forces) {
     ck_assert_double_eq_tol(V1 - V0, -0.033, 1e-15);
   }
   gsl_rng_free(r);
+}
+END_TEST
+
+/* A spring of zero length has no direction: its force (and damping) is a recoverable failure,
+ * > 0, the potential is still defined. The slider crank's P = R at theta = phi = 0, x = 3/4
+ * (P = R = (1/4, 0)); the car axis' left end at the ground, its right end at the wheel,
+ * (1, 0) at t = 0. */
+START_TEST(test_zero_length_springs) {
+  benchmarks b;
+  all_benchmarks(&b);
+  const sdae_mbs *s = &b.sys[0];
+  double q[4] = {0, 0.75, 0}, v[4] = {0}, F[4], D[9], V;
+  ck_assert_int_eq(s->force(0, q, v, F, s->params), 1);
+  ck_assert_int_eq(s->damping(0, q, D, s->params), 1);
+  ck_assert_int_eq(s->potential(0, q, &V, s->params), 0);
+  ck_assert_double_eq_tol(V, 0.5 - 1.75, 1e-15); /* k l0^2/2 - F (x + cos phi) */
+  s = &b.sys[1];
+  const double ends[2][4] = {{0, 0, 1, 0.5}, {0.3, 0.2, 1, 0}};
+  for (int k = 0; k < 2; k++) {
+    for (int i = 0; i < 4; i++) q[i] = ends[k][i];
+    ck_assert_int_eq(s->force(0, q, v, F, s->params), 1);
+  }
 }
 END_TEST
 
@@ -428,6 +452,7 @@ static Suite *benchmarks_suite(void) {
   tcase_add_test(tc, test_slider_crank_forces);
   tcase_add_test(tc, test_car_axis_forces);
   tcase_add_test(tc, test_andrews_forces);
+  tcase_add_test(tc, test_zero_length_springs);
   tcase_add_test(tc, test_initial_states);
   suite_add_tcase(s, tc);
   tc = tcase_create("integrated");
