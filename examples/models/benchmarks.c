@@ -321,3 +321,37 @@ void bench_andrews_initial(double *q, double *v) {
   memcpy(q, q0, sizeof q0);
   memset(v, 0, 7 * sizeof *v);
 }
+
+/* ---- the Test Set's reference solutions (subroutine solut), as published, in its signs ---- */
+
+/* car axis at t = 3: xl, yl, xr, yr, their velocities, lam1, lam2 (RADAU5 at tight
+ * tolerances) */
+static const double car_axis_ref[10] = {
+    0.493455784275402809122e-1,  0.496989460230171153861,     0.104174252488542151681e1,
+    0.373911027265361256927,     -0.770583684040972357970e-1, 0.744686658723778553466e-2,
+    0.175568157537232222276e-1,  0.770341043779251976443,     -0.473688659084893324729e-2,
+    -0.110468033125734368808e-2};
+
+void bench_car_axis_reference(double *q, double *v, double *lambda) {
+  memcpy(q, car_axis_ref, 4 * sizeof *q);
+  memcpy(v, car_axis_ref + 4, 4 * sizeof *v);
+  for (size_t j = 0; j < 2; j++) lambda[j] = -car_axis_ref[8 + j]; /* + G^T lambda there */
+}
+
+/* Andrews at t = 0.03: the 7 angles, 7 rates, then (after the 7 accelerations, left out) the 6
+ * multipliers; PSIDE at tolerances 1e-14 (Cray C90), good to about 1e-10 in positions and 3e-8
+ * in velocities */
+static const double andrews_ref[20] = {
+    0.1581077119629904e+2,  -0.1575637105984298e+2, 0.4082224013073101e-1,
+    -0.5347301163226948e+0, 0.5244099658805304e+0,  0.5347301163226948e+0,
+    0.1048080741042263e+1,  0.1139920302151208e+4,  -0.1424379294994111e+4,
+    0.1103291221937134e+2,  0.1929337464421385e+2,  0.5735699284790808e+0,
+    -0.1929337464421385e+2, 0.3231791658026955e+0,  0.1991753333731910e+3,
+    -0.2975531228015052e+2, 0.2306654119098399e+2,  0.3145271365475927e+2,
+    0.2264249232082739e+2,  0.1161740700019673e+2};
+
+void bench_andrews_reference(double *q, double *v, double *lambda) {
+  memcpy(q, andrews_ref, 7 * sizeof *q);
+  memcpy(v, andrews_ref + 7, 7 * sizeof *v);
+  memcpy(lambda, andrews_ref + 14, 6 * sizeof *lambda); /* the same sign as ours */
+}

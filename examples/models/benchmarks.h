@@ -43,6 +43,9 @@ void bench_car_axis_system(sdae_mbs *sys, bench_car_axis *p);
 /* The Test Set's start q = (0, L0, L, L0), v = (-L0/L, 0, -L0/L, 0), written with
  * xl' = xr' = -r w L0 / L so that it stays on c = 0, G v + dc/dt = 0 for any r w (1 there) */
 void bench_car_axis_initial(const bench_car_axis *p, double *q, double *v);
+/* The Test Set's reference solution at t = 3 for the published constants: q, v (4 each) and
+ * lambda (2) in our sign (minus the Test Set's) */
+void bench_car_axis_reference(double *q, double *v, double *lambda);
 
 /* Andrews' squeezing mechanism, q = (beta, theta, gamma, phi, delta, omega, epsilon): seven
  * rigid bodies, six constraints (three loops closed at the fixed points A, B), M(q) and c(q) as
@@ -61,5 +64,8 @@ void bench_andrews_default(bench_andrews *p);
 void bench_andrews_system(sdae_mbs *sys, bench_andrews *p);
 /* The Test Set's consistent start, at rest (for the default geometry) */
 void bench_andrews_initial(double *q, double *v);
+/* The Test Set's reference solution at t = 0.03 for the published constants: q, v (7 each)
+ * and lambda (6); good to about 1e-10 in positions and 3e-8 in velocities */
+void bench_andrews_reference(double *q, double *v, double *lambda);
 
 #endif /* STABDAE_EXAMPLES_BENCHMARKS_H */

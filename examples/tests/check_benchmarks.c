@@ -12,26 +12,6 @@
 #include "benchmarks.h"
 #include "test_util.h"
 
-/* The Test Set for IVP Solvers' reference solutions (subroutine solut), as published, the
- * Test Set's sign of the multipliers. Car axis at t = 3: xl, yl, xr, yr, their velocities,
- * lam1, lam2 (RADAU5 at tight tolerances). */
-static const double car_axis_ref[10] = {
-    0.493455784275402809122e-1,  0.496989460230171153861,     0.104174252488542151681e1,
-    0.373911027265361256927,     -0.770583684040972357970e-1, 0.744686658723778553466e-2,
-    0.175568157537232222276e-1,  0.770341043779251976443,     -0.473688659084893324729e-2,
-    -0.110468033125734368808e-2};
-/* Andrews at t = 0.03: the 7 angles, 7 rates, then (after the 7 accelerations, left out) the
- * 6 multipliers; PSIDE at tolerances 1e-14 (Cray C90), good to about 1e-10 in positions and
- * 3e-8 in velocities */
-static const double andrews_ref[20] = {
-    0.1581077119629904e+2,  -0.1575637105984298e+2, 0.4082224013073101e-1,
-    -0.5347301163226948e+0, 0.5244099658805304e+0,  0.5347301163226948e+0,
-    0.1048080741042263e+1,  0.1139920302151208e+4,  -0.1424379294994111e+4,
-    0.1103291221937134e+2,  0.1929337464421385e+2,  0.5735699284790808e+0,
-    -0.1929337464421385e+2, 0.3231791658026955e+0,  0.1991753333731910e+3,
-    -0.2975531228015052e+2, 0.2306654119098399e+2,  0.3145271365475927e+2,
-    0.2264249232082739e+2,  0.1161740700019673e+2};
-
 typedef struct benchmarks {
   bench_slider_crank crank;
   bench_car_axis car;
@@ -378,8 +358,7 @@ START_TEST(test_car_axis_reference) {
   all_benchmarks(&b);
   double yT[10], yT2[10], ref[10];
   run_result res;
-  memcpy(ref, car_axis_ref, sizeof ref);
-  ref[8] = -ref[8], ref[9] = -ref[9];
+  bench_car_axis_reference(ref, ref + 4, ref + 8);
   end_state(&b.sys[1], sdae_map_midpoint, 2e-3, 3.0, yT, &res);
   end_state(&b.sys[1], sdae_map_midpoint, 1e-3, 3.0, yT2, &res);
   assert_order_2(yT, yT2, ref, 0, 4);
@@ -398,8 +377,9 @@ END_TEST
 START_TEST(test_andrews_reference) {
   benchmarks b;
   all_benchmarks(&b);
-  double yT[20], yT2[20];
+  double yT[20], yT2[20], andrews_ref[20];
   run_result res;
+  bench_andrews_reference(andrews_ref, andrews_ref + 7, andrews_ref + 14);
   end_state(&b.sys[2], sdae_map_dgrad, 2e-5, 0.03, yT, &res);
   end_state(&b.sys[2], sdae_map_dgrad, 1e-5, 0.03, yT2, &res);
   assert_order_2(yT, yT2, andrews_ref, 0, 7);
