@@ -30,7 +30,7 @@ static const char summary[] =
     "(no potential: the road moves; dgrad, dg4, dg6 are refused). Steps: ceil(tf/T - 1e-9).";
 
 static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
-  *a = (args){.p = {1e-2, 10.0, 1.0, 0.5, 0.1, 10.0, 1.0}, .run = mbs_run_defaults()};
+  *a = (args){.p = bench_car_axis_default(), .run = mbs_run_defaults()};
   a->run.tf = 3.0;
   a->run.map = sdae_map_midpoint;
   const cli_flag model_flags[NFLAGS] = {

@@ -30,7 +30,7 @@ static const char summary[] =
     "never increases). Steps: ceil(tf/T - 1e-9).";
 
 static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
-  *a = (args){.p = {0.5, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 1.0}, .run = mbs_run_defaults()};
+  *a = (args){.p = bench_slider_crank_default(), .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"a", CLI_POSITIVE, &a->p.a, NULL, 0, "crank length (< 1, the rod's)"},
       {"J1", CLI_POSITIVE, &a->p.J1, NULL, 0, "crank moment of inertia"},

@@ -94,6 +94,11 @@ static int crank_damping(double t, const double *q, double *D, void *params) {
   return 0;
 }
 
+bench_slider_crank bench_slider_crank_default(void) {
+  return (bench_slider_crank){.a = 0.5, .J1 = 1.0, .m2 = 1.0, .J2 = 2.0, .k = 1.0, .c = 1.0,
+                              .l0 = 1.0, .F = 1.0};
+}
+
 void bench_slider_crank_system(sdae_mbs *sys, bench_slider_crank *p) {
   *sys = (sdae_mbs){.n_q = 3, .n_c = 2, .mass = crank_mass, .force = crank_force,
                     .constraint = crank_constraint, .jacobian = crank_jacobian,
@@ -173,6 +178,11 @@ static int car_constraint_t(double t, const double *q, double *ct, void *params)
   ct[0] = b_t[0] * q[0] + b_t[1] * q[1];
   ct[1] = 0.0;
   return 0;
+}
+
+bench_car_axis bench_car_axis_default(void) {
+  return (bench_car_axis){.eps = 1e-2, .mass = 10.0, .L = 1.0, .L0 = 0.5, .r = 0.1, .w = 10.0,
+                          .g = 1.0};
 }
 
 void bench_car_axis_system(sdae_mbs *sys, bench_car_axis *p) {

@@ -24,6 +24,7 @@
 typedef struct bench_slider_crank {
   double a, J1, m2, J2, k, c, l0, F;
 } bench_slider_crank;
+bench_slider_crank bench_slider_crank_default(void); /* idaSlCrank_dns's constants */
 void bench_slider_crank_system(sdae_mbs *sys, bench_slider_crank *p);
 /* idaSlCrank_dns's start, at rest: theta = pi/2, phi = asin(-a), x = cos phi (needs a < 1) */
 void bench_slider_crank_initial(const bench_slider_crank *p, double *q, double *v);
@@ -39,6 +40,7 @@ void bench_slider_crank_initial(const bench_slider_crank *p, double *q, double *
 typedef struct bench_car_axis {
   double eps, mass, L, L0, r, w, g;
 } bench_car_axis;
+bench_car_axis bench_car_axis_default(void); /* the Test Set's constants */
 void bench_car_axis_system(sdae_mbs *sys, bench_car_axis *p);
 /* The Test Set's start q = (0, L0, L, L0), v = (-L0/L, 0, -L0/L, 0), written with
  * xl' = xr' = -r w L0 / L so that it stays on c = 0, G v + dc/dt = 0 for any r w (1 there) */

@@ -21,8 +21,8 @@ typedef struct benchmarks {
 
 /* the published constants (benchmarks.h) */
 static void all_benchmarks(benchmarks *b) {
-  b->crank = (bench_slider_crank){0.5, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 1.0};
-  b->car = (bench_car_axis){1e-2, 10.0, 1.0, 0.5, 0.1, 10.0, 1.0};
+  b->crank = bench_slider_crank_default();
+  b->car = bench_car_axis_default();
   bench_andrews_default(&b->andrews);
   bench_slider_crank_system(&b->sys[0], &b->crank);
   bench_car_axis_system(&b->sys[1], &b->car);

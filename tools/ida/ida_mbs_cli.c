@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "benchmarks.h"
 #include "cli.h"
 #include "mechanisms.h"
 
@@ -27,6 +28,9 @@ typedef union model_params {
   mech_pendulum pendulum;
   mech_double_pendulum double_pendulum;
   mech_fourbar fourbar;
+  bench_slider_crank slider_crank;
+  bench_car_axis car_axis;
+  bench_andrews andrews;
 } model_params;
 enum { MAX_Q = 32 };
 
@@ -54,6 +58,28 @@ static void fourbar(model_params *p, sdae_mbs *sys, double *q0, double *v0)
   mech_fourbar_state(&p->fourbar, 0.0, 5.0, q0, v0); /* a crank-rocker closes at 0 */
 }
 
+/* the standard benchmarks (benchmarks.h): the published constants and starts */
+static void slider_crank(model_params *p, sdae_mbs *sys, double *q0, double *v0)
+{
+  p->slider_crank = bench_slider_crank_default();
+  bench_slider_crank_system(sys, &p->slider_crank);
+  bench_slider_crank_initial(&p->slider_crank, q0, v0);
+}
+
+static void car_axis(model_params *p, sdae_mbs *sys, double *q0, double *v0)
+{
+  p->car_axis = bench_car_axis_default();
+  bench_car_axis_system(sys, &p->car_axis);
+  bench_car_axis_initial(&p->car_axis, q0, v0);
+}
+
+static void andrews(model_params *p, sdae_mbs *sys, double *q0, double *v0)
+{
+  bench_andrews_default(&p->andrews);
+  bench_andrews_system(sys, &p->andrews);
+  bench_andrews_initial(q0, v0);
+}
+
 static const struct model_entry {
   const char *name;
   void (*setup)(model_params *p, sdae_mbs *sys, double *q0, double *v0);
@@ -61,6 +87,9 @@ static const struct model_entry {
   {"pendulum", pendulum},
   {"double_pendulum", double_pendulum},
   {"fourbar", fourbar},
+  {"slider_crank", slider_crank},
+  {"car_axis", car_axis},
+  {"andrews", andrews},
 };
 #define NMODELS (sizeof registry / sizeof registry[0])
 

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "benchmarks.h"
 #include "mechanisms.h"
 
 static const char *form_name(idambs_form form) { return form == IDAMBS_GGL ? "ggl" : "index1"; }
@@ -482,6 +483,60 @@ START_TEST(failures_are_reported)
 }
 END_TEST
 
+/* ---- the slider crank: stabdae's front-end meets IDA ---------------------------------------- */
+
+/* (q, v) at t = 10 by the front-end (scheme 15, dg4) from idaSlCrank_dns's start */
+static void slider_crank_stabdae(double T, double *y)
+{
+  bench_slider_crank p = bench_slider_crank_default();
+  sdae_mbs sys;
+  sdae_options o;
+  sdae_mbs_stepper *s;
+  bench_slider_crank_system(&sys, &p);
+  bench_slider_crank_initial(&p, y, y + 3);
+  sdae_options_default(&o);
+  o.delta = 2.0, o.map = sdae_map_dg4;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  size_t n = (size_t)lround(10.0 / T);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, T, n, n, y, y + 3, NULL, NULL, NULL), SDAE_OK);
+  sdae_mbs_stepper_free(s);
+}
+
+static double max_diff(const double *a, const double *b, size_t n)
+{
+  double d = 0.0;
+  for (size_t i = 0; i < n; i++)
+    d = fmax(d, fabs(a[i] - b[i]));
+  return d;
+}
+
+/* The slider crank's end state at t = 10 (the examples' program) against IDA at rtol 1e-12:
+ * dg4 at T = 0.01 is off its limit by about |y_0.02 - y_0.01| / 15 (Richardson, order 4), IDA
+ * by at most its global bound (steps times the tolerance, about 5e-9 here); the two must agree
+ * within the sum (measured 1.5e-10 in q and v; the bound 3.3e-9). */
+START_TEST(slider_crank_stabdae_meets_ida)
+{
+  bench_slider_crank p = bench_slider_crank_default();
+  sdae_mbs sys;
+  double q0[3], v0[3], coarse[6], fine[6];
+  idaref_options o = options(1e-12, 10.0, 10.0);
+  idaref_result res;
+  last_row ida = {.n_q = 3, .n_c = 2};
+  bench_slider_crank_system(&sys, &p);
+  bench_slider_crank_initial(&p, q0, v0);
+  solve_ok(&sys, IDAMBS_INDEX1, q0, v0, &o, keep_last, &ida, &res);
+  slider_crank_stabdae(0.02, coarse);
+  slider_crank_stabdae(0.01, fine);
+  double richardson = max_diff(coarse, fine, 6) / 15.0;
+  double bound = 2.0 * richardson + global_bound(&o, &res, 1.3);
+  double dq = max_diff(fine, ida.q, 3), dv = max_diff(fine + 3, ida.v, 3);
+  printf("slider crank at t = 10: |stabdae - IDA| = %.2g (q), %.2g (v); bound %.2g\n", dq, dv,
+         bound);
+  ck_assert_double_lt(dq, bound);
+  ck_assert_double_lt(dv, bound);
+}
+END_TEST
+
 static Suite *ida_mbs_suite(void)
 {
   Suite *s = suite_create("ida_mbs");
@@ -494,6 +549,7 @@ static Suite *ida_mbs_suite(void)
   tcase_add_loop_test(exact, fourbar_conserves_energy, 0, 2);
   tcase_add_loop_test(exact, fourbar_work_follows_tolerance, 0, 2);
   tcase_add_loop_test(exact, moving_pivot_matches_angle_equation, 0, 4);
+  tcase_add_test(exact, slider_crank_stabdae_meets_ida);
   tcase_add_test(driver, rows_hit_output_times_from_t0);
   tcase_add_test(driver, failures_are_reported);
   suite_add_tcase(s, exact);

@@ -35,7 +35,7 @@ TITLES = {
     "car_axis": "car axis (Test Set caraxis), t = 3",
     "andrews": "Andrews' squeezer (Test Set andrews), t = 0.03",
 }
-INT_KEYS = ("steps", "reps", "evals", "newton")
+INT_KEYS = ("steps", "reps", "evals", "rhs", "newton")
 FLOAT_KEYS = ("param", "cpu_s", "err_q", "err_v")
 
 
