@@ -363,8 +363,8 @@ static int file_row(cli_sink *s, const double *v, size_t n, unsigned last,
   return cli_csv_row(((cli_file_sink *)s)->f, v, n, last) != 0;
 }
 
-static void file_end(cli_sink *s, int status, size_t steps) {
-  (void)s, (void)status, (void)steps; /* the serial driver reports the outcome itself */
+static void file_end(cli_sink *s, int status, size_t steps, const char *why) {
+  (void)s, (void)status, (void)steps, (void)why; /* the serial driver reports it itself */
 }
 
 cli_file_sink cli_file_sink_make(FILE *f) {
@@ -470,13 +470,14 @@ int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink) {
   if (!sink) return execute_file(p, run);
   sdae_stepper *s = NULL;
   size_t done = 0;
+  observer_data od = {p, NULL, sink, run->T, NULL};
   int status = sdae_stepper_alloc(&s, p->model, p->options);
   if (status == SDAE_OK) {
-    observer_data od = {p, s, sink, run->T, NULL};
+    od.stepper = s;
     status = integrate(p, run, s, sink, &od, &done);
     sdae_stepper_free(s);
   }
-  sink->end(sink, status, done);
+  sink->end(sink, status, done, od.why);
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
 

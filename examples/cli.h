@@ -103,8 +103,9 @@ struct cli_sink {
   int (*header)(cli_sink *s, const char *line); /* the CSV header, without newline */
   /* one row: n values, then the last column (newton_iters, or switches) */
   int (*row)(cli_sink *s, const double *v, size_t n, unsigned last, const cli_row_info *info);
-  /* the run's end: SDAE_OK or its failure, and the steps taken */
-  void (*end)(cli_sink *s, int status, size_t steps);
+  /* the run's end: SDAE_OK or its failure, the steps taken, and for SDAE_STOPPED the reason
+   * (the row's, or NULL when the sink stopped the run) */
+  void (*end)(cli_sink *s, int status, size_t steps, const char *why);
 };
 
 typedef struct cli_file_sink {

@@ -141,14 +141,15 @@ int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink) {
   sdae_mbs_stepper *s = NULL;
   double *row = NULL;
   size_t done = 0;
+  row_data d = {.p = p, .sink = sink, .T = run->T};
   int status = prepare(p, run, &s, &row);
   if (status == SDAE_OK) {
-    row_data d = {.p = p, .s = s, .sink = sink, .T = run->T, .row = row};
+    d.s = s, d.row = row;
     status = integrate(p, run, &d, &done);
     free(row);
     sdae_mbs_stepper_free(s);
   }
-  sink->end(sink, status, done);
+  sink->end(sink, status, done, d.why);
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
 
