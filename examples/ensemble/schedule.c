@@ -31,6 +31,7 @@ typedef struct master {
   size_t *queued;
   int *stopped;
   size_t done, failed;    /* members finished in this run */
+  size_t own, messages;   /* members run by rank 0, results received */
   double t0, reported;
   int bad;                /* the output could not be written */
   char *buf;              /* the rows of the master's members and of the received chunks */
@@ -66,8 +67,10 @@ static void progress(master *m, int last) {
   m->reported = now;
   double rate = dt > 0 ? (double)m->done / dt : 0.0;
   if (last) {
-    fprintf(stderr, "%s: %zu members in %.3g s (%zu failed), %.4g members/s\n", ENS_PROG,
-            m->done, dt, m->failed, rate);
+    /* rank 0's share of the work and its messages tell whether --chunk should be larger */
+    fprintf(stderr, "%s: %zu members in %.3g s (%zu failed), %.4g members/s; rank 0 ran %zu "
+                    "and received %zu chunks\n",
+            ENS_PROG, m->done, dt, m->failed, rate, m->own, m->messages);
     return;
   }
   size_t left = m->n - m->first - m->done;
@@ -127,6 +130,7 @@ static int receive(master *m) {
   chunk c = q[0];
   memmove(q, q + 1, (IN_FLIGHT - 1) * sizeof *q);
   m->queued[w - 1]--;
+  m->messages++;
   give(m, w);
   return store_all(m, c.first, c.count, m->buf, (size_t)count);
 }
@@ -135,6 +139,7 @@ static int receive(master *m) {
 static int run_own(master *m) {
   size_t i = m->next++;
   m->len = 0;
+  m->own++;
   if (ens_member_run(m->job, i, m->args, &m->buf, &m->len, &m->cap)) return -1;
   return store(m, i, m->buf, m->len);
 }
