@@ -88,8 +88,7 @@ static int parse_at(ens_job *job, char *err, size_t errlen) {
 /* the runner's settings, then the model's shared flags parsed alone */
 static int setup(const ens_args *a, ens_job *job, void *args, char *err, size_t errlen) {
   char msg[CLI_ERR_LEN];
-  job->def = ens_models[a->model];
-  *job = (ens_job){.def = job->def, .model = a->model, .members_path = a->members, .out = a->out,
+  *job = (ens_job){.def = ens_models[a->model], .members_path = a->members, .out = a->out,
                    .at_text = a->at, .resume = a->resume, .quiet = a->quiet,
                    .certify = a->certify, .chunk = a->chunk, .pieces = a->pieces,
                    .progress = a->progress, .nshared = job->nshared, .shared = job->shared};

@@ -30,8 +30,7 @@ typedef struct ens_members {
 } ens_members;
 
 typedef struct ens_job {
-  const cli_def *def;
-  int model;          /* index into ens_models */
+  const cli_def *def;  /* the model's program */
   const char *members_path, *out;
   const char *at_text; /* --at as given */
   double at[64];

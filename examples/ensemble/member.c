@@ -41,7 +41,7 @@ static void keep(capture *c, size_t k, const double *v, unsigned last) {
 static int cap_row(cli_sink *s, const double *v, size_t n, unsigned last,
                    const cli_row_info *info) {
   capture *c = (capture *)s;
-  if (n != c->n) return 1; /* not the program's header: cannot happen */
+  if (n != c->n) return 1; /* a row unlike the program's header: cannot happen */
   if (!c->have_last) c->e0 = info->energy, c->vmax = info->violation;
   c->have_last = 1;
   keep(c, 0, v, last);
