@@ -68,14 +68,24 @@ int cli_certify_run(const char *prog, const cli_certify *c, const sdae_model *m,
     fprintf(stderr, "%s: --certify: %s\n", prog, sdae_strerror(rc));
     return rc == SDAE_ERR_PARAM ? CLI_EXIT_USAGE : CLI_EXIT_FAILED;
   }
-  const double *at = argmax + cert.i_max * CERT_DIM;
-  printf("sup_neg_k: %.10g\n", cert.sup_neg_k);
-  printf("gain: k%zu\n", cert.i_max + 1);
-  printf("argmax: xi1=%.10g xi2=%.10g mu1=%.10g mu2=%.10g\n", at[0], at[1], at[2], at[3]);
-  printf("T_bar: %.10g\n", cert.T_bar);
-  printf("T_thm5_scheme15: %.10g\n", cert.T_thm5_scheme15);
-  printf("T_thm5_scheme11: %.10g\n", cert.T_thm5_scheme11);
+  cli_certify_print(&cert, argmax);
   return CLI_EXIT_OK;
+}
+
+void cli_certify_box(const cli_certify *c, cli_certify_setup *s) {
+  s->lo = c->lo;
+  s->hi = c->hi;
+  s->grid = (unsigned)c->grid;
+}
+
+void cli_certify_print(const sdae_certificate *cert, const double *argmax) {
+  const double *at = argmax + cert->i_max * CERT_DIM;
+  printf("sup_neg_k: %.10g\n", cert->sup_neg_k);
+  printf("gain: k%zu\n", cert->i_max + 1);
+  printf("argmax: xi1=%.10g xi2=%.10g mu1=%.10g mu2=%.10g\n", at[0], at[1], at[2], at[3]);
+  printf("T_bar: %.10g\n", cert->T_bar);
+  printf("T_thm5_scheme15: %.10g\n", cert->T_thm5_scheme15);
+  printf("T_thm5_scheme11: %.10g\n", cert->T_thm5_scheme11);
 }
 
 int cli_check_model_run(const char *prog, const cli_certify *c, const sdae_model *m,

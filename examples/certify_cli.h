@@ -23,6 +23,10 @@ size_t cli_certify_flags(cli_flag *dst, cli_certify *c, const char *box_help);
  * input (CLI_BAD with err set). */
 int cli_certify_finish(cli_certify *c, char *err, size_t errlen);
 
+/* The box and grid of c into a --certify's setup (the ensemble runner's). */
+void cli_certify_box(const cli_certify *c, cli_certify_setup *s);
+/* The lines of --certify from the certificate and argmax (n_xi rows of CERT_DIM). */
+void cli_certify_print(const sdae_certificate *cert, const double *argmax);
 /* --certify: prints sup_neg_k, argmax, T_bar, T_thm5_scheme15, T_thm5_scheme11; exit code. */
 int cli_certify_run(const char *prog, const cli_certify *c, const sdae_model *m,
                     const sdae_options *o);

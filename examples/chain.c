@@ -12,6 +12,7 @@
 
 #include "chain_model.h"
 #include "cli.h"
+#include "programs.h"
 
 /* the model has no user map (user_phi) */
 static const char *const map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
@@ -38,8 +39,9 @@ static const char summary[] =
     "[-0.1,0.1]) or from --x0, and writes CSV: t,max_abs_Y,max_abs_Ydot,E,newton_iters.\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *err,
+static int chain_parse_args(int argc, char *const *argv, void *args, char *err,
                             size_t errlen) {
+  chain_args *a = args;
   *a = (chain_args){.p = {10, 2.0, 1.0, 0.03, 1.0, 9.81, NULL},
                     .seed = 1,
                     .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
@@ -64,10 +66,13 @@ static int chain_parse_args(int argc, char *const *argv, chain_args *a, char *er
     snprintf(err, errlen, "--N: at most %u masses", CHAIN_MAX_N);
     return CLI_BAD;
   }
+  /* checked here, with every other input, read again into the state by chain_start */
+  if (a->x0 && cli_parse_vector(a->x0, NULL, 4 * a->p.N, "x0", err, errlen) != CLI_OK)
+    return CLI_BAD;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-static int chain_row(FILE *f, double t, const double *xi, const double *mu, unsigned iters,
+static int chain_row(cli_row_out *o, double t, const double *xi, const double *mu,
                      void *vctx, const char **why) {
   const chain_row_ctx *ctx = vctx;
   double maxY = 0.0, maxYd = 0.0;
@@ -78,25 +83,20 @@ static int chain_row(FILE *f, double t, const double *xi, const double *mu, unsi
   }
   chain_from_coords(ctx->p, xi, mu, ctx->x);
   const double v[4] = {t, maxY, maxYd, chain_energy(ctx->p, ctx->x)};
-  return cli_csv_row(f, v, 4, iters);
+  return cli_emit(o, v, 4, maxY, v[3]); /* the constraints are Y_i = 0 */
 }
 
-/* x from --x0 (bad input: exit 2) or the seeded random start (out of memory: exit 1) */
+/* x from --x0 (checked by the parser) or the seeded random start (0, or -1: out of memory) */
 static int chain_start(const chain_args *a, double *x) {
   char err[CLI_ERR_LEN];
-  if (!a->x0) return chain_random_start(&a->p, a->seed, x) ? CLI_EXIT_FAILED : CLI_EXIT_OK;
-  if (cli_parse_vector(a->x0, x, 4 * a->p.N, "x0", err, sizeof err) == CLI_OK)
-    return CLI_EXIT_OK;
-  fprintf(stderr, "chain: %s\n", err);
-  return CLI_EXIT_USAGE;
+  if (a->x0) return cli_parse_vector(a->x0, x, 4 * a->p.N, "x0", err, sizeof err) ? -1 : 0;
+  return chain_random_start(&a->p, a->seed, x) ? -1 : 0;
 }
 
-static int run(chain_args *a, double *x, double *xi, double *mu) {
+static int run(chain_args *a, double *x, double *xi, double *mu, cli_sink *sink) {
   sdae_model model;
   sdae_options opt;
-  int rc = chain_model(&model, &a->p) ? CLI_EXIT_FAILED : chain_start(a, x);
-  if (rc == CLI_EXIT_USAGE) return rc;
-  if (rc != CLI_EXIT_OK) {
+  if (chain_model(&model, &a->p) || chain_start(a, x)) {
     fprintf(stderr, "chain: out of memory for %zu masses\n", a->p.N);
     return CLI_EXIT_FAILED;
   }
@@ -108,27 +108,30 @@ static int run(chain_args *a, double *x, double *xi, double *mu) {
   chain_row_ctx ctx = {&a->p, x};
   const cli_program prog = {"chain", "t,max_abs_Y,max_abs_Ydot,E,newton_iters", &model, &opt,
                             xi, mu, chain_row, &ctx};
-  return cli_execute(&prog, &a->run);
+  return cli_execute_to(&prog, &a->run, sink);
 }
 
-int main(int argc, char **argv) {
-  chain_args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = chain_parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "chain", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
-
-  double *x = malloc(4 * a.p.N * sizeof *x);
-  double *xi = malloc(2 * a.p.N * sizeof *xi), *mu = malloc(2 * a.p.N * sizeof *mu);
+static int chain_run(void *args, cli_sink *sink) {
+  chain_args *a = args;
+  int rc;
+  double *x = malloc(4 * a->p.N * sizeof *x);
+  double *xi = malloc(2 * a->p.N * sizeof *xi), *mu = malloc(2 * a->p.N * sizeof *mu);
   if (x && xi && mu) {
-    rc = run(&a, x, xi, mu);
+    rc = run(a, x, xi, mu, sink);
   } else {
-    fprintf(stderr, "chain: out of memory for %zu masses\n", a.p.N);
+    fprintf(stderr, "chain: out of memory for %zu masses\n", a->p.N);
     rc = CLI_EXIT_FAILED;
   }
-  chain_model_free(&a.p);
+  chain_model_free(&a->p);
   free(x);
   free(xi);
   free(mu);
   return rc;
 }
+
+const cli_def chain_def = {"chain", summary, CLI_LAYOUT(chain_args), chain_parse_args, chain_run,
+                           NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&chain_def, argc, argv); }
+#endif

@@ -82,7 +82,7 @@ int cli_parse_vector(const char *s, double *out, size_t n, const char *name, cha
     double v;
     if (cli_parse_double(buf, &v))
       return cli_fail(err, errlen, "--%s: '%s' is not a finite number", name, buf);
-    if (count < n) out[count] = v;
+    if (out && count < n) out[count] = v;
     count++;
     if (!comma) break;
     p = comma + 1;
@@ -353,25 +353,22 @@ int cli_csv_row(FILE *f, const double *v, size_t n, unsigned newton_iters) {
   return fprintf(f, "%u\n", newton_iters) < 0 ? -1 : 0;
 }
 
-/* ---- driver ------------------------------------------------------------------------------- */
+static int file_header(cli_sink *s, const char *line) {
+  return fprintf(((cli_file_sink *)s)->f, "%s\n", line) < 0;
+}
 
-typedef struct observer_data {
-  const cli_program *p;
-  const sdae_stepper *stepper;
-  FILE *f;
-  double T;
-  const char *why; /* set when a row could not be written */
-} observer_data;
+static int file_row(cli_sink *s, const double *v, size_t n, unsigned last,
+                    const cli_row_info *info) {
+  (void)info; /* the CSV has its own columns */
+  return cli_csv_row(((cli_file_sink *)s)->f, v, n, last) != 0;
+}
 
-static int observe(size_t step, double t, const double *xi, const double *mu, void *data) {
-  observer_data *od = data;
-  (void)t; /* rows are at t = i T exactly, not an accumulated sum */
-  unsigned iters = step == 0 ? 0 : sdae_stepper_stats(od->stepper)->newton_iters_last;
-  if (od->p->row(od->f, (double)step * od->T, xi, mu, iters, od->p->row_ctx, &od->why)) {
-    if (!od->why) od->why = "cannot write the output";
-    return 1;
-  }
-  return 0;
+static void file_end(cli_sink *s, int status, size_t steps, const char *why) {
+  (void)s, (void)status, (void)steps, (void)why; /* the serial driver reports it itself */
+}
+
+cli_file_sink cli_file_sink_make(FILE *f) {
+  return (cli_file_sink){{file_header, file_row, file_end}, f};
 }
 
 FILE *cli_open_output(const cli_run *run, const char *prog) {
@@ -388,26 +385,66 @@ void cli_discard_output(FILE *f, const cli_run *run) {
   remove(run->out);
 }
 
-static int close_output(FILE *f, const char *prog) {
+int cli_close_output(FILE *f, const char *prog) {
   int bad = fflush(f) != 0 || ferror(f);
   if (f != stdout && fclose(f) != 0) bad = 1;
   if (bad) fprintf(stderr, "%s: error writing the output\n", prog);
   return bad;
 }
 
-static int report_failure(const cli_program *p, const cli_run *run, int status, size_t done,
-                          const char *why) {
-  /* the step that failed is the one after the last good one, taken from t = done T */
+int cli_report_failure(const char *prog, const cli_run *run, int status, size_t done,
+                       const char *why) {
   if (status == SDAE_STOPPED)
-    fprintf(stderr, "%s: stopped at step %zu (t = %.17g): %s\n", p->name, done,
+    fprintf(stderr, "%s: stopped at step %zu (t = %.17g): %s\n", prog, done,
             (double)done * run->T, why);
   else
-    fprintf(stderr, "%s: step %zu from t = %.17g failed: %s\n", p->name, done + 1,
+    fprintf(stderr, "%s: step %zu from t = %.17g failed: %s\n", prog, done + 1,
             (double)done * run->T, sdae_strerror(status));
   return CLI_EXIT_FAILED;
 }
 
-int cli_execute(const cli_program *p, const cli_run *run) {
+/* ---- driver ------------------------------------------------------------------------------- */
+
+int cli_emit(cli_row_out *o, const double *v, size_t n, double violation, double energy) {
+  o->info.violation = violation;
+  o->info.energy = energy;
+  return o->sink->row(o->sink, v, n, o->newton_iters, &o->info);
+}
+
+typedef struct observer_data {
+  const cli_program *p;
+  const sdae_stepper *stepper;
+  cli_sink *sink;
+  double T;
+  const char *why; /* set when a row could not be written */
+} observer_data;
+
+static int observe(size_t step, double t, const double *xi, const double *mu, void *data) {
+  observer_data *od = data;
+  const sdae_stats *st = sdae_stepper_stats(od->stepper);
+  cli_row_out o = {od->sink, step == 0 ? 0 : st->newton_iters_last,
+                   {.newton_total = st->newton_iters_total}};
+  (void)t; /* rows are at t = i T exactly, not an accumulated sum */
+  if (od->p->row(&o, (double)step * od->T, xi, mu, od->p->row_ctx, &od->why)) {
+    if (!od->why) od->why = "cannot write the output";
+    return 1;
+  }
+  return 0;
+}
+
+/* the header, then the integration; the status, steps taken in *done */
+static int integrate(const cli_program *p, const cli_run *run, sdae_stepper *s, cli_sink *sink,
+                     observer_data *od, size_t *done) {
+  *done = 0;
+  if (sink->header(sink, p->header)) {
+    od->why = "cannot write the output";
+    return SDAE_STOPPED;
+  }
+  return sdae_integrate(s, 0.0, run->T, run->nsteps, run->every, p->xi, p->mu, observe, od,
+                        done);
+}
+
+static int execute_file(const cli_program *p, const cli_run *run) {
   FILE *f = cli_open_output(run, p->name);
   if (!f) return CLI_EXIT_USAGE;
   sdae_stepper *s = NULL;
@@ -418,18 +455,57 @@ int cli_execute(const cli_program *p, const cli_run *run) {
     cli_discard_output(f, run);
     return CLI_EXIT_USAGE;
   }
-  observer_data od = {p, s, f, run->T, NULL};
-  size_t done = 0;
+  cli_file_sink fs = cli_file_sink_make(f);
+  observer_data od = {p, s, &fs.base, run->T, NULL};
+  size_t done;
   int rc = CLI_EXIT_OK;
-  if (fprintf(f, "%s\n", p->header) < 0) {
-    status = SDAE_STOPPED;
-    od.why = "cannot write the output";
-  } else {
-    status = sdae_integrate(s, 0.0, run->T, run->nsteps, run->every, p->xi, p->mu, observe,
-                            &od, &done);
-  }
-  if (status != SDAE_OK) rc = report_failure(p, run, status, done, od.why);
+  status = integrate(p, run, s, &fs.base, &od, &done);
+  if (status != SDAE_OK) rc = cli_report_failure(p->name, run, status, done, od.why);
   sdae_stepper_free(s);
-  if (close_output(f, p->name)) rc = CLI_EXIT_FAILED;
+  if (cli_close_output(f, p->name)) rc = CLI_EXIT_FAILED;
+  return rc;
+}
+
+int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink) {
+  if (!sink) return execute_file(p, run);
+  sdae_stepper *s = NULL;
+  size_t done = 0;
+  observer_data od = {p, NULL, sink, run->T, NULL};
+  int status = sdae_stepper_alloc(&s, p->model, p->options);
+  if (status == SDAE_OK) {
+    od.stepper = s;
+    status = integrate(p, run, s, sink, &od, &done);
+    sdae_stepper_free(s);
+  }
+  sink->end(sink, status, done, od.why);
+  return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
+}
+
+int cli_execute(const cli_program *p, const cli_run *run) { return cli_execute_to(p, run, NULL); }
+
+/* ---- a program ---------------------------------------------------------------------------- */
+
+cli_run *cli_args_run(const cli_def *d, void *args) {
+  return (cli_run *)((char *)args + d->layout.run);
+}
+
+const cli_flag *cli_args_flags(const cli_def *d, void *args, size_t *nflags) {
+  *nflags = *(const size_t *)((const char *)args + d->layout.nflags);
+  return (const cli_flag *)((const char *)args + d->layout.flags);
+}
+
+int cli_main(const cli_def *d, int argc, char **argv) {
+  void *args = malloc(d->layout.size);
+  char err[CLI_ERR_LEN] = "";
+  size_t nflags;
+  if (!args) {
+    fprintf(stderr, "%s: out of memory\n", d->name);
+    return CLI_EXIT_FAILED;
+  }
+  int rc = d->parse(argc, argv, args, err, sizeof err);
+  const cli_flag *flags = cli_args_flags(d, args, &nflags);
+  rc = cli_parse_or_exit(rc, d->name, d->summary, flags, nflags, err);
+  if (rc < 0) rc = d->run(args, NULL);
+  free(args);
   return rc;
 }

@@ -5,7 +5,7 @@
 #ifndef STABDAE_EXAMPLES_CLI_H
 #define STABDAE_EXAMPLES_CLI_H
 
-#include <stddef.h>
+#include <stddef.h> /* offsetof: CLI_LAYOUT */
 #include <stdio.h>
 
 #include <stabdae/stabdae.h>
@@ -52,7 +52,8 @@ int cli_fail(char *err, size_t errlen, const char *fmt, ...);
 int cli_parse_double(const char *s, double *out);
 int cli_parse_size(const char *s, size_t *out);
 int cli_parse_ulong(const char *s, unsigned long *out);
-/* Exactly n finite doubles separated by commas; CLI_BAD with err naming --name otherwise. */
+/* Exactly n finite doubles separated by commas; CLI_BAD with err naming --name otherwise.
+ * out may be NULL: the list is only checked. */
 int cli_parse_vector(const char *s, double *out, size_t n, const char *name, char *err,
                      size_t errlen);
 
@@ -85,7 +86,34 @@ int cli_run_finish(cli_run *run, char *err, size_t errlen);
 /* Copies scheme, delta, epsilon and the stabilizer into the options. */
 void cli_run_options(const cli_run *run, sdae_options *o);
 
-/* ---- CSV --------------------------------------------------------------------------------- */
+/* ---- where the rows go ------------------------------------------------------------------ */
+
+/* What a row tells beyond its CSV columns, for the ensemble runner's summaries. */
+typedef struct cli_row_info {
+  double violation;           /* max |constraint| at the row */
+  double energy;              /* the model's energy at the row */
+  unsigned long newton_total; /* Newton iterations of every step so far */
+  unsigned long switches;     /* chart switches so far (the mechanical front-end; else 0) */
+} cli_row_info;
+
+/* A destination of a program's output: the CSV file of the serial programs (cli_file_sink),
+ * or the ensemble runner's capture of a member. Each callback returns non-zero to stop. */
+typedef struct cli_sink cli_sink;
+struct cli_sink {
+  int (*header)(cli_sink *s, const char *line); /* the CSV header, without newline */
+  /* one row: n values, then the last column (newton_iters, or switches) */
+  int (*row)(cli_sink *s, const double *v, size_t n, unsigned last, const cli_row_info *info);
+  /* the run's end: SDAE_OK or its failure, the steps taken, and for SDAE_STOPPED the reason
+   * (the row's, or NULL when the sink stopped the run) */
+  void (*end)(cli_sink *s, int status, size_t steps, const char *why);
+};
+
+typedef struct cli_file_sink {
+  cli_sink base;
+  FILE *f;
+} cli_file_sink;
+/* The sink writing CSV to f, numbers %.17g. */
+cli_file_sink cli_file_sink_make(FILE *f);
 
 /* Writes n values with %.17g, then the Newton iteration count, one row. */
 int cli_csv_row(FILE *f, const double *v, size_t n, unsigned newton_iters);
@@ -93,13 +121,28 @@ int cli_csv_row(FILE *f, const double *v, size_t n, unsigned newton_iters);
  * naming prog; and the file closed and removed when the run ends in bad input. */
 FILE *cli_open_output(const cli_run *run, const char *prog);
 void cli_discard_output(FILE *f, const cli_run *run);
+/* fflush and close (stdout stays open); non-zero, with one line on stderr, on an error. */
+int cli_close_output(FILE *f, const char *prog);
+/* The line a failure during integration prints: the step after the last good one (done),
+ * taken from t = done T; why is the observer's reason when it stopped the run. Returns 1. */
+int cli_report_failure(const char *prog, const cli_run *run, int status, size_t done,
+                       const char *why);
 
 /* ---- the driver ---------------------------------------------------------------------------- */
 
+/* What a program's row function hands on: the sink and the driver's part of the row. */
+typedef struct cli_row_out {
+  cli_sink *sink;
+  unsigned newton_iters; /* of the step that ended at the row (0 at t = 0) */
+  cli_row_info info;
+} cli_row_out;
+/* One row of n values to the sink, with the model's constraint violation and energy. */
+int cli_emit(cli_row_out *o, const double *v, size_t n, double violation, double energy);
+
 /* One CSV row from the state at time t; non-zero when the state cannot be written (outside the
  * model's domain), with a one-line reason in why. */
-typedef int (*cli_row_fn)(FILE *f, double t, const double *xi, const double *mu,
-                          unsigned newton_iters, void *ctx, const char **why);
+typedef int (*cli_row_fn)(cli_row_out *o, double t, const double *xi, const double *mu,
+                          void *ctx, const char **why);
 
 typedef struct cli_program {
   const char *name;        /* for messages */
@@ -111,14 +154,55 @@ typedef struct cli_program {
   void *row_ctx;
 } cli_program;
 
-/* Opens the output, builds the stepper and integrates run->nsteps steps, writing rows.
- * Returns the exit code; on a bad setup (CLI_EXIT_USAGE) the output file is removed, on a
- * failure during integration the rows so far are kept and one line names the step. */
-int cli_execute(const cli_program *p, const cli_run *run);
+/* Builds the stepper and integrates run->nsteps steps, rows to the sink. sink NULL: the serial
+ * program, which opens --out and returns the exit code (on a bad setup, CLI_EXIT_USAGE, the
+ * output file is removed; on a failure during integration the rows so far are kept and one
+ * line names the step). Otherwise the outcome goes to sink->end and nothing is printed. */
+int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink);
+int cli_execute(const cli_program *p, const cli_run *run); /* cli_execute_to(p, run, NULL) */
 
 /* The common main: parse (CLI_HELP prints usage on stdout), print one line and return 2 on bad
  * input. Returns -1 when the caller should go on. */
 int cli_parse_or_exit(int rc, const char *prog, const char *summary, const cli_flag *flags,
                       size_t nflags, const char *err);
+
+/* ---- a program, callable in-process ------------------------------------------------------ */
+
+/* Where a program's argument struct keeps the shared parts: its cli_run `run`, its flag table
+ * `flags` (pointing into the struct, which therefore stays where it was parsed) and `nflags`. */
+typedef struct cli_layout {
+  size_t size, run, flags, nflags;
+} cli_layout;
+#define CLI_LAYOUT(type)                                                                    \
+  { sizeof(type), offsetof(type, run), offsetof(type, flags), offsetof(type, nflags) }
+
+/* The model and options of a --certify, and its box (n = n_xi + n_mu bounds each). */
+typedef struct cli_certify_setup {
+  sdae_model model;
+  sdae_options options;
+  const double *lo, *hi;
+  unsigned grid;
+} cli_certify_setup;
+
+/* An example program: its flags and its run, for its own main (cli_main) and for the ensemble
+ * runner, which runs it once per member with the member's flags. */
+typedef struct cli_def {
+  const char *name, *summary;
+  cli_layout layout;
+  /* defaults, the flag table and parsing into args (layout.size bytes): CLI_OK, CLI_HELP or
+   * CLI_BAD with err set; every check of the input is here, before any work */
+  int (*parse)(int argc, char *const *argv, void *args, char *err, size_t errlen);
+  /* integrates with the parsed args, rows to sink (NULL: as the serial program, --out and
+   * its --certify/--check-model); the exit code */
+  int (*run)(void *args, cli_sink *sink);
+  /* NULL, or the model, options and box of --certify from the parsed args */
+  void (*certify_setup)(void *args, cli_certify_setup *c);
+} cli_def;
+
+/* The serial program: parse argv, usage or one line on bad input, then run. The exit code. */
+int cli_main(const cli_def *d, int argc, char **argv);
+/* The parts of parsed args the layout names. */
+cli_run *cli_args_run(const cli_def *d, void *args);
+const cli_flag *cli_args_flags(const cli_def *d, void *args, size_t *nflags);
 
 #endif /* STABDAE_EXAMPLES_CLI_H */

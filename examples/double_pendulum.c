@@ -13,6 +13,7 @@
 
 #include "mbs_cli.h"
 #include "mechanisms.h"
+#include "programs.h"
 
 #define NFLAGS 7
 
@@ -30,7 +31,9 @@ static const char summary[] =
     "t,q1,q2,q3,q4,v1,v2,v3,v4,lambda1,lambda2,max_abs_c,E,switches.\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.p = {1.0, 1.0, 1.0, 1.0, 9.81}, .theta0 = {2.0, 2.5}, .omega0 = {0.0, 0.0},
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
@@ -49,16 +52,18 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "double_pendulum", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
   double q[4], v[4];
-  mech_double_pendulum_system(&sys, &a.p);
-  mech_double_pendulum_state(&a.p, a.theta0, a.omega0, q, v);
+  mech_double_pendulum_system(&sys, &a->p);
+  mech_double_pendulum_state(&a->p, a->theta0, a->omega0, q, v);
   const mbs_program prog = {"double_pendulum", &sys, q, v};
-  return mbs_execute(&prog, &a.run);
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def double_pendulum_def = {"double_pendulum", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&double_pendulum_def, argc, argv); }
+#endif

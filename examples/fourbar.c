@@ -14,12 +14,14 @@
 
 #include "mbs_cli.h"
 #include "mechanisms.h"
+#include "programs.h"
 
 #define NFLAGS 9
 
 typedef struct args {
   mech_fourbar p;
   double theta0, omega0;
+  double q[4], v[4]; /* the start, from theta0 and omega0 */
   cli_run run;
   cli_flag flags[NFLAGS + CLI_RUN_NFLAGS];
   size_t nflags;
@@ -31,7 +33,9 @@ static const char summary[] =
     "writes CSV: t,q1..q4 (Bx,By,Cx,Cy),v1..v4,lambda1..lambda3,max_abs_c,E,switches.\n"
     "The geometry must be a Grashof crank-rocker. Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.p = {1.0, 4.0, 3.0, 4.5, 1.0, 1.0, 9.81}, .theta0 = 0.0, .omega0 = 5.0,
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
@@ -53,24 +57,23 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
     return cli_fail(err, errlen, "--a --b --e --d: %g, %g, %g, %g is not a Grashof crank-rocker "
                                  "(the crank must be the shortest link and s + l <= p + q)",
                     a->p.a, a->p.b, a->p.e, a->p.d);
+  /* a crank-rocker closes at every angle but at its change points (s + l = p + q) */
+  if (mech_fourbar_state(&a->p, a->theta0, a->omega0, a->q, a->v))
+    return cli_fail(err, errlen, "--theta0: the loop does not close at %g (a dead point)",
+                    a->theta0);
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "fourbar", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
-  double q[4], v[4];
-  mech_fourbar_system(&sys, &a.p);
-  if (mech_fourbar_state(&a.p, a.theta0, a.omega0, q, v)) {
-    /* a crank-rocker closes at every angle but at its change points (s + l = p + q) */
-    fprintf(stderr, "fourbar: --theta0: the loop does not close at %g (a dead point)\n",
-            a.theta0);
-    return CLI_EXIT_USAGE;
-  }
-  const mbs_program prog = {"fourbar", &sys, q, v};
-  return mbs_execute(&prog, &a.run);
+  mech_fourbar_system(&sys, &a->p);
+  const mbs_program prog = {"fourbar", &sys, a->q, a->v};
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def fourbar_def = {"fourbar", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&fourbar_def, argc, argv); }
+#endif

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 #include "mbs_cli.h"
 
-#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,18 +20,23 @@ size_t mbs_run_flags(cli_flag *dst, cli_run *run) {
 
 /* ---- the CSV ------------------------------------------------------------------------------- */
 
-static int write_header(FILE *f, const sdae_mbs *sys) {
-  int bad = fputs("t", f) < 0;
-  for (size_t i = 1; i <= sys->n_q; i++) bad |= fprintf(f, ",q%zu", i) < 0;
-  for (size_t i = 1; i <= sys->n_q; i++) bad |= fprintf(f, ",v%zu", i) < 0;
-  for (size_t j = 1; j <= sys->n_c; j++) bad |= fprintf(f, ",lambda%zu", j) < 0;
-  return bad | (fputs(",max_abs_c,E,switches\n", f) < 0);
+/* t,q1..qn,v1..vn,lambda1..lambdam,max_abs_c,E,switches into buf */
+static int make_header(const sdae_mbs *sys, char *buf, size_t len) {
+  size_t at = (size_t)snprintf(buf, len, "t");
+  for (size_t i = 1; i <= sys->n_q && at < len; i++)
+    at += (size_t)snprintf(buf + at, len - at, ",q%zu", i);
+  for (size_t i = 1; i <= sys->n_q && at < len; i++)
+    at += (size_t)snprintf(buf + at, len - at, ",v%zu", i);
+  for (size_t j = 1; j <= sys->n_c && at < len; j++)
+    at += (size_t)snprintf(buf + at, len - at, ",lambda%zu", j);
+  if (at < len) at += (size_t)snprintf(buf + at, len - at, ",max_abs_c,E,switches");
+  return at < len ? 0 : -1;
 }
 
 typedef struct row_data {
   const mbs_program *p;
   sdae_mbs_stepper *s;
-  FILE *f;
+  cli_sink *sink;
   double T;
   double *row;       /* t, q, v, lambda, max_abs_c, E */
   const char *why;   /* set when a row could not be written */
@@ -61,70 +65,92 @@ static int observe(size_t step, double t, const double *q, const double *v, void
     return row_fail(d, "the energy", status);
   d->row[len - 2] = mech_max_abs_c(sys, t, q);
   if (d->row[len - 2] < 0) return row_fail(d, "the constraints", SDAE_ERR_CALLBACK_FATAL);
-  /* the switch count fits cli_csv_row's unsigned: one per step at most */
-  unsigned switches = (unsigned)sdae_mbs_stepper_stats(d->s)->chart_switches;
-  if (cli_csv_row(d->f, d->row, len, switches)) {
+  const sdae_mbs_stats *st = sdae_mbs_stepper_stats(d->s);
+  const cli_row_info info = {d->row[len - 2], d->row[len - 1], st->step.newton_iters_total,
+                             st->chart_switches};
+  /* the switch count fits the unsigned column: one per step at most */
+  if (d->sink->row(d->sink, d->row, len, (unsigned)st->chart_switches, &info)) {
     d->why = "cannot write the output";
     return 1;
   }
   return 0;
 }
 
-
-static int close_output(FILE *f, const char *prog) {
-  int bad = fflush(f) != 0 || ferror(f);
-  if (f != stdout && fclose(f) != 0) bad = 1;
-  if (bad) fprintf(stderr, "%s: error writing the output\n", prog);
-  return bad;
-}
-
 /* ---- the run ------------------------------------------------------------------------------- */
 
-static int integrate(const mbs_program *p, const cli_run *run, row_data *d) {
-  size_t done = 0;
-  int status = SDAE_STOPPED;
-  if (write_header(d->f, p->sys))
+/* the header, then the integration; the status, steps taken in *done */
+static int integrate(const mbs_program *p, const cli_run *run, row_data *d, size_t *done) {
+  /* ",lambda" and a size_t's digits per column, and the last three */
+  size_t len = 32 + 28 * (2 * p->sys->n_q + p->sys->n_c);
+  char *header = malloc(len);
+  *done = 0;
+  if (!header) return SDAE_ERR_NOMEM;
+  int bad = make_header(p->sys, header, len) || d->sink->header(d->sink, header);
+  free(header);
+  if (bad) {
     d->why = "cannot write the output";
-  else
-    status = sdae_mbs_integrate(d->s, 0.0, run->T, run->nsteps, run->every, p->q, p->v,
-                                observe, d, &done);
-  if (status == SDAE_OK) return CLI_EXIT_OK;
-  /* the step that failed is the one after the last good one, taken from t = done T */
-  if (status == SDAE_STOPPED)
-    fprintf(stderr, "%s: stopped at step %zu (t = %.17g): %s\n", p->name, done,
-            (double)done * run->T, d->why);
-  else
-    fprintf(stderr, "%s: step %zu from t = %.17g failed: %s\n", p->name, done + 1,
-            (double)done * run->T, sdae_strerror(status));
-  return CLI_EXIT_FAILED;
+    return SDAE_STOPPED;
+  }
+  return sdae_mbs_integrate(d->s, 0.0, run->T, run->nsteps, run->every, p->q, p->v, observe, d,
+                            done);
 }
 
-int mbs_execute(const mbs_program *p, const cli_run *run) {
-  FILE *f = cli_open_output(run, p->name);
-  if (!f) return CLI_EXIT_USAGE;
+/* the stepper and the row's storage; SDAE_OK or the failure (nothing kept) */
+static int prepare(const mbs_program *p, const cli_run *run, sdae_mbs_stepper **s,
+                   double **row) {
   sdae_options opt;
   sdae_options_default(&opt);
   cli_run_options(run, &opt);
   opt.map = run->map;
+  int status = sdae_mbs_stepper_alloc(s, p->sys, &opt);
+  if (status != SDAE_OK) return status;
+  if ((*row = malloc((3 + 2 * p->sys->n_q + p->sys->n_c) * sizeof **row))) return SDAE_OK;
+  sdae_mbs_stepper_free(*s);
+  return SDAE_ERR_NOMEM;
+}
+
+static int execute_file(const mbs_program *p, const cli_run *run) {
+  FILE *f = cli_open_output(run, p->name);
+  if (!f) return CLI_EXIT_USAGE;
   sdae_mbs_stepper *s = NULL;
-  int status = sdae_mbs_stepper_alloc(&s, p->sys, &opt);
+  double *row = NULL;
+  int status = prepare(p, run, &s, &row);
   if (status != SDAE_OK) {
     /* the library rejected the mechanism or the options: bad input, leave no file behind */
-    fprintf(stderr, "%s: invalid settings: %s\n", p->name, sdae_strerror(status));
+    if (status == SDAE_ERR_NOMEM)
+      fprintf(stderr, "%s: out of memory\n", p->name);
+    else
+      fprintf(stderr, "%s: invalid settings: %s\n", p->name, sdae_strerror(status));
     cli_discard_output(f, run);
     return CLI_EXIT_USAGE;
   }
-  double *row = malloc((3 + 2 * p->sys->n_q + p->sys->n_c) * sizeof *row);
-  if (!row) {
-    fprintf(stderr, "%s: out of memory\n", p->name);
-    sdae_mbs_stepper_free(s);
-    cli_discard_output(f, run);
-    return CLI_EXIT_USAGE;
-  }
-  row_data d = {.p = p, .s = s, .f = f, .T = run->T, .row = row};
-  int rc = integrate(p, run, &d);
+  cli_file_sink fs = cli_file_sink_make(f);
+  row_data d = {.p = p, .s = s, .sink = &fs.base, .T = run->T, .row = row};
+  size_t done;
+  int rc = CLI_EXIT_OK;
+  status = integrate(p, run, &d, &done);
+  if (status != SDAE_OK) rc = cli_report_failure(p->name, run, status, done, d.why);
   free(row);
   sdae_mbs_stepper_free(s);
-  if (close_output(f, p->name)) rc = CLI_EXIT_FAILED;
+  if (cli_close_output(f, p->name)) rc = CLI_EXIT_FAILED;
   return rc;
 }
+
+int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink) {
+  if (!sink) return execute_file(p, run);
+  sdae_mbs_stepper *s = NULL;
+  double *row = NULL;
+  size_t done = 0;
+  row_data d = {.p = p, .sink = sink, .T = run->T};
+  int status = prepare(p, run, &s, &row);
+  if (status == SDAE_OK) {
+    d.s = s, d.row = row;
+    status = integrate(p, run, &d, &done);
+    free(row);
+    sdae_mbs_stepper_free(s);
+  }
+  sink->end(sink, status, done, d.why);
+  return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
+}
+
+int mbs_execute(const mbs_program *p, const cli_run *run) { return mbs_execute_to(p, run, NULL); }

@@ -29,5 +29,7 @@ typedef struct mbs_program {
  * Returns the exit code: 2 (no file left) when the library rejects the settings, 1 with the
  * rows so far kept and one line naming the step when a step or a row fails, else 0. */
 int mbs_execute(const mbs_program *p, const cli_run *run);
+/* As mbs_execute with rows to sink (NULL: mbs_execute), as cli_execute_to. */
+int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink);
 
 #endif /* STABDAE_EXAMPLES_MBS_CLI_H */

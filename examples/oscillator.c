@@ -6,11 +6,13 @@
  * (0.1, 0.6, 0, 0) off the floor, scheme 15, the paper's map); the output is one CSV row per
  * --every steps: t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,W,newton_iters. Y -> 0 shows the constraint
  * being restored; E is dissipated for d > 0 and W conserved on the manifold for d = 0. */
+#include <math.h>
 #include <stdio.h>
 
 #include "certify_cli.h"
 #include "cli.h"
 #include "oscillator_model.h"
+#include "programs.h"
 
 /* every map of the library: the model gives q0, q0_jac, H, grad_H, S, hess_H and, as its user
  * map, the paper's Section IV map */
@@ -34,7 +36,8 @@ static const char summary[] =
     "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,W,newton_iters. Steps: ceil(tf/T - 1e-9).";
 
 /* Defaults, the flag table, parsing and validation; separate from main for tests and fuzzing. */
-static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, size_t errlen) {
+static int osc_parse_args(int argc, char *const *argv, void *args, char *err, size_t errlen) {
+  osc_args *a = args;
   *a = (osc_args){.p = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED},
                   .q = 0,
                   .x0 = {0.1, 0.6, 0.0, 0.0},
@@ -63,39 +66,51 @@ static int osc_parse_args(int argc, char *const *argv, osc_args *a, char *err, s
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-static int osc_row(FILE *f, double t, const double *xi, const double *mu, unsigned iters,
-                   void *ctx, const char **why) {
+static int osc_row(cli_row_out *o, double t, const double *xi, const double *mu, void *ctx,
+                   const char **why) {
   const osc_params *p = ctx;
   double x[4];
   (void)why;
   osc_from_coords(p, xi, mu, x);
-  const double v[12] = {t,     x[0],  x[1],  x[2],  x[3], xi[0],
+  const double v[11] = {t,     x[0],  x[1],  x[2],  x[3], xi[0],
                         xi[1], mu[0], mu[1], osc_energy(p, x), osc_W(p, mu)};
-  return cli_csv_row(f, v, 11, iters);
+  return cli_emit(o, v, 11, fabs(xi[0]), v[9]); /* xi1 = Y, the constraint */
 }
 
-int main(int argc, char **argv) {
-  osc_args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = osc_parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "oscillator", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static void osc_setup(osc_args *a, sdae_model *model, sdae_options *opt) {
+  osc_model(model, &a->p);
+  sdae_options_default(opt);
+  cli_run_options(&a->run, opt);
+  opt->map = a->run.map;
+}
 
+static void osc_certify_setup(void *args, cli_certify_setup *c) {
+  osc_args *a = args;
+  osc_setup(a, &c->model, &c->options);
+  cli_certify_box(&a->cert, c);
+}
+
+static int osc_run(void *args, cli_sink *sink) {
+  osc_args *a = args;
   sdae_model model;
   sdae_options opt;
   double xi[2], mu[2];
-  osc_model(&model, &a.p);
-  sdae_options_default(&opt);
-  cli_run_options(&a.run, &opt);
-  opt.map = a.run.map;
-  if (a.cert.certify) return cli_certify_run("oscillator", &a.cert, &model, &opt);
-  if (a.cert.check_model) {
+  osc_setup(a, &model, &opt);
+  if (!sink && a->cert.certify) return cli_certify_run("oscillator", &a->cert, &model, &opt);
+  if (!sink && a->cert.check_model) {
     sdae_dae dae;
-    osc_dae_spec(&dae, &a.p);
-    return cli_check_model_run("oscillator", &a.cert, &model, &dae);
+    osc_dae_spec(&dae, &a->p);
+    return cli_check_model_run("oscillator", &a->cert, &model, &dae);
   }
-  osc_to_coords(&a.p, a.x0, xi, mu);
+  osc_to_coords(&a->p, a->x0, xi, mu);
   const cli_program prog = {"oscillator", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,W,newton_iters",
-                            &model, &opt, xi, mu, osc_row, &a.p};
-  return cli_execute(&prog, &a.run);
+                            &model, &opt, xi, mu, osc_row, &a->p};
+  return cli_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def oscillator_def = {"oscillator", summary, CLI_LAYOUT(osc_args), osc_parse_args,
+                                osc_run, osc_certify_setup};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&oscillator_def, argc, argv); }
+#endif

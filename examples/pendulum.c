@@ -11,6 +11,7 @@
 #include "certify_cli.h"
 #include "cli.h"
 #include "pendulum_model.h"
+#include "programs.h"
 
 /* the model has no user map (user_phi) */
 static const char *const map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
@@ -29,8 +30,9 @@ static const char summary[] =
     "0 = (X^2 + Y^2 - L^2)/2) and writes CSV:\n"
     "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters. Steps: ceil(tf/T - 1e-9).";
 
-static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
+static int pend_parse_args(int argc, char *const *argv, void *args, char *err,
                            size_t errlen) {
+  pend_args *a = args;
   *a = (pend_args){.p = {1.0, 1.0, 9.81},
                    .x0 = {NAN, NAN, 0.0, 0.0},
                    .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
@@ -66,8 +68,8 @@ static int pend_parse_args(int argc, char *const *argv, pend_args *a, char *err,
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-static int pend_row(FILE *f, double t, const double *xi, const double *mu, unsigned iters,
-                    void *ctx, const char **why) {
+static int pend_row(cli_row_out *o, double t, const double *xi, const double *mu, void *ctx,
+                    const char **why) {
   const pend_params *p = ctx;
   double x[4];
   if (pend_from_coords(p, xi, mu, x)) {
@@ -76,31 +78,43 @@ static int pend_row(FILE *f, double t, const double *xi, const double *mu, unsig
   }
   const double v[10] = {t, x[0], x[1], x[2], x[3], xi[0], xi[1], mu[0], mu[1],
                         pend_energy(p, x)};
-  return cli_csv_row(f, v, 10, iters);
+  return cli_emit(o, v, 10, fabs(xi[0]), v[9]); /* xi1 = (X^2 + Y^2 - L^2)/2 */
 }
 
-int main(int argc, char **argv) {
-  pend_args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = pend_parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "pendulum", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static void pend_setup(pend_args *a, sdae_model *model, sdae_options *opt) {
+  pend_model(model, &a->p);
+  sdae_options_default(opt);
+  cli_run_options(&a->run, opt);
+  opt->map = a->run.map;
+}
 
+static void pend_certify_setup(void *args, cli_certify_setup *c) {
+  pend_args *a = args;
+  pend_setup(a, &c->model, &c->options);
+  cli_certify_box(&a->cert, c);
+}
+
+static int pend_run(void *args, cli_sink *sink) {
+  pend_args *a = args;
   sdae_model model;
   sdae_options opt;
   double xi[2], mu[2];
-  pend_model(&model, &a.p);
-  sdae_options_default(&opt);
-  cli_run_options(&a.run, &opt);
-  opt.map = a.run.map;
-  if (a.cert.certify) return cli_certify_run("pendulum", &a.cert, &model, &opt);
-  if (a.cert.check_model) {
+  pend_setup(a, &model, &opt);
+  if (!sink && a->cert.certify) return cli_certify_run("pendulum", &a->cert, &model, &opt);
+  if (!sink && a->cert.check_model) {
     sdae_dae dae;
-    pend_dae_spec(&dae, &a.p);
-    return cli_check_model_run("pendulum", &a.cert, &model, &dae);
+    pend_dae_spec(&dae, &a->p);
+    return cli_check_model_run("pendulum", &a->cert, &model, &dae);
   }
-  pend_to_coords(&a.p, a.x0, xi, mu); /* the pivot was refused above */
+  pend_to_coords(&a->p, a->x0, xi, mu); /* the pivot was refused by the parser */
   const cli_program prog = {"pendulum", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters",
-                            &model, &opt, xi, mu, pend_row, &a.p};
-  return cli_execute(&prog, &a.run);
+                            &model, &opt, xi, mu, pend_row, &a->p};
+  return cli_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def pendulum_def = {"pendulum", summary, CLI_LAYOUT(pend_args), pend_parse_args,
+                              pend_run, pend_certify_setup};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&pendulum_def, argc, argv); }
+#endif

@@ -8,6 +8,7 @@
 
 #include "mbs_cli.h"
 #include "mechanisms.h"
+#include "programs.h"
 
 #define NFLAGS 5
 
@@ -24,7 +25,9 @@ static const char summary[] =
     "front-end (m q'' = (0, -m ga) - lambda q, 0 = (x^2 + y^2 - L^2)/2) and writes CSV:\n"
     "t,q1,q2,v1,v2,lambda1,max_abs_c,E,switches. Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.p = {1.0, 1.0, 9.81}, .q0 = {NAN, NAN}, .v0 = {0.0, 0.0},
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
@@ -48,14 +51,16 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "pendulum_mbs", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
-  mech_pendulum_system(&sys, &a.p);
-  const mbs_program prog = {"pendulum_mbs", &sys, a.q0, a.v0};
-  return mbs_execute(&prog, &a.run);
+  mech_pendulum_system(&sys, &a->p);
+  const mbs_program prog = {"pendulum_mbs", &sys, a->q0, a->v0};
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def pendulum_mbs_def = {"pendulum_mbs", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&pendulum_mbs_def, argc, argv); }
+#endif

@@ -25,6 +25,9 @@ missing_packages() {
         if ! command -v clang >/dev/null; then pkgs+=(clang)
         elif ! clang_links_fuzzer; then pkgs+=("$(fuzzer_runtime_package)")
         fi ;;
+      mpi) # Open MPI: the ensemble runner's headers and library, and mpirun for its tests
+        pkg-config --exists ompi-c 2>/dev/null || pkgs+=(libopenmpi-dev)
+        command -v mpirun >/dev/null || pkgs+=(openmpi-bin) ;;
       *) command -v "$tool" >/dev/null || pkgs+=("$tool") ;;
     esac
   done
@@ -57,8 +60,8 @@ fuzzer_runtime_package() {
 }
 
 # Installs the missing packages with apt-get when root; otherwise prints the command and stops.
-# Arguments: extra commands whose Debian package has the same name (valgrind), and `fuzzer`
-# for clang with its libFuzzer runtime. Two rounds, because the runtime's package name is
+# Arguments: extra commands whose Debian package has the same name (valgrind), `fuzzer`
+# for clang with its libFuzzer runtime, and `mpi` for Open MPI (examples/ensemble). Two rounds, because the runtime's package name is
 # known only once clang is there.
 ensure_packages() {
   local pkgs round
