@@ -28,7 +28,9 @@ static const char summary[] =
     "T 1e-5 (rates up to 1.4e3 rad/s), map dgrad (the energy conserved).\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.run = mbs_run_defaults()};
   bench_andrews_default(&a->p);
   a->run.tf = 0.03;
@@ -44,16 +46,18 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "andrews", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
   double q[7], v[7];
-  bench_andrews_system(&sys, &a.p);
+  bench_andrews_system(&sys, &a->p);
   bench_andrews_initial(q, v);
   const mbs_program prog = {"andrews", &sys, q, v};
-  return mbs_execute(&prog, &a.run);
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def andrews_def = {"andrews", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&andrews_def, argc, argv); }
+#endif

@@ -29,7 +29,9 @@ static const char summary[] =
     "E (kinetic),switches. Defaults: tf 3, T 0.001 (the springs' period is 0.14), map midpoint\n"
     "(no potential: the road moves; dgrad, dg4, dg6 are refused). Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.p = bench_car_axis_default(), .run = mbs_run_defaults()};
   a->run.tf = 3.0;
   a->run.map = sdae_map_midpoint;
@@ -52,16 +54,18 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "car_axis", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
   double q[4], v[4];
-  bench_car_axis_system(&sys, &a.p);
-  bench_car_axis_initial(&a.p, q, v);
+  bench_car_axis_system(&sys, &a->p);
+  bench_car_axis_initial(&a->p, q, v);
   const mbs_program prog = {"car_axis", &sys, q, v};
-  return mbs_execute(&prog, &a.run);
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def car_axis_def = {"car_axis", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&car_axis_def, argc, argv); }
+#endif

@@ -481,7 +481,6 @@ int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink) {
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
 
-int cli_execute(const cli_program *p, const cli_run *run) { return cli_execute_to(p, run, NULL); }
 
 /* ---- a program ---------------------------------------------------------------------------- */
 

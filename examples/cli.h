@@ -159,7 +159,6 @@ typedef struct cli_program {
  * output file is removed; on a failure during integration the rows so far are kept and one
  * line names the step). Otherwise the outcome goes to sink->end and nothing is printed. */
 int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink);
-int cli_execute(const cli_program *p, const cli_run *run); /* cli_execute_to(p, run, NULL) */
 
 /* The common main: parse (CLI_HELP prints usage on stdout), print one line and return 2 on bad
  * input. Returns -1 when the caller should go on. */

@@ -6,7 +6,8 @@
 
 #include "mechanisms.h"
 
-const char *const mbs_map_choices[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", NULL};
+const char *const mbs_map_choices[] = {"euler", "midpoint", "dgrad",     "dg4",
+                                       "dg6",   "midpoint4", "midpoint6", NULL};
 
 cli_run mbs_run_defaults(void) {
   return (cli_run){.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0, .scheme = 1,
@@ -153,4 +154,3 @@ int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink) {
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
 
-int mbs_execute(const mbs_program *p, const cli_run *run) { return mbs_execute_to(p, run, NULL); }

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The driver of the mechanical programs (pendulum_mbs, double_pendulum, fourbar): the shared
- * run settings and maps, and the integration through <stabdae/mbs.h> writing
- * t,q1..qn,v1..vn,lambda1..lambdam,max_abs_c,E,switches with the exit codes of cli.h. */
+/* The driver of the mechanical programs (pendulum_mbs, double_pendulum, fourbar, slider_crank,
+ * car_axis, andrews): the shared run settings and maps, and the integration through
+ * <stabdae/mbs.h> writing t,q1..qn,v1..vn,lambda1..lambdam,max_abs_c,E,switches with the exit
+ * codes of cli.h. */
 #ifndef STABDAE_EXAMPLES_MBS_CLI_H
 #define STABDAE_EXAMPLES_MBS_CLI_H
 
@@ -9,7 +10,8 @@
 
 #include "cli.h"
 
-/* every mechanism here has a potential, so every map but the user map */
+/* every map but the user map; the discrete-gradient ones (dgrad, dg4, dg6) need a potential,
+ * which the library checks (the car axis has none: SDAE_ERR_MAP, bad input) */
 extern const char *const mbs_map_choices[];
 
 /* The defaults of the mechanical programs: delta 2, epsilon 1, T 0.001, tf 10, scheme 15,
@@ -25,11 +27,10 @@ typedef struct mbs_program {
   double *q, *v;        /* the initial state (n_q each), updated in place */
 } mbs_program;
 
-/* Opens the output, builds the stepper and integrates run->nsteps steps, writing rows.
- * Returns the exit code: 2 (no file left) when the library rejects the settings, 1 with the
- * rows so far kept and one line naming the step when a step or a row fails, else 0. */
-int mbs_execute(const mbs_program *p, const cli_run *run);
-/* As mbs_execute with rows to sink (NULL: mbs_execute), as cli_execute_to. */
+/* Builds the stepper and integrates run->nsteps steps, writing rows to sink (NULL: the run's
+ * --out, opened here), as cli_execute_to. Returns the exit code: 2 (no file left) when the
+ * library rejects the settings, 1 with the rows so far kept and one line naming the step when a
+ * step or a row fails, else 0. */
 int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink);
 
 #endif /* STABDAE_EXAMPLES_MBS_CLI_H */

@@ -10,5 +10,6 @@
 
 extern const cli_def oscillator_def, pendulum_def, chain_def;
 extern const cli_def pendulum_mbs_def, double_pendulum_def, fourbar_def;
+extern const cli_def slider_crank_def, car_axis_def, andrews_def;
 
 #endif /* STABDAE_EXAMPLES_PROGRAMS_H */

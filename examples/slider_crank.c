@@ -29,7 +29,9 @@ static const char summary[] =
     "Defaults: tf 10 and T 0.001 (an error near 3e-8 at t = 10), map dgrad (the energy\n"
     "never increases). Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, args *a, char *err, size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err,
+                      size_t errlen) {
+  args *a = vargs;
   *a = (args){.p = bench_slider_crank_default(), .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"a", CLI_POSITIVE, &a->p.a, NULL, 0, "crank length (< 1, the rod's)"},
@@ -51,16 +53,18 @@ static int parse_args(int argc, char *const *argv, args *a, char *err, size_t er
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-int main(int argc, char **argv) {
-  args a;
-  char err[CLI_ERR_LEN] = "";
-  int rc = parse_args(argc, argv, &a, err, sizeof err);
-  rc = cli_parse_or_exit(rc, "slider_crank", summary, a.flags, a.nflags, err);
-  if (rc >= 0) return rc;
+static int run(void *vargs, cli_sink *sink) {
+  args *a = vargs;
   sdae_mbs sys;
   double q[3], v[3];
-  bench_slider_crank_system(&sys, &a.p);
-  bench_slider_crank_initial(&a.p, q, v);
+  bench_slider_crank_system(&sys, &a->p);
+  bench_slider_crank_initial(&a->p, q, v);
   const mbs_program prog = {"slider_crank", &sys, q, v};
-  return mbs_execute(&prog, &a.run);
+  return mbs_execute_to(&prog, &a->run, sink);
 }
+
+const cli_def slider_crank_def = {"slider_crank", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+
+#ifndef CLI_NO_MAIN
+int main(int argc, char **argv) { return cli_main(&slider_crank_def, argc, argv); }
+#endif
