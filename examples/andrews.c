@@ -39,9 +39,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"mom", CLI_REAL, &a->p.mom, NULL, 0, "the motor's driving torque"},
       {"c0", CLI_NONNEG, &a->p.c0, NULL, 0, "the spring's stiffness"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }

@@ -44,9 +44,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"w", CLI_REAL, &a->p.w, NULL, 0, "the bump's frequency"},
       {"g", CLI_REAL, &a->p.g, NULL, 0, "gravitational acceleration"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   if (!(a->p.r < a->p.L))
     return cli_fail(err, errlen, "--r: %g must be below --L, %g (the wheel at distance L)",

@@ -45,9 +45,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"theta0", CLI_VECTOR, a->theta0, NULL, 2, "start angles a1,a2 from the downward vertical"},
       {"omega0", CLI_VECTOR, a->omega0, NULL, 2, "start angular rates w1,w2"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }

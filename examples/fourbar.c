@@ -49,9 +49,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"theta0", CLI_REAL, &a->theta0, NULL, 0, "start crank angle"},
       {"omega0", CLI_REAL, &a->omega0, NULL, 0, "start crank speed"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   if (!mech_fourbar_crank_rocker(&a->p))
     return cli_fail(err, errlen, "--a --b --e --d: %g, %g, %g, %g is not a Grashof crank-rocker "

@@ -14,9 +14,12 @@ cli_run mbs_run_defaults(void) {
                    .map = sdae_map_dgrad, .every = 1};
 }
 
-size_t mbs_run_flags(cli_flag *dst, cli_run *run) {
-  return cli_run_flags(dst, run, mbs_map_choices,
-                       "mu-map: dgrad = Gonzalez with the mechanism's energy");
+int mbs_parse(int argc, char *const *argv, const cli_flag *model, size_t n, cli_flag *flags,
+              size_t *nflags, cli_run *run, char *err, size_t errlen) {
+  for (size_t i = 0; i < n; i++) flags[i] = model[i];
+  *nflags = n + cli_run_flags(flags + n, run, mbs_map_choices,
+                              "mu-map: dgrad = Gonzalez with the mechanism's energy");
+  return cli_parse(argc, argv, flags, *nflags, err, errlen);
 }
 
 /* ---- the CSV ------------------------------------------------------------------------------- */

@@ -18,8 +18,11 @@ extern const char *const mbs_map_choices[];
  * map dgrad, a row every step. */
 cli_run mbs_run_defaults(void);
 
-/* Appends the shared flags (cli_run_flags with mbs_map_choices) to dst. */
-size_t mbs_run_flags(cli_flag *dst, cli_run *run);
+/* The program's n model flags, then the shared ones (cli_run_flags with mbs_map_choices), into
+ * flags (room for n + CLI_RUN_NFLAGS; *nflags set), parsed by cli_parse: its CLI_OK, CLI_HELP
+ * or CLI_BAD (err set). */
+int mbs_parse(int argc, char *const *argv, const cli_flag *model, size_t n, cli_flag *flags,
+              size_t *nflags, cli_run *run, char *err, size_t errlen);
 
 typedef struct mbs_program {
   const char *name;     /* for messages */

@@ -37,9 +37,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"q0", CLI_VECTOR, a->q0, NULL, 2, "start X,Y (default L sin 0.5, -L cos 0.5)"},
       {"v0", CLI_VECTOR, a->v0, NULL, 2, "start velocity VX,VY"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   if (isnan(a->q0[0])) { /* the default start depends on L: 0.5 rad from the bottom, at rest */
     a->q0[0] = a->p.L * sin(0.5);

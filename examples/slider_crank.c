@@ -43,9 +43,8 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"l0", CLI_NONNEG, &a->p.l0, NULL, 0, "spring free length"},
       {"F", CLI_REAL, &a->p.F, NULL, 0, "constant force"},
   };
-  for (size_t i = 0; i < NFLAGS; i++) a->flags[i] = model_flags[i];
-  a->nflags = NFLAGS + mbs_run_flags(a->flags + NFLAGS, &a->run);
-  int rc = cli_parse(argc, argv, a->flags, a->nflags, err, errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
+                     errlen);
   if (rc != CLI_OK) return rc;
   if (!(a->p.a < 1.0))
     return cli_fail(err, errlen, "--a: %g does not close the loop (the crank must be shorter "
