@@ -36,7 +36,7 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
   a->run.tf = 3.0;
   a->run.map = sdae_map_midpoint;
   const cli_flag model_flags[NFLAGS] = {
-      {"eps", CLI_POSITIVE, &a->p.eps, NULL, 0, "the mass factor: k = mass eps^2/2"},
+      {"epsm", CLI_POSITIVE, &a->p.eps, NULL, 0, "the Test Set's eps: masses k = mass eps^2/2"},
       {"mass", CLI_POSITIVE, &a->p.mass, NULL, 0, "the mass M"},
       {"L", CLI_POSITIVE, &a->p.L, NULL, 0, "axis length"},
       {"L0", CLI_POSITIVE, &a->p.L0, NULL, 0, "springs' rest length"},

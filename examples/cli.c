@@ -196,8 +196,18 @@ static const cli_flag *find_flag(const char *name, size_t len, const cli_flag *f
   return NULL;
 }
 
+/* a program's table with a name twice would give the second one no way in */
+static const char *repeated_name(const cli_flag *flags, size_t nflags) {
+  for (size_t i = 0; i < nflags; i++)
+    for (size_t j = i + 1; j < nflags; j++)
+      if (strcmp(flags[i].name, flags[j].name) == 0) return flags[i].name;
+  return NULL;
+}
+
 int cli_parse(int argc, char *const *argv, const cli_flag *flags, size_t nflags, char *err,
               size_t errlen) {
+  const char *twice = repeated_name(flags, nflags);
+  if (twice) return cli_fail(err, errlen, "--%s: the program defines it twice", twice);
   for (int i = 1; i < argc; i++) {
     const char *arg = argv[i];
     if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) return CLI_HELP;

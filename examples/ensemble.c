@@ -17,7 +17,11 @@
 #include "ensemble.h"
 
 #define MAX_MODELS 32
-#define CHUNK_LIMIT 100000 /* keeps a chunk's rows within one MPI message */
+/* keeps a chunk's rows within one MPI message (an int count of chars): 1024 members of at
+ * most 65 rows (the last and 64 --at times) of a few hundred bytes each stay far below 2^31 */
+#define CHUNK_LIMIT 1024
+/* MPI guarantees message tags up to 32767; --certify tags a slab's result with its index */
+#define PIECES_LIMIT 32767
 
 static const char summary[] =
     "Runs an example program once per row of --members over MPI (mpirun -n P ...): the\n"
@@ -93,6 +97,8 @@ static int setup(const ens_args *a, ens_job *job, void *args, char *err, size_t 
                    .certify = a->certify, .chunk = a->chunk, .pieces = a->pieces,
                    .progress = a->progress, .nshared = job->nshared, .shared = job->shared};
   if (a->chunk > CHUNK_LIMIT) return cli_fail(err, errlen, "--chunk: at most %d", CHUNK_LIMIT);
+  if (a->pieces > PIECES_LIMIT)
+    return cli_fail(err, errlen, "--pieces: at most %d (MPI's least bound on tags)", PIECES_LIMIT);
   for (int k = 1; k < job->nshared; k++)
     if (strncmp(job->shared[k], "--check-model", 13) == 0)
       return cli_fail(err, errlen, "--check-model is not an ensemble's flag");

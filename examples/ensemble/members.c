@@ -114,6 +114,7 @@ static int split_fields(ens_members *m, char **lines, const char *path, char *er
                         size_t errlen) {
   long n = split_line(lines[0], m->names, m->ncols);
   if (n < 0) return cli_fail(err, errlen, "%s:1: a stray or unclosed quote", path);
+  m->ncols = (size_t)n; /* fewer than counted when a quoted name holds a comma */
   for (size_t r = 0; r < m->nrows; r++) {
     size_t lineno = m->line[r + 1];
     n = split_line(lines[r + 1], m->fields + r * m->ncols, m->ncols);

@@ -182,6 +182,7 @@ void idaref_collect_stats(void *mem, idaref_stats *s)
     return;
   IDAGetNumSteps(mem, &s->steps);
   IDAGetNumResEvals(mem, &s->res_evals);
+  IDAGetNumLinResEvals(mem, &s->lin_res_evals);
   IDAGetNumJacEvals(mem, &s->jac_evals);
   IDAGetNumErrTestFails(mem, &s->err_test_fails);
   IDAGetNumNonlinSolvConvFails(mem, &s->nonlin_conv_fails);

@@ -17,6 +17,7 @@ typedef struct idaref_options {
 
 typedef struct idaref_stats {
   long steps, res_evals, jac_evals, err_test_fails, nonlin_conv_fails, nonlin_iters;
+  long lin_res_evals; /* residuals spent on difference-quotient Jacobians (not in res_evals) */
 } idaref_stats;
 
 /* Called at every output time with the full y of the form (X, Y, Xdot, Ydot, lambda[, nu]);

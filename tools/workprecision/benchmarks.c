@@ -18,7 +18,7 @@
  *
  * CSV (%.17g): problem,solver,setting,param,steps,evals,rhs,newton,reps,cpu_s,err_q,err_v,
  * status; rhs counts the evaluations of the discretized dynamics (stabdae's map phi, IDA's
- * residual), each of which costs callbacks; newton is stabdae's Newton iterations (the stages'
+ * residual, those for its difference-quotient Jacobian included), each of which costs callbacks; newton is stabdae's Newton iterations (the stages'
  * included) or IDA's nonlinear iterations;
  * status is ok or why a run failed (a failed run is a point, not the end of the study). Bad
  * input: one line on stderr, exit 2, no file. */
@@ -208,7 +208,7 @@ static int ida_run(void *ctx) {
   int rc = idambs_solve(&sys, tr->form, 0.0, pb->q0, pb->v0, &opt, keep_last, tr, &res);
   tr->o.steps = res.stats.steps, tr->o.evals = k.calls;
   tr->o.newton = (unsigned long)res.stats.nonlin_iters;
-  tr->o.rhs = (unsigned long)res.stats.res_evals;
+  tr->o.rhs = (unsigned long)(res.stats.res_evals + res.stats.lin_res_evals);
   if (rc == IDAREF_OK)
     snprintf(tr->o.status, sizeof tr->o.status, "ok");
   else
@@ -344,13 +344,14 @@ static int parse_problems(const char *list, int *chosen) {
   char buf[256];
   if (strlen(list) >= sizeof buf) return wp_bad(PROG, "--problems is too long", NULL);
   strcpy(buf, list);
-  for (char *name = strtok(buf, ","); name; name = strtok(NULL, ",")) {
+  int any = 0;
+  for (char *name = strtok(buf, ","); name; name = strtok(NULL, ","), any = 1) {
     size_t i = 0;
     while (i < NPROBLEMS && strcmp(problems[i].name, name) != 0) i++;
     if (i == NPROBLEMS) return wp_bad(PROG, "--problems: unknown problem ", name);
     chosen[i] = 1;
   }
-  return 0;
+  return any ? 0 : wp_bad(PROG, "--problems names no problem", NULL);
 }
 
 static int parse(int argc, char **argv, settings *s, int *chosen, const char **out) {
@@ -387,10 +388,11 @@ int main(int argc, char **argv) {
   settings s = {3, 0, 3.0, stdout};
   int chosen[NPROBLEMS] = {1, 1, 1}, failed = 0;
   const char *out = NULL;
-  if (argc == 2 && strcmp(argv[1], "--help") == 0) {
-    fputs(usage, stdout);
-    return 0;
-  }
+  for (int i = 1; i < argc; i++)
+    if (strcmp(argv[i], "--help") == 0) {
+      fputs(usage, stdout);
+      return 0;
+    }
   if (parse(argc, argv, &s, chosen, &out)) return 2;
   if (out && !(s.out = fopen(out, "w"))) return wp_bad(PROG, "cannot write --out ", out);
   fprintf(s.out, "problem,solver,setting,param,steps,evals,rhs,newton,reps,cpu_s,err_q,err_v,"
