@@ -13,7 +13,6 @@ between the sweep points around it), the steps and evaluations there, and the ra
 best to stabdae's best (target: at least 2).
 """
 import argparse
-import datetime
 import math
 import os
 import subprocess
@@ -26,7 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from report import cpu_at, cpu_model, fmt, read_rows, series_where  # noqa: E402
+from report import cpu_at, fmt, provenance, read_rows, series_where  # noqa: E402
 
 ERRORS = (1e-6, 1e-9)
 TARGET_RATIO = 2.0
@@ -167,11 +166,7 @@ def main(argv=None):
     plot(rows, problems, os.path.join(report, "benchmarks.png"))
 
     md = ["# The standard index-3 benchmarks: stabdae against SUNDIALS IDA", "",
-          "- machine: %s, %d cores" % (cpu_model(), os.cpu_count() or 0),
-          "- date: %s" % datetime.datetime.now(datetime.timezone.utc).strftime(
-              "%Y-%m-%d %H:%M:%S UTC"),
-          "- command: %s" % " ".join([os.path.basename(sys.executable)] + sys.argv),
-          "- measurements: %s" % (" ".join(command) if command else "from " + points),
+          *provenance(command, points),
           "- error: max_i |q_i - q_ref,i| / max_i |q_ref,i| at the end time (positions; the "
           "velocities' beside it in the tables), against the problem's reference (below)",
           "- stabdae: the mechanical front-end (<stabdae/mbs.h>), scheme 15, delta 2, "

@@ -40,6 +40,16 @@ def cpu_model():
     return platform.processor() or "unknown"
 
 
+def provenance(command, points):
+    """The report's first lines: machine, date, this command, and the measurements' command
+    (or the CSV they were drawn from)."""
+    return ["- machine: %s, %d cores" % (cpu_model(), os.cpu_count() or 0),
+            "- date: %s" % datetime.datetime.now(datetime.timezone.utc).strftime(
+                "%Y-%m-%d %H:%M:%S UTC"),
+            "- command: %s" % " ".join([os.path.basename(sys.executable)] + sys.argv),
+            "- measurements: %s" % (" ".join(command) if command else "from " + points)]
+
+
 def read_rows(path, floats, ints):
     """The CSV's rows as dicts, the named columns converted."""
     with open(path) as f:
@@ -176,11 +186,7 @@ def main(argv=None):
     plot(rows, cases, png)
 
     md = ["# Work-precision: stabdae against SUNDIALS IDA", "",
-          "- machine: %s, %d cores" % (cpu_model(), os.cpu_count() or 0),
-          "- date: %s" % datetime.datetime.now(datetime.timezone.utc).strftime(
-              "%Y-%m-%d %H:%M:%S UTC"),
-          "- command: %s" % " ".join([os.path.basename(sys.executable)] + sys.argv),
-          "- measurements: %s" % (" ".join(command) if command else "from " + points),
+          *provenance(command, points),
           "- problem: oscillator (k = 2, m = 1) on the manifold from x0 = (X, Y, Xdot, Ydot) = "
           "(0.7, 0, 0.6, 0); error = max(|X - X_ref|, |Xdot - Xdot_ref|) at the final time "
           "against reference.py (d = 0: A cn(w (t - t0) | 1/2) with amplitude and phase from "
