@@ -13,7 +13,6 @@ between the sweep points around it), the steps and evaluations there, and the ra
 best to stabdae's best (target: at least 2).
 """
 import argparse
-import math
 import os
 import subprocess
 import sys
