@@ -197,14 +197,7 @@ static void write_header(FILE *f, const sdae_mbs *sys)
 
 static void write_trailer(FILE *f, const idaref_result *res, int status)
 {
-  const idaref_stats *s = &res->stats;
-  fprintf(f, "# steps: %ld\n", s->steps);
-  fprintf(f, "# residual evaluations: %ld\n", s->res_evals);
-  fprintf(f, "# residual evaluations for the Jacobian: %ld\n", s->lin_res_evals);
-  fprintf(f, "# jacobian evaluations: %ld\n", s->jac_evals);
-  fprintf(f, "# error test failures: %ld\n", s->err_test_fails);
-  fprintf(f, "# nonlinear convergence failures: %ld\n", s->nonlin_conv_fails);
-  fprintf(f, "# nonlinear iterations: %ld\n", s->nonlin_iters);
+  idaref_write_stats(f, &res->stats);
   if (status == IDAREF_OK)
     fputs("# status: ok\n", f);
   else if (status == IDAREF_OUTPUT_FAILED)

@@ -255,13 +255,7 @@ static int write_row(double t, const double *y, void *ctx)
 
 static void write_trailer(FILE *fp, const idaref_result *res, int status)
 {
-  const idaref_stats *s = &res->stats;
-  fprintf(fp, "# steps: %ld\n", s->steps);
-  fprintf(fp, "# residual evaluations: %ld\n", s->res_evals);
-  fprintf(fp, "# jacobian evaluations: %ld\n", s->jac_evals);
-  fprintf(fp, "# error test failures: %ld\n", s->err_test_fails);
-  fprintf(fp, "# nonlinear convergence failures: %ld\n", s->nonlin_conv_fails);
-  fprintf(fp, "# nonlinear iterations: %ld\n", s->nonlin_iters);
+  idaref_write_stats(fp, &res->stats);
   if (status == IDAREF_IDA_FAILED)
     fprintf(fp, "# status: %s at t = %.17g\n", res->flag_name, res->t_reached);
   else

@@ -189,6 +189,17 @@ void idaref_collect_stats(void *mem, idaref_stats *s)
   IDAGetNumNonlinSolvIters(mem, &s->nonlin_iters);
 }
 
+void idaref_write_stats(FILE *f, const idaref_stats *s)
+{
+  fprintf(f, "# steps: %ld\n", s->steps);
+  fprintf(f, "# residual evaluations: %ld\n", s->res_evals);
+  fprintf(f, "# residual evaluations for the Jacobian: %ld\n", s->lin_res_evals);
+  fprintf(f, "# jacobian evaluations: %ld\n", s->jac_evals);
+  fprintf(f, "# error test failures: %ld\n", s->err_test_fails);
+  fprintf(f, "# nonlinear convergence failures: %ld\n", s->nonlin_conv_fails);
+  fprintf(f, "# nonlinear iterations: %ld\n", s->nonlin_iters);
+}
+
 /* The k-th output time from t0: t0 + k DT, the last one tf itself. */
 static int output_time(double t0, double tf, double dt, double k, double *t)
 {

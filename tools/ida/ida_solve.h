@@ -4,6 +4,8 @@
 #ifndef STABDAE_TOOLS_IDA_SOLVE_H
 #define STABDAE_TOOLS_IDA_SOLVE_H
 
+#include <stdio.h>
+
 #include <ida/ida.h>
 #include <sundials/sundials_context.h>
 
@@ -68,6 +70,8 @@ void idaref_error_handler(int code, const char *module, const char *function, ch
                           void *data);
 
 void idaref_collect_stats(void *mem, idaref_stats *s);
+/* The counters as the CLIs' trailing '#' lines ("# steps: N", ...). */
+void idaref_write_stats(FILE *f, const idaref_stats *s);
 
 /* From the configured run at t0: row(t, y) at t0, then IDASolve to t0 + DT, t0 + 2 DT, ... and
  * o->tf, each hit exactly through tstop. IDAREF_OK, IDAREF_IDA_FAILED or IDAREF_OUTPUT_FAILED;
