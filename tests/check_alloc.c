@@ -15,7 +15,7 @@
 
 #include "testmodels.h"
 
-#include "../src/alloc.h"
+#include "core/alloc.h"
 
 /* Valgrind replaces malloc and free, ours too, unless run with
  * --soname-synonyms=somalloc=nouserintercepts (as tools/lib/memcheck.sh does). Then nothing

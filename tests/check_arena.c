@@ -8,7 +8,10 @@
 
 #include "testmodels.h"
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 
 static size_t round_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
 

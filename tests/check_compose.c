@@ -10,7 +10,10 @@
 #include <float.h>
 #include <math.h>
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 #include "testmodels.h"
 
 /* sum g_i^k, and in *bound the rounding it may carry: each g_i is stored to eps/2 relative,

@@ -14,8 +14,8 @@
 #include <gsl/gsl_rng.h>
 #include <stabdae/dae.h>
 
-#include "../src/coords.h"
-#include "../src/derive.h"
+#include "dae/coords.h"
+#include "model/derive.h"
 #include "oscillator_model.h"
 #include "pendulum_model.h"
 #include "testmodels.h"

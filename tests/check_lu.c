@@ -8,7 +8,10 @@
 
 #include <gsl/gsl_rng.h>
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 #include "testmodels.h"
 
 enum { NMAX = SDAE_SMALL_DENSE };

@@ -7,7 +7,10 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 #include "testmodels.h"
 
 /* The error at t = 2 divides by 2^order when T halves (from T to T/2); within 5%. */

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "../src/mbs.h"
+#include "mbs/mbs_impl.h"
 #include "mechanisms.h"
 #include "testmodels.h"
 

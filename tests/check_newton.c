@@ -8,7 +8,10 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 #include "testmodels.h"
 
 /* The midpoint map of x'' = -x^3 as a user map that records every mu+ it is called with. */
@@ -337,14 +340,16 @@ static void fd_cost(fd_case fc, unsigned long groups) {
   sdae_arena count = {0}, a = {0};
   sdae_options_default(&o);
   o.bandwidth = fc.band;
-  sdae__newton_carve(&nw, &m, &o, &count);
+  sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter,
+                     &count);
   a.base = calloc(count.used, 1); /* calloc: aligned for any type */
-  sdae__newton_carve(&nw, &m, &o, &a);
+  sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter,
+                     &a);
   nw.iters = 0;
   sdae_map_ctx c = {&m, NULL, &nw, 0};
   double x[16], y[16];
   for (size_t i = 0; i < fc.n; i++) x[i] = y[i] = 1.0;
-  ck_assert_int_eq(sdae__newton_solve(&nw, &const_map, &c, 0.0, 0.25, x, NULL, y), SDAE_OK);
+  ck_assert_int_eq(sdae__map_solve(&const_map, &c, 0.0, 0.25, x, NULL, y), SDAE_OK);
   ck_assert_uint_eq(c.phi_evals, 2 + 2 * groups);
   ck_assert_uint_eq(nw.iters, 2);
   for (size_t i = 0; i < fc.n; i++) ck_assert_double_eq(y[i], 1.0 + 0.25 * (i % 2 ? -0.25 : 0.5));
@@ -378,9 +383,9 @@ static void *newton_ws(sdae_newton *nw, size_t n, size_t band, double tol) {
   ws_model = (sdae_model){.n_xi = 1, .n_mu = n};
   sdae_options_default(&o);
   o.bandwidth = band, o.newton_tol = tol;
-  sdae__newton_carve(nw, &ws_model, &o, &count);
+  sdae__newton_carve(nw, n, band ? band : n - 1, o.newton_tol, o.newton_max_iter, &count);
   a.base = calloc(count.used, 1);
-  sdae__newton_carve(nw, &ws_model, &o, &a);
+  sdae__newton_carve(nw, n, band ? band : n - 1, o.newton_tol, o.newton_max_iter, &a);
   nw->iters = 0;
   return a.base;
 }
@@ -391,7 +396,7 @@ static int solve_with(const sdae_map_type *map, size_t n, size_t band, double to
   sdae_newton nw;
   void *mem = newton_ws(&nw, n, band, tol);
   sdae_map_ctx c = {&ws_model, NULL, &nw, 0};
-  int rc = sdae__newton_solve(&nw, map, &c, 0.0, h, x, NULL, y);
+  int rc = sdae__map_solve(map, &c, 0.0, h, x, NULL, y);
   *iters = nw.iters;
   *evals = c.phi_evals;
   free(mem);
@@ -534,12 +539,14 @@ START_TEST(matrix_reuse_boundary) {
 }
 END_TEST
 
-/* phi = -4 y: linear, so the central difference (phi(y + h e_j) - phi(y - h e_j)) / (2 h) has no
- * truncation error, and at y_j = 1 (a power of 2) and y_j = 0 with the step h_j = eps^(1/3)
- * max(1, |y_j|) made exact, no rounding either: M = I - (1/4)(-4) I = 2 I exactly. From
- * y0 = (1, 0) with x = (-2, 2): R = (4, -2), the update (2, -1) lands on the root (-1, 1)
- * exactly and iteration 2 finds R = 0: 2 iterations, 1 + 2 n + 1 = 6 evaluations. (A step
- * that is not symmetric about y_j, or is zero at y_j = 0, gives another count or no M.) */
+/* phi = -4 y with h = 1/4: R(y) = y - x - h phi = 2 y - x is linear, so the central difference
+ * (R(y + h_j e_j) - R(y - h_j e_j)) / (2 h_j) has no truncation error, and at y_j = 1 (a power
+ * of 2) and y_j = 0 with the step h_j = eps^(1/3) max(1, |y_j|) made exact, no rounding either:
+ * with x = (1, 0), y_j +- h_j - x_j is exact (Sterbenz, or x_j = 0), and so is every R, so
+ * dR/dy = 2 I exactly. From y0 = (1, 0): R = (1, 0), the update (1/2, 0) lands on the root
+ * (1/2, 0) exactly and iteration 2 finds R = 0: 2 iterations, 1 + 2 n + 1 = 6 evaluations. (A
+ * step that is not symmetric about y_j, or is zero at y_j = 0, gives another count or no
+ * matrix.) */
 static int linear_phi(sdae_map_ctx *c, double t, double T, const double *mu,
                       const double *mu_next, double *out) {
   (void)t, (void)T, (void)mu;
@@ -549,14 +556,14 @@ static int linear_phi(sdae_map_ctx *c, double t, double T, const double *mu,
 static const sdae_map_type linear_map = {.name = "linear", .implicit = 1, .phi = linear_phi};
 
 START_TEST(fd_jacobian_exact_on_linear_map) {
-  double x[2] = {-2.0, 2.0}, y[2] = {1.0, 0.0};
+  double x[2] = {1.0, 0.0}, y[2] = {1.0, 0.0};
   unsigned iters;
   unsigned long evals;
   ck_assert_int_eq(solve_with(&linear_map, 2, 0, 1e-14, 0.25, x, y, &iters, &evals), SDAE_OK);
   ck_assert_uint_eq(iters, 2);
   ck_assert_uint_eq(evals, 6);
-  ck_assert_double_eq(y[0], -1.0); /* y = x / (1 + h 4) */
-  ck_assert_double_eq(y[1], 1.0);
+  ck_assert_double_eq(y[0], 0.5); /* y = x / (1 + h 4) */
+  ck_assert_double_eq(y[1], 0.0);
 }
 END_TEST
 
@@ -663,8 +670,47 @@ START_TEST(banded_storage_cleared_before_use) {
 }
 END_TEST
 
+/* ---- the core's own interface: a residual, an optional Jacobian, a context, no map ----
+ * R(y) = (y0^2 + y1^2 - 4, y0 - y1): the root (sqrt 2, sqrt 2). From (2, 1) Newton converges
+ * quadratically, so within 8 iterations both with the Jacobian and with differences, to
+ * rounding of the root. */
+static int circle_residual(void *ctx, const double *y, double *R) {
+  ++*(int *)ctx;
+  R[0] = y[0] * y[0] + y[1] * y[1] - 4.0;
+  R[1] = y[0] - y[1];
+  return SDAE_OK;
+}
+static int circle_jacobian(void *ctx, const double *y, double *J) {
+  (void)ctx;
+  J[0] = 2.0 * y[0], J[1] = 2.0 * y[1], J[2] = 1.0, J[3] = -1.0;
+  return SDAE_OK;
+}
+
+START_TEST(plain_residual_system) {
+  for (int with_jac = 0; with_jac < 2; with_jac++) {
+    sdae_newton nw;
+    sdae_arena count = {0}, a = {0};
+    int calls = 0;
+    sdae_newton_system sys = {circle_residual, with_jac ? circle_jacobian : NULL, &calls};
+    double y[2] = {2.0, 1.0};
+    sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &count);
+    a.base = calloc(count.used, 1);
+    sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &a);
+    nw.iters = 0;
+    ck_assert_int_eq(sdae__newton_solve(&nw, &sys, y), SDAE_OK);
+    ck_assert_double_eq_tol(y[0], sqrt(2.0), 4e-16);
+    ck_assert_double_eq_tol(y[1], sqrt(2.0), 4e-16);
+    ck_assert_uint_le(nw.iters, 8);
+    /* differences: two residuals a column on top of one an iteration */
+    if (!with_jac) ck_assert_int_gt(calls, (int)nw.iters);
+    free(a.base);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("newton");
+  ADD_CASE(s, plain_residual_system);
   ADD_CASE(s, quadratic_convergence_analytic);
   ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);

@@ -18,7 +18,7 @@
 
 #include "testmodels.h"
 
-#include "../src/simplex.h"
+#include "core/simplex.h"
 
 #define MAX_EVALS 4096
 

@@ -6,7 +6,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "../src/internal.h"
+#include "maps/map.h"
+#include "stepper/stepper.h"
+#include "core/lu.h"
+#include "core/arena.h"
 #include "testmodels.h"
 
 static sdae_options options(const sdae_map_type *map, sdae_scheme scheme) {

@@ -7,24 +7,13 @@
 #include <stddef.h>
 
 #include <stabdae/alloc.h>
+#include <stabdae/dae.h>
 #include <stabdae/export.h>
 #include <stabdae/model.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-typedef struct sdae_dae {
-  size_t n; /* dim x = n_xi + n_mu */
-  size_t m; /* multipliers, one per constraint */
-  int (*f)(double t, const double *x, double *out, void *params); /* n values */
-  int (*g)(double t, const double *x, double *out, void *params); /* n x m, row-major */
-  /* z = Phi(x) = (xi, mu): xi the constraints' Lie chains (h, L_f h, ...), as in the model */
-  int (*Phi)(double t, const double *x, double *z, void *params);
-  int (*Phi_inv)(double t, const double *z, double *x, void *params); /* optional: Newton */
-  int (*Phi_jac)(double t, const double *x, double *J, void *params); /* optional: n x n */
-  void *params;
-} sdae_dae;
 
 typedef enum sdae_check_kind {
   SDAE_CHECK_INVERSE = 0,  /* Phi(Phi^-1(z)) = z */

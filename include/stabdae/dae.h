@@ -16,13 +16,26 @@
 #include <stddef.h>
 
 #include <stabdae/alloc.h>
-#include <stabdae/check.h>
 #include <stabdae/export.h>
 #include <stabdae/model.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The DAE of eq. 1 and its coordinates, as the generic front-end and the model check
+ * (<stabdae/check.h>) take it. */
+typedef struct sdae_dae {
+  size_t n; /* dim x = n_xi + n_mu */
+  size_t m; /* multipliers, one per constraint */
+  int (*f)(double t, const double *x, double *out, void *params); /* n values */
+  int (*g)(double t, const double *x, double *out, void *params); /* n x m, row-major */
+  /* z = Phi(x) = (xi, mu): xi the constraints' Lie chains (h, L_f h, ...), as in the model */
+  int (*Phi)(double t, const double *x, double *z, void *params);
+  int (*Phi_inv)(double t, const double *z, double *x, void *params); /* optional: Newton */
+  int (*Phi_jac)(double t, const double *x, double *J, void *params); /* optional: n x n */
+  void *params;
+} sdae_dae;
 
 /* d/dt mu(t, x) along xdot = f(t, x): n_mu values (the dae's params). Optional: without it, a
  * fourth-order central difference of mu(t + s, x + s f) in s (about 3e-12 relative). */

@@ -99,7 +99,7 @@ for via in add_subdirectory fetchcontent; do
 
   # stabdae's flags on its sources only
   commands=$dir/compile_commands.json
-  own=$(grep '"command"' "$commands" | grep '/src/stepper\.c' || true)
+  own=$(grep '"command"' "$commands" | grep '/src/stepper/stepper\.c' || true)
   parent=$(grep '"command"' "$commands" | grep 'tests/subproject/subproject\.c' || true)
   [ -n "$own" ] && [ -n "$parent" ] || fail "compile commands missing in $commands"
   for flag in -Wall -Wextra -Werror; do

@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The allocator hook: every allocation of the library goes through here. */
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "alloc.h"
+
+static int custom(const sdae_allocator *a) { return a && a->alloc && a->free; }
+
+void *sdae__alloc(const sdae_allocator *a, size_t size) {
+  if (size == 0) return NULL;
+  return custom(a) ? a->alloc(a->ud, size) : malloc(size);
+}
+
+void sdae__free(const sdae_allocator *a, void *ptr, size_t size) {
+  if (!ptr) return;
+  if (custom(a))
+    a->free(a->ud, ptr, size);
+  else
+    free(ptr);
+}
+
+void *sdae__alloc_array(const sdae_allocator *a, size_t n, size_t size) {
+  if (size != 0 && n > SIZE_MAX / size) return NULL;
+  return sdae__alloc(a, n * size);
+}
+
+void *sdae__block_alloc(sdae_block *b, const sdae_allocator *a, size_t bytes) {
+  b->mem = sdae__alloc(a, bytes);
+  b->bytes = bytes;
+  if (a)
+    b->allocator = *a;
+  else
+    b->allocator = (sdae_allocator){0};
+  return b->mem;
+}
+
+void sdae__block_free(const sdae_block *b) {
+  sdae_block copy = *b; /* b may live in the block it describes */
+  sdae__free(&copy.allocator, copy.mem, copy.bytes);
+}

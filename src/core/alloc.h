@@ -1,0 +1,30 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The library's only way to the heap: the caller's allocator, or malloc and free. */
+#ifndef STABDAE_SRC_CORE_ALLOC_H
+#define STABDAE_SRC_CORE_ALLOC_H
+
+#include <stddef.h>
+
+#include <stabdae/alloc.h>
+
+/* size bytes (size > 0), or NULL; a NULL allocator, or one without alloc, is malloc */
+void *sdae__alloc(const sdae_allocator *a, size_t size);
+/* gives back what sdae__alloc returned with the same allocator and size; NULL is fine */
+void sdae__free(const sdae_allocator *a, void *ptr, size_t size);
+/* n elements of size bytes each, or NULL when n * size overflows or there is no room */
+void *sdae__alloc_array(const sdae_allocator *a, size_t n, size_t size);
+
+/* The one block an object lives in when the library allocated it: what to give back and to
+ * whom. An object in the caller's memory has mem NULL, and freeing it gives nothing back. */
+typedef struct sdae_block {
+  void *mem;
+  size_t bytes;
+  sdae_allocator allocator; /* zero: malloc and free */
+} sdae_block;
+
+/* bytes from the allocator a (NULL: malloc), recorded in *b; NULL when there is no room */
+void *sdae__block_alloc(sdae_block *b, const sdae_allocator *a, size_t bytes);
+/* gives back the block *b describes (which may hold *b itself); nothing for mem NULL */
+void sdae__block_free(const sdae_block *b);
+
+#endif /* STABDAE_SRC_CORE_ALLOC_H */

@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* One block handed out array by array: the same walk, without a base, only counts
+ * (overflow-checked). Every part of an object carves its own arrays from its owner's block. */
+#ifndef STABDAE_SRC_CORE_ARENA_H
+#define STABDAE_SRC_CORE_ARENA_H
+
+#include <stddef.h>
+
+typedef struct sdae_arena {
+  char *base; /* NULL: count only; else aligned for any type */
+  size_t used;
+  int overflow;
+} sdae_arena;
+
+/* n elements of size bytes, aligned to align (a power of two) */
+void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align);
+double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
+unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
+size_t *sdae__take_indices(sdae_arena *a, size_t n);
+/* header + the arrays counted, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
+int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes);
+/* a block of an object (header bytes) and the arrays counted in a, in memory of any alignment:
+ * its bytes (with room to align the caller's memory); and, in mem, where the object goes, with
+ * a set to hand out the arrays after it */
+int sdae__block_bytes(const sdae_arena *a, size_t header, size_t *bytes);
+void *sdae__block_start(void *mem, size_t header, sdae_arena *a);
+
+#endif /* STABDAE_SRC_CORE_ARENA_H */

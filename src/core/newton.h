@@ -1,0 +1,41 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* Newton's method on a system R(y) = 0 of n equations given as a residual, an optional
+ * Jacobian dR/dy and a context: nothing else is known of the problem. */
+#ifndef STABDAE_SRC_CORE_NEWTON_H
+#define STABDAE_SRC_CORE_NEWTON_H
+
+#include <stddef.h>
+
+#include "arena.h"
+
+typedef struct sdae_newton_system {
+  /* R(y) into R (n values): an sdae_status */
+  int (*residual)(void *ctx, const double *y, double *R);
+  /* optional, used by a dense Newton only: dR/dy at y (n x n, row-major), called right after
+   * residual at the same y (so it may reuse what residual left in ctx); NULL: differences */
+  int (*jacobian)(void *ctx, const double *y, double *J);
+  void *ctx;
+} sdae_newton_system;
+
+typedef struct sdae_newton {
+  size_t n, band; /* the band of dR/dy: n - 1 when dense */
+  double tol;
+  unsigned max_iter;
+  double *R, *dy, *fd_y, *fd_plus, *fd_minus; /* n each */
+  double *J;            /* n x n, dense only: dR/dy */
+  double *LU;           /* n x (3 band + 1): dR/dy in band format, then its factors */
+  unsigned *piv;        /* n */
+  unsigned iters;       /* iterations, counted here alone; the owner reads and clears them */
+  double residual_last; /* ||R||_inf at the last iterate evaluated */
+} sdae_newton;
+
+/* its workspace for n unknowns and a Jacobian of bandwidth band (n - 1: dense), counted or
+ * handed out; tol bounds the last update relative to 1 + ||y||, max_iter the iterations */
+void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsigned max_iter,
+                        sdae_arena *a);
+/* y such that R(y) = 0, from the y given: SDAE_ERR_NEWTON when max_iter iterations do not
+ * converge, the residual's or Jacobian's status when they fail, SDAE_ERR_SINGULAR,
+ * SDAE_ERR_NONFINITE */
+int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y);
+
+#endif /* STABDAE_SRC_CORE_NEWTON_H */

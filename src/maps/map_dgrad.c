@@ -1,0 +1,168 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* Gonzalez's midpoint discrete gradient (paper ref. 18) for q0 = S(mu) grad H(mu):
+ *
+ *   phi_T(mu, mu+) = S(m) gradbar H(mu, mu+),  m = (mu + mu+)/2,  v = mu+ - mu,
+ *   gradbar H = grad H(m) + [(H(mu+) - H(mu) - grad H(m).v) / |v|^2] v,
+ *
+ * so that gradbar H . v = H(mu+) - H(mu) exactly: H(mu+) - H(mu) = T gradbar^T S gradbar,
+ * zero when S is skew and <= 0 when S = J - R with R >= 0. */
+#include <float.h>
+
+#include "map.h"
+#include "model/model.h"
+
+static int dgrad_needs(const sdae_model *m) {
+  return (m->H && m->grad_H && (m->S || m->S_apply)) ? SDAE_OK : SDAE_ERR_MAP;
+}
+
+/* hess_H gives the Jacobian */
+static int dgrad_jac_given(const sdae_model *m) { return m->hess_H != NULL; }
+
+/* The scratch: the midpoint, grad H there, the increment, the correction c and |v|^2 (0 in
+ * the small-increment branch), a dense S unless S_apply is given; with hess_H the Hessian
+ * (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for the Jacobian
+ * at the same point. */
+typedef struct parts {
+  double *mid, *grad, *v, *inc, *S, *D, *w, *col;
+} parts;
+
+/* a banded Newton uses finite differences whatever the model gives (and must not be charged n^2
+ * doubles for a Jacobian) */
+static size_t dgrad_scratch(const sdae_model *m, const sdae_options *o) {
+  size_t n = m->n_mu;
+  int jac = dgrad_jac_given(m) && !sdae__banded(m, o);
+  return 3 * n + 2 + (m->S_apply ? 0 : n * n) + (jac ? n * n + 2 * n : 0);
+}
+
+static parts layout(sdae_map_ctx *c) {
+  size_t n = c->model->n_mu;
+  parts P;
+  P.mid = c->work;
+  P.grad = P.mid + n;
+  P.v = P.grad + n;
+  P.inc = P.v + n;
+  P.S = P.inc + 2;
+  P.D = P.S + (c->model->S_apply ? 0 : n * n);
+  P.w = P.D + n * n;
+  P.col = P.w + n;
+  return P;
+}
+
+/* out = S(mid) g; a dense S is evaluated into P->S first when load */
+static int apply_S(const sdae_model *m, double tm, const parts *P, int load, const double *g,
+                   double *out) {
+  size_t n = m->n_mu;
+  int rc;
+  if (m->S_apply) {
+    rc = sdae__status_of_callback(m->S_apply(tm, P->mid, g, out, m->params));
+    if (rc != SDAE_OK) return rc;
+    return sdae__all_finite(out, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
+  }
+  if (load && (rc = sdae__call_checked(m->S, m, tm, P->mid, P->S, n * n)) != SDAE_OK)
+    return rc;
+  for (size_t r = 0; r < n; r++) {
+    double acc = 0.0;
+    for (size_t j = 0; j < n; j++) acc += P->S[r * n + j] * g[j];
+    out[r] = acc;
+  }
+  return SDAE_OK;
+}
+
+/* The correction c along v into P->inc, with |v|^2. c = 0 (and |v|^2 is kept as 0) when |v| is
+ * so small that the difference quotient is all rounding: below |v|^2 = eps (1 + |m|^2) the
+ * dropped term is O(|v|^3) H''', far below rounding. */
+static int correction(const sdae_model *m, double tm, const double *mu, const double *mu_next,
+                      const parts *P) {
+  size_t n = m->n_mu;
+  double v2 = 0.0, m2 = 0.0, gv = 0.0, H0, H1;
+  int rc;
+  P->inc[0] = P->inc[1] = 0.0;
+  for (size_t i = 0; i < n; i++) {
+    v2 += P->v[i] * P->v[i];
+    m2 += P->mid[i] * P->mid[i];
+    gv += P->grad[i] * P->v[i];
+  }
+  if (v2 <= DBL_EPSILON * (1.0 + m2)) return SDAE_OK;
+  rc = sdae__call_checked(m->H, m, tm, mu, &H0, 1);
+  if (rc == SDAE_OK) rc = sdae__call_checked(m->H, m, tm, mu_next, &H1, 1);
+  if (rc != SDAE_OK) return rc;
+  P->inc[0] = (H1 - H0 - gv) / v2;
+  P->inc[1] = v2;
+  return SDAE_OK;
+}
+
+/* S(mid) gradbar H, gradbar H = grad H(mid) + c v: leaves mid, v, c and gradbar H in the
+ * scratch */
+static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu,
+                     const double *mu_next, double *out) {
+  const sdae_model *m = c->model;
+  size_t n = m->n_mu;
+  parts P = layout(c);
+  double tm = t + 0.5 * T;
+  int rc;
+  for (size_t i = 0; i < n; i++) {
+    P.mid[i] = 0.5 * (mu[i] + mu_next[i]);
+    P.v[i] = mu_next[i] - mu[i];
+  }
+  rc = sdae__call_checked(m->grad_H, m, tm, P.mid, P.grad, n);
+  if (rc == SDAE_OK) rc = correction(m, tm, mu, mu_next, &P);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++) P.grad[i] += P.inc[0] * P.v[i]; /* gradbar H */
+  return apply_S(m, tm, &P, 1, P.grad, out);
+}
+
+/* w = dc/dmu+ = (grad H(mu+) - g - Hm v/2 - 2 c v) / |v|^2 (0 in the small-increment
+ * branch), with g = grad H(mid) = gradbar H - c v and the Hessian Hm = hess H(mid) in P->D */
+static int correction_gradient(const sdae_model *m, double tm, const double *mu_next,
+                               const parts *P) {
+  size_t n = m->n_mu;
+  double c = P->inc[0], v2 = P->inc[1];
+  int rc = SDAE_OK;
+  if (v2 == 0.0)
+    for (size_t i = 0; i < n; i++) P->w[i] = 0.0;
+  else
+    rc = sdae__call_checked(m->grad_H, m, tm, mu_next, P->w, n);
+  for (size_t i = 0; i < n && v2 != 0.0; i++) {
+    double Hv = 0.0;
+    for (size_t j = 0; j < n; j++) Hv += P->D[i * n + j] * P->v[j];
+    P->w[i] = (P->w[i] - P->grad[i] - 0.5 * Hv - c * P->v[i]) / v2;
+  }
+  return rc;
+}
+
+/* d phi / d mu+ = S(mid) D, D = d gradbar / d mu+ = Hm/2 + c I + v w^T; the derivative of S is
+ * left out (zero for a constant S). mid, v, c, gradbar H and S come from phi at this point. */
+static int dgrad_jac(sdae_map_ctx *c, double t, double T, const double *mu,
+                     const double *mu_next, double *out) {
+  const sdae_model *m = c->model;
+  size_t n = m->n_mu;
+  parts P = layout(c);
+  double tm = t + 0.5 * T;
+  int rc = sdae__call_checked(m->hess_H, m, tm, P.mid, P.D, n * n);
+  (void)mu;
+  if (rc == SDAE_OK) rc = correction_gradient(m, tm, mu_next, &P);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++)
+      P.D[i * n + j] = 0.5 * P.D[i * n + j] + (i == j ? P.inc[0] : 0.0) + P.v[i] * P.w[j];
+  for (size_t j = 0; j < n && rc == SDAE_OK; j++) { /* column by column, as S_apply works */
+    for (size_t i = 0; i < n; i++) P.col[i] = P.D[i * n + j];
+    rc = apply_S(m, tm, &P, 0, P.col, P.w);
+    for (size_t i = 0; i < n; i++) out[i * n + j] = P.w[i];
+  }
+  return rc;
+}
+
+/* Newton uses dgrad_jac when the model gives hess_H, finite differences otherwise. */
+const sdae_map_type sdae__dgrad_type = {
+    .name = "dgrad",
+    .order = 2,
+    .implicit = 1,
+    .needs = dgrad_needs,
+    .scratch = dgrad_scratch,
+    .phi = dgrad_phi,
+    .jac = dgrad_jac,
+    .jac_given = dgrad_jac_given,
+};
+
+const sdae_map_type *const sdae_map_dgrad = &sdae__dgrad_type;

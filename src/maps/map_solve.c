@@ -1,0 +1,48 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The implicit step of a map as a system for Newton (core/newton.h):
+ *
+ *   R(y) = y - x - h (phi_T(x, y) + shift) = 0,   dR/dy = I - h dphi_T/dy
+ *
+ * (a step of eq. 11/15: x = mu, h = T, shift = Q(xi, mu) xi; a stage of a composed map: no
+ * shift). */
+#include <stddef.h>
+
+#include "map.h"
+
+typedef struct step_eq {
+  const sdae_map_type *map;
+  sdae_map_ctx *c;
+  double t, h;
+  const double *x, *shift;
+} step_eq;
+
+static int residual(void *ctx, const double *y, double *R) {
+  const step_eq *e = ctx;
+  size_t n = e->c->model->n_mu;
+  int rc = sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, R);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++) R[i] = y[i] - e->x[i] - e->h * (R[i] + (e->shift ? e->shift[i] : 0.0));
+  return SDAE_OK;
+}
+
+static int jacobian(void *ctx, const double *y, double *J) {
+  const step_eq *e = ctx;
+  size_t n = e->c->model->n_mu;
+  int rc = e->map->jac(e->c, e->t, e->h, e->x, y, J);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) J[i * n + j] = (i == j ? 1.0 : 0.0) - e->h * J[i * n + j];
+  return SDAE_OK;
+}
+
+/* the map's own Jacobian, for a model it has one for */
+static int analytic(const sdae_map_type *map, const sdae_model *m) {
+  return map->jac && (!map->jac_given || map->jac_given(m));
+}
+
+int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h,
+                    const double *x, const double *shift, double *y) {
+  step_eq e = {map, c, t, h, x, shift};
+  sdae_newton_system sys = {residual, analytic(map, c->model) ? jacobian : NULL, &e};
+  return sdae__newton_solve(c->newton, &sys, y);
+}

@@ -1,0 +1,138 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The mechanism's callbacks, every status and value checked, and the derivatives it may leave
+ * out (G = dc/dq, dc/dt, and the derivatives along the motion) by the fourth-order central
+ * difference
+ *
+ *   f'(0) ~ [8 (f(s) - f(-s)) - (f(2s) - f(-2s))] / (12 s),   error ~ s^4 f^(5) / 30 + eps f / s,
+ *
+ * with s about eps^(1/5) times the scale of the variable: about 1e-13 relative, the level of
+ * rounding in the quantities built from them. */
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#include "mbs_impl.h"
+
+static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
+static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
+#define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5) */
+
+int sdae__mbs_mass(sdae_mbs_stepper *s, double t, const double *q, double *M) {
+  return sdae__callback_checked(s->sys.mass(t, q, M, s->sys.params), M, s->n_q * s->n_q);
+}
+
+int sdae__mbs_force(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *F) {
+  return sdae__callback_checked(s->sys.force(t, q, v, F, s->sys.params), F, s->n_q);
+}
+
+int sdae__mbs_constraint(sdae_mbs_stepper *s, double t, const double *q, double *c) {
+  return sdae__callback_checked(s->sys.constraint(t, q, c, s->sys.params), c, s->n_c);
+}
+
+int sdae__mbs_potential(sdae_mbs_stepper *s, double t, const double *q, double *V) {
+  return sdae__callback_checked(s->sys.potential(t, q, V, s->sys.params), V, 1);
+}
+
+int sdae__mbs_damping(sdae_mbs_stepper *s, double t, const double *q, double *D) {
+  return sdae__callback_checked(s->sys.damping(t, q, D, s->sys.params), D, s->n_q * s->n_q);
+}
+
+/* a step h near h0 that x + h represents exactly */
+static double exact_step(double x, double h0) {
+  double xh = x + h0;
+  return xh - x;
+}
+
+/* G column by column: d/dh c(t, q + h e_j) */
+static int jacobian_fd(sdae_mbs_stepper *s, double t, const double *q, double *G) {
+  size_t n_q = s->n_q, n_c = s->n_c;
+  double *qs = s->fd_qj, *c = s->fd_c;
+  memcpy(qs, q, n_q * sizeof *q);
+  for (size_t j = 0; j < n_q; j++) {
+    double h = exact_step(q[j], FD_STEP * fmax(1.0, fabs(q[j])));
+    for (size_t i = 0; i < n_c; i++) G[i * n_q + j] = 0.0;
+    for (int k = 0; k < 4; k++) {
+      int rc;
+      qs[j] = q[j] + offset[k] * h;
+      if ((rc = sdae__mbs_constraint(s, t, qs, c)) != SDAE_OK) return rc;
+      for (size_t i = 0; i < n_c; i++) G[i * n_q + j] += weight[k] * c[i];
+    }
+    qs[j] = q[j];
+    for (size_t i = 0; i < n_c; i++) G[i * n_q + j] /= 12.0 * h;
+  }
+  return SDAE_OK;
+}
+
+int sdae__mbs_jacobian(sdae_mbs_stepper *s, double t, const double *q, double *G) {
+  if (!s->sys.jacobian) return jacobian_fd(s, t, q, G);
+  return sdae__callback_checked(s->sys.jacobian(t, q, G, s->sys.params), G, s->n_c * s->n_q);
+}
+
+/* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal */
+static int constraint_t_fd(sdae_mbs_stepper *s, double t, const double *q, double *ct) {
+  double h = exact_step(t, FD_STEP), *c = s->fd_c;
+  memset(ct, 0, s->n_c * sizeof *ct);
+  for (int k = 0; k < 4; k++) {
+    int rc = sdae__mbs_constraint(s, t + offset[k] * h, q, c);
+    if (rc != SDAE_OK) return rc;
+    for (size_t i = 0; i < s->n_c; i++) ct[i] += weight[k] * c[i];
+  }
+  for (size_t i = 0; i < s->n_c; i++) ct[i] /= 12.0 * h;
+  return SDAE_OK;
+}
+
+int sdae__mbs_constraint_t(sdae_mbs_stepper *s, double t, const double *q, double *ct) {
+  if (!s->sys.constraint_t) return constraint_t_fd(s, t, q, ct);
+  return sdae__callback_checked(s->sys.constraint_t(t, q, ct, s->sys.params), ct, s->n_c);
+}
+
+static double inf_norm(const double *x, size_t n) {
+  double m = 0.0;
+  for (size_t i = 0; i < n; i++) m = fabs(x[i]) > m ? fabs(x[i]) : m;
+  return m;
+}
+
+/* the sums of the stencil at offset k along (1, v): G, M v and G v + dc/dt there */
+static int along_point(sdae_mbs_stepper *s, double t, const double *q, const double *v, double h,
+                       int k, double *Gdot, double *Mdv, double *gdot) {
+  size_t n_q = s->n_q, n_c = s->n_c;
+  double w = weight[k], ts = t + offset[k] * h;
+  int rc;
+  for (size_t j = 0; j < n_q; j++) s->fd_q[j] = q[j] + offset[k] * h * v[j];
+  if ((rc = sdae__mbs_jacobian(s, ts, s->fd_q, s->fd_G)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += w * s->fd_G[i];
+  if (Mdv) {
+    if ((rc = sdae__mbs_mass(s, ts, s->fd_q, s->fd_M)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n_q; i++)
+      for (size_t j = 0; j < n_q; j++) Mdv[i] += w * s->fd_M[i * n_q + j] * v[j];
+  }
+  if (gdot) {
+    if ((rc = sdae__mbs_constraint_t(s, ts, s->fd_q, s->fd_ct)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n_c; i++) {
+      double g = s->fd_ct[i];
+      for (size_t j = 0; j < n_q; j++) g += s->fd_G[i * n_q + j] * v[j];
+      gdot[i] += w * g;
+    }
+  }
+  return SDAE_OK;
+}
+
+int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                    double *Gdot, double *Mdv, double *gdot) {
+  size_t n_q = s->n_q, n_c = s->n_c;
+  double nq = inf_norm(q, n_q), h;
+  h = exact_step(t, FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q)));
+  memset(Gdot, 0, n_c * n_q * sizeof *Gdot);
+  if (Mdv) memset(Mdv, 0, n_q * sizeof *Mdv);
+  if (gdot) memset(gdot, 0, n_c * sizeof *gdot);
+  for (int k = 0; k < 4; k++) {
+    int rc = along_point(s, t, q, v, h, k, Gdot, Mdv, gdot);
+    if (rc != SDAE_OK) return rc;
+  }
+  for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] /= 12.0 * h;
+  if (Mdv)
+    for (size_t i = 0; i < n_q; i++) Mdv[i] /= 12.0 * h;
+  if (gdot)
+    for (size_t i = 0; i < n_c; i++) gdot[i] /= 12.0 * h;
+  return SDAE_OK;
+}

@@ -1,0 +1,25 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* What the layers above the stepper may know of one, besides the public API. */
+#ifndef STABDAE_SRC_STEPPER_STEPPER_H
+#define STABDAE_SRC_STEPPER_STEPPER_H
+
+#include <stabdae/stabdae.h>
+
+/* SDAE_OK when the model and options make a stepper, the status saying why not otherwise */
+int sdae__stepper_validate(const sdae_model *m, const sdae_options *o);
+/* the stepper's copy of its model */
+const sdae_model *sdae__stepper_model(const sdae_stepper *s);
+/* the allocator the stepper was allocated with (zero for the caller's memory: malloc) */
+const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s);
+
+/* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
+ * step and the last; step and observe receive ctx (integrate.c) */
+typedef struct sdae_drive {
+  int (*step)(void *ctx, double t, double T);
+  int (*observe)(void *ctx, size_t step, double t); /* NULL: none; non-zero stops */
+  void *ctx;
+} sdae_drive;
+int sdae__drive(const sdae_drive *d, double t0, double T, size_t nsteps, size_t every,
+                size_t *steps_done);
+
+#endif /* STABDAE_SRC_STEPPER_STEPPER_H */
