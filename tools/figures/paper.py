@@ -9,7 +9,7 @@ for d = 0.03 and d = 0, and writes fig2.png ... fig9.png:
     d = 0.03: Fig 2 Y(t), Fig 3 X(t), Fig 4 the X-Y path, Fig 5 the energy E(t)
     d = 0:    Fig 6 X(t), Fig 7 Y(t), Fig 8 the X-Y path, Fig 9 the energy E(t)
 
-    python tools/figures.py [--build build] [--outdir build/figures] [--every 10]
+    python tools/figures/paper.py [--build build] [--outdir build/figures] [--every 10]
 """
 import argparse
 import os
@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def run_oscillator(exe, d, every, outdir):
@@ -120,7 +120,7 @@ def main():
     outdir = args.outdir or os.path.join(args.build, "figures")
     exe = os.path.join(args.build, "examples", "oscillator")
     if not os.access(exe, os.X_OK):
-        sys.exit("figures.py: %s not found; build the project first" % exe)
+        sys.exit("paper.py: %s not found; build the project first" % exe)
     os.makedirs(outdir, exist_ok=True)
 
     damped, _ = run_oscillator(exe, 0.03, args.every, outdir)
