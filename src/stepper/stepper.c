@@ -211,3 +211,5 @@ const sdae_model *sdae__stepper_model(const sdae_stepper *s) { return &s->model;
 const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s) {
   return &s->block.allocator;
 }
+
+void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats) { s->stats = *stats; }

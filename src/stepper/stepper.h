@@ -12,6 +12,10 @@ const sdae_model *sdae__stepper_model(const sdae_stepper *s);
 /* the allocator the stepper was allocated with (zero for the caller's memory: malloc) */
 const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s);
 
+/* puts back statistics read earlier with sdae_stepper_stats: a front-end's failed step leaves
+ * its inner stepper's counters as they were */
+void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats);
+
 /* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
  * step and the last; step and observe receive ctx (integrate.c) */
 typedef struct sdae_drive {
