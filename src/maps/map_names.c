@@ -3,7 +3,6 @@
 #include <string.h>
 
 #include "map.h"
-#include "model/model.h"
 
 const char *sdae_map_name(const sdae_map_type *map) { return map ? map->name : "(none)"; }
 
