@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""tools/mutate: mutation testing of src/*.c against the unit and example suites."""
+"""tools/mutate/mutate: mutation testing of src/*.c against the unit and example suites."""
 import argparse
 import datetime
 import fcntl
@@ -25,8 +25,8 @@ SALT = "stabdae-mutate-16"  # the fixed seed of --sample and --max
 
 def parse_args(argv):
     p = argparse.ArgumentParser(
-        prog="tools/mutate", description="Mutation testing of src/*.c: each mutant is built in "
-        "build/mutate and must make a unit or example test fail.",
+        prog="tools/mutate/mutate", description="Mutation testing of src/*.c: each mutant is built "
+        "in build/mutate and must make a unit or example test fail.",
         epilog="operators: " + "; ".join(f"{k}: {v}" for k, v in DESCRIPTIONS.items()))
     p.add_argument("--sample", type=int, metavar="K", help="a fixed sample of K mutants spread "
                    "over the files; exit 1 when one survives")
