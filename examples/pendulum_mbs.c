@@ -28,7 +28,7 @@ static const char summary[] =
 static int parse_args(int argc, char *const *argv, void *vargs, char *err,
                       size_t errlen) {
   args *a = vargs;
-  *a = (args){.p = {1.0, 1.0, 9.81}, .q0 = {NAN, NAN}, .v0 = {0.0, 0.0},
+  *a = (args){.p = {.L = 1.0, .m = 1.0, .ga = 9.81}, .q0 = {NAN, NAN}, .v0 = {0.0, 0.0},
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"L", CLI_POSITIVE, &a->p.L, NULL, 0, "rod length"},

@@ -665,14 +665,14 @@ static int mbs_run(sdae_mbs_stepper *s, double *q, double *v) {
  * of sdae_mbs_stepper_size bytes steps bitwise like the allocated one; and the steps take no
  * allocation, neither from malloc nor from the stepper's allocator. */
 START_TEST(mbs_stepper_alloc_sweep) {
-  double_pendulum p = {1.0, 1.0, 1.0, 1.0, 9.81};
+  mech_double_pendulum p = {.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
   const double theta[2] = {2.2, 2.7}, omega[2] = {0.0, 0.0};
   static max_align_t mem[4096];
   counting_allocator ca = {0};
   sdae_mbs_stepper *in_block;
   double q[4], v[4], q2[4], v2[4];
-  mbs_call c = {double_pendulum_mbs(&p), quartic_options(sdae_map_dgrad,
-                                                          SDAE_SCHEME_SEMI_IMPLICIT), NULL};
+  mbs_call c = {.o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT), .s = NULL};
+  mech_double_pendulum_system(&c.sys, &p);
   sweep w = {mbs_reset, mbs_untouched, mbs_attempt, NULL, &c};
   size_t len = sdae_mbs_stepper_size(&c.sys, &c.o);
   run_sweep(&w, 1);
@@ -682,8 +682,8 @@ START_TEST(mbs_stepper_alloc_sweep) {
   ck_assert_uint_gt(len, 0);
   ck_assert_uint_le(len, sizeof mem);
   ck_assert_int_eq(sdae_mbs_stepper_init(&in_block, mem, len, &c.sys, &c.o), SDAE_OK);
-  double_pendulum_state(&p, theta, omega, q, v);
-  double_pendulum_state(&p, theta, omega, q2, v2);
+  mech_double_pendulum_state(&p, theta, omega, q, v);
+  mech_double_pendulum_state(&p, theta, omega, q2, v2);
   long calls_before = ca.calls;
   start_counting(0);
   int rc1 = mbs_run(c.s, q, v), rc2 = mbs_run(in_block, q2, v2);

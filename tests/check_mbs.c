@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanical front-end (<stabdae/mbs.h>) against the mathematics of its mechanisms
- * (tests/fixtures/mechanisms.h): orders of convergence against exact solutions (the pendulum's
- * Jacobi elliptic swing, the bead on a rotating wire), multipliers against the exact rod tension
- * and wire reaction, the energy kept by the discrete gradient through chart switches, the decay
- * of xi by the gains of eq. 6, dissipation with damping, and the chart rule. */
+ * (examples/models/mechanisms.h, tests/fixtures/wire.h): orders of convergence against exact
+ * solutions (the pendulum's Jacobi elliptic swing, the bead on a rotating wire), multipliers
+ * against the exact rod tension and wire reaction, the energy kept by the discrete gradient
+ * through chart switches, the decay of xi by the gains of eq. 6, dissipation with damping, and
+ * the chart rule. */
 #include <math.h>
 #include <string.h>
 
 #include "mechanisms.h"
 #include "testmodels.h"
+#include "wire.h"
 
 static sdae_options options(const sdae_map_type *map, sdae_scheme scheme) {
   sdae_options o;
@@ -32,20 +34,20 @@ static double max_abs_diff(const double *a, const double *b, size_t n) {
 
 /* ---- orders: the pendulum against its exact swing ---- */
 
-static const pendulum PENDULUM = {1.0, 1.0, 9.81, 0.0};
+static const mech_pendulum PENDULUM = {.L = 1.0, .m = 1.0, .ga = 9.81};
 
 /* Max-norm error in (q, v) at tf of the swing from rest at theta0, n = tf/T steps. */
 static double pendulum_error(const sdae_mbs *sys, const sdae_options *o, double theta0,
                              double tf, double T) {
-  const pendulum *p = sys->params;
+  const mech_pendulum *p = sys->params;
   sdae_mbs_stepper *s = stepper(sys, o);
   double q[2], v[2], qe[2], ve[2], th, om;
   size_t n = (size_t)lround(tf / T);
-  pendulum_state(p, theta0, 0.0, q, v);
+  mech_pendulum_state(p, theta0, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, T, n, n, q, v, NULL, NULL, NULL), SDAE_OK);
   sdae_mbs_stepper_free(s);
-  pendulum_exact(p, theta0, tf, &th, &om);
-  pendulum_state(p, th, om, qe, ve);
+  mech_pendulum_exact(p, theta0, tf, &th, &om);
+  mech_pendulum_state(p, th, om, qe, ve);
   return fmax(max_abs_diff(q, qe, 2), max_abs_diff(v, ve, 2));
 }
 
@@ -72,53 +74,60 @@ static void expect_pendulum_order(const sdae_mbs *sys, const sdae_map_type *map,
 }
 
 START_TEST(pendulum_order_euler) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_euler, 1, 2e-3);
 }
 END_TEST
 
 START_TEST(pendulum_order_midpoint) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_midpoint, 2, 0.02);
 }
 END_TEST
 
 /* G from fourth-order differences of c: the same order */
 START_TEST(pendulum_order_midpoint_no_jacobian) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sys.jacobian = NULL;
   expect_pendulum_order(&sys, sdae_map_midpoint, 2, 0.02);
 }
 END_TEST
 
 START_TEST(pendulum_order_dgrad) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_dgrad, 2, 0.02);
 }
 END_TEST
 
 START_TEST(pendulum_order_dg4) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_dg4, 4, 0.05);
 }
 END_TEST
 
 /* the midpoint map composed (q0 only, so any forces): orders 4 and 6 through the front-end */
 START_TEST(pendulum_order_midpoint4) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_midpoint4, 4, 0.05);
 }
 END_TEST
 
 START_TEST(pendulum_order_midpoint6) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order(&sys, sdae_map_midpoint6, 6, 0.1);
 }
 END_TEST
@@ -129,8 +138,9 @@ END_TEST
  * cancel, so the two-point ratio is asymptotic only for small T (4.8 at T = 0.025, 4.2 at
  * 0.005): T = 0.0025. */
 START_TEST(pendulum_order_midpoint_through_switches) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_order_from(&sys, sdae_map_midpoint, 2, 1.0, 2.5e-3);
 }
 END_TEST
@@ -235,21 +245,21 @@ END_TEST
 
 /* ---- the pendulum's multiplier, xi and energy ---- */
 
-/* lambda = m (L omega^2 + g cos theta) / L on the circle (fixture: -G^T lambda = -lambda q is
+/* lambda = m (L omega^2 + ga cos theta) / L on the circle (mechanisms.c: -G^T lambda = -lambda q is
  * the rod's pull of magnitude lambda L). Here gamma = d/ds G(q + s v) v = |v|^2 with G linear
  * in q, so the fourth-order difference of the given jacobian is exact but for rounding,
- * eps |q| |v| / s with s ~ eps^(1/5): 1e-12 of m (L omega^2 + g) / L. Without the jacobian, G is
+ * eps |q| |v| / s with s ~ eps^(1/5): 1e-12 of m (L omega^2 + ga) / L. Without the jacobian, G is
  * itself a difference of c (rounding eps |c| / s) and gamma its difference again: the rounding
  * eps |c| / s^2 ~ 4e-10 |c|, so 1e-9. */
 static void expect_pendulum_lambda(const sdae_mbs *sys, double tol) {
-  const pendulum *p = sys->params;
+  const mech_pendulum *p = sys->params;
   sdae_options o = options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(sys, &o);
   const double theta[5] = {0.0, 0.4, 1.2, 2.0, -2.9}, omega[5] = {0.0, -1.5, 2.5, 0.7, 3.0};
   for (int i = 0; i < 5; i++) {
-    double q[2], v[2], got = NAN, want = pendulum_lambda(p, theta[i], omega[i]);
-    double scale = p->m * (p->L * omega[i] * omega[i] + p->g) / p->L;
-    pendulum_state(p, theta[i], omega[i], q, v);
+    double q[2], v[2], got = NAN, want = mech_pendulum_lambda(p, theta[i], omega[i]);
+    double scale = p->m * (p->L * omega[i] * omega[i] + p->ga) / p->L;
+    mech_pendulum_state(p, theta[i], omega[i], q, v);
     ck_assert_int_eq(sdae_mbs_lambda(s, 0.3, q, v, &got), SDAE_OK);
     ck_assert_msg(fabs(got - want) <= tol * scale, "theta %g omega %g: lambda %.17g, want %.17g",
                   theta[i], omega[i], got, want);
@@ -258,8 +268,9 @@ static void expect_pendulum_lambda(const sdae_mbs *sys, double tol) {
 }
 
 START_TEST(pendulum_lambda_tension) {
-  pendulum p = {0.7, 1.3, 9.81, 0.0};
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = {.L = 1.3, .m = 0.7, .ga = 9.81};
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   expect_pendulum_lambda(&sys, 1e-12);
   sys.jacobian = NULL;
   expect_pendulum_lambda(&sys, 1e-9);
@@ -268,8 +279,9 @@ END_TEST
 
 /* xi = ((x^2 + y^2 - L^2)/2, x vx + y vy) and E = m |v|^2 / 2 + m g y, by the definitions */
 START_TEST(pendulum_xi_and_energy) {
-  pendulum p = {0.7, 1.3, 9.81, 0.0};
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = {.L = 1.3, .m = 0.7, .ga = 9.81};
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);
   double q[2] = {0.3, -1.2}, v[2] = {0.5, 0.7}, xi[2], E;
@@ -297,8 +309,9 @@ END_TEST
  * better) the chart stays, from theta = 0.95 (tan 1.398, cot 0.715: 1.96 times) it switches.
  * chart_measure is the chosen chart's measure at the state where it was chosen. */
 START_TEST(pendulum_chart_hysteresis) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);
   const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
@@ -306,18 +319,18 @@ START_TEST(pendulum_chart_hysteresis) {
   double q[2], v[2];
   ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_ERR_CHART); /* no chart before a step */
   ck_assert_uint_eq(dep[0], 99);
-  pendulum_state(&p, 0.7, 0.0, q, v);
+  mech_pendulum_state(&p, 0.7, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
   ck_assert_uint_eq(dep[0], 1);
   ck_assert_uint_eq(st->chart_switches, 0);
   ck_assert_double_eq_tol(st->chart_measure, tan(0.7), 1e-14);
-  pendulum_state(&p, 0.85, 0.0, q, v);
+  mech_pendulum_state(&p, 0.85, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
   ck_assert_uint_eq(dep[0], 1);
   ck_assert_uint_eq(st->chart_switches, 0);
-  pendulum_state(&p, 0.95, 0.0, q, v);
+  mech_pendulum_state(&p, 0.95, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
   ck_assert_uint_eq(dep[0], 0);
@@ -334,16 +347,16 @@ END_TEST
 /* ---- the double pendulum: energy through chart switches ---- */
 
 typedef struct dp_watch {
-  const double_pendulum *p;
+  const mech_double_pendulum *p;
   sdae_mbs_stepper *s;
   double E0, E_prev, worst_drift, worst_switch_jump, worst_c;
   unsigned long switches_prev, switch_steps;
 } dp_watch;
 
 /* the energy by its definition, not by the library */
-static double dp_energy(const double_pendulum *p, const double *q, const double *v) {
+static double dp_energy(const mech_double_pendulum *p, const double *q, const double *v) {
   return 0.5 * p->m1 * (v[0] * v[0] + v[1] * v[1]) + 0.5 * p->m2 * (v[2] * v[2] + v[3] * v[3]) +
-         p->g * (p->m1 * q[1] + p->m2 * q[3]);
+         p->ga * (p->m1 * q[1] + p->m2 * q[3]);
 }
 
 static int dp_observe(size_t step, double t, const double *q, const double *v, void *data) {
@@ -370,15 +383,16 @@ static int dp_observe(size_t step, double t, const double *q, const double *v, v
  * over, so no chart is best throughout), and a step that switches changes E by rounding only:
  * 1e-14 |E0|. */
 START_TEST(double_pendulum_energy_through_switches) {
-  double_pendulum p = {1.0, 1.0, 1.0, 1.0, 9.81};
-  sdae_mbs sys = double_pendulum_mbs(&p);
+  mech_double_pendulum p = {.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
+  sdae_mbs sys;
+  mech_double_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);
   dp_watch w = {&p, s, 0, 0, 0, 0, 0, 0, 0};
   const double theta[2] = {2.2, 2.7}, omega[2] = {0.0, 0.0};
   double q[4], v[4], E;
   size_t n = 40000, done = 0;
-  double_pendulum_state(&p, theta, omega, q, v);
+  mech_double_pendulum_state(&p, theta, omega, q, v);
   ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 2e-3, n, 1, q, v, dp_observe, &w, &done), SDAE_OK);
   ck_assert_uint_eq(done, n);
   ck_assert_double_eq_tol(w.E0, 9.81 * (-2.0 * cos(2.2) - cos(2.7)), 1e-13);
@@ -421,8 +435,9 @@ static int decay_observe(size_t step, double t, const double *q, const double *v
 }
 
 static void expect_decay(sdae_scheme scheme, double T, size_t n) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint, scheme);
   decay_watch w = {NULL, 0, {0, 0}, {0, 0}, -1.0, 0};
   double q[2] = {0.3, -1.1}, v[2] = {1.0, 0.4};
@@ -450,12 +465,12 @@ END_TEST
 /* ---- dissipation ---- */
 
 typedef struct damp_watch {
-  const pendulum *p;
+  const mech_pendulum *p;
   double E_prev, worst_rise, dissipated, v_prev[2], E0, E_last;
 } damp_watch;
 
-static double pendulum_energy(const pendulum *p, const double *q, const double *v) {
-  return 0.5 * p->m * (v[0] * v[0] + v[1] * v[1]) + p->m * p->g * q[1];
+static double pendulum_energy(const mech_pendulum *p, const double *q, const double *v) {
+  return 0.5 * p->m * (v[0] * v[0] + v[1] * v[1]) + p->m * p->ga * q[1];
 }
 
 static int damp_observe(size_t step, double t, const double *q, const double *v, void *data) {
@@ -478,18 +493,19 @@ static int damp_observe(size_t step, double t, const double *q, const double *v,
  * damping force, the integral of d |v|^2, to 1 % (the quadrature and the map are order 2,
  * (omega T)^2 = 1e-3). */
 START_TEST(damped_pendulum_dissipates) {
-  pendulum p = {1.0, 1.0, 9.81, 0.3};
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = {.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.3};
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);
   damp_watch w = {&p, 0, -1.0, 0, {0, 0}, 0, 0};
   double q[2], v[2];
-  pendulum_state(&p, 1.0, 0.0, q, v);
+  mech_pendulum_state(&p, 1.0, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 1000, 1, q, v, damp_observe, &w, NULL),
                    SDAE_OK);
   sdae_mbs_stepper_free(s);
-  ck_assert_msg(w.worst_rise <= 1e-13 * p.m * p.g * p.L, "energy rose by %g", w.worst_rise);
-  ck_assert_double_gt(w.dissipated, 0.1 * (w.E0 + p.m * p.g * p.L)); /* a real loss */
+  ck_assert_msg(w.worst_rise <= 1e-13 * p.m * p.ga * p.L, "energy rose by %g", w.worst_rise);
+  ck_assert_double_gt(w.dissipated, 0.1 * (w.E0 + p.m * p.ga * p.L)); /* a real loss */
   ck_assert_msg(fabs((w.E0 - w.E_last) - w.dissipated) <= 0.01 * w.dissipated,
                 "energy lost %g, damping work %g", w.E0 - w.E_last, w.dissipated);
 }
@@ -510,14 +526,15 @@ static int count_observe(size_t step, double t, const double *q, const double *v
 }
 
 START_TEST(integrate_matches_steps) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *a = stepper(&sys, &o), *b = stepper(&sys, &o);
   count_watch c = {{0}, 0, 0};
   double q[2], v[2], q2[2], v2[2], t0 = 0.5, T = 0.01;
   size_t done = 0;
-  pendulum_state(&p, 1.0, 0.5, q, v);
+  mech_pendulum_state(&p, 1.0, 0.5, q, v);
   memcpy(q2, q, sizeof q), memcpy(v2, v, sizeof v);
   ck_assert_int_eq(sdae_mbs_integrate(a, t0, T, 7, 3, q, v, count_observe, &c, &done), SDAE_OK);
   for (size_t i = 0; i < 7; i++)

@@ -8,6 +8,7 @@
 
 #include "mbs/mbs_impl.h"
 #include "mechanisms.h"
+#include "wire.h"
 #include "testmodels.h"
 
 static sdae_options options(const sdae_map_type *map) {
@@ -51,17 +52,18 @@ static void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q
   ck_assert_str_ne(sdae_strerror(want), "");
 }
 
-static const pendulum PENDULUM = {1.0, 1.0, 9.81, 0.0};
+static const mech_pendulum PENDULUM = {.L = 1.0, .m = 1.0, .ga = 9.81};
 
 START_TEST(null_pointers) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p), bad;
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys, bad;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   double q[2], v[2], out[2];
   size_t dep[1];
   static max_align_t mem[4096];
-  pendulum_state(&p, 0.3, 0.0, q, v);
+  mech_pendulum_state(&p, 0.3, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(NULL, &sys, &o), SDAE_ERR_NULL);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, NULL, &o), SDAE_ERR_NULL);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, NULL), SDAE_ERR_NULL);
@@ -103,8 +105,9 @@ START_TEST(null_pointers) {
 END_TEST
 
 START_TEST(bad_dimensions) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p), bad;
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys, bad;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   bad = sys, bad.n_c = 0, expect_config(&bad, &o, SDAE_ERR_DIM);
   bad = sys, bad.n_c = 2, expect_config(&bad, &o, SDAE_ERR_DIM); /* n_c = n_q */
@@ -115,8 +118,9 @@ START_TEST(bad_dimensions) {
 END_TEST
 
 START_TEST(bad_options) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   o.delta = 0.0, expect_config(&sys, &o, SDAE_ERR_PARAM);
   o = options(sdae_map_midpoint), o.epsilon = -1.0, expect_config(&sys, &o, SDAE_ERR_PARAM);
@@ -129,8 +133,9 @@ END_TEST
 
 /* one byte short of sdae_mbs_stepper_size: SDAE_ERR_BUFFER, *s untouched; the size itself works */
 START_TEST(block_too_small) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_dgrad);
   static max_align_t mem[4096];
   int marker;
@@ -151,8 +156,9 @@ END_TEST
 /* the discrete-gradient maps need the potential; no map, or the user map (which needs a
  * user_phi the front-end cannot give), neither works */
 START_TEST(map_without_potential) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, NULL,
                                   sdae_map_user};
   sys.potential = NULL;
@@ -285,8 +291,9 @@ END_TEST
  * horizontal, q = (1, 0), finds that chart's G_D = y = 0 singular: the chart must be replaced
  * by q_D = x (measure 0), the step succeed, and the constraint stay at rounding. */
 START_TEST(singular_current_chart_is_replaced) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   double q[2] = {0.0, -1.0}, v[2] = {0.5, 0.0}, h[2] = {1.0, 0.0}, hv[2] = {0.0, 0.5};
@@ -310,16 +317,17 @@ END_TEST
  * cannot hold the step (Phi^-1 fails). The step is taken again in the best chart and succeeds
  * there, on the circle. */
 START_TEST(folding_chart_is_left_for_the_best) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   double q[2], v[2];
   size_t dep[1];
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  pendulum_state(&p, 0.3, 0.0, q, v);
+  mech_pendulum_state(&p, 0.3, 0.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
-  pendulum_state(&p, 0.87, 10.0, q, v);
+  mech_pendulum_state(&p, 0.87, 10.0, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.1, q, v), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
   ck_assert_uint_eq(dep[0], 0);
@@ -348,8 +356,9 @@ END_TEST
  * chart q_D = y (measure |x/y| = 0). The euler map moves q_I = x to 0 + T 10 = 2 with T = 0.2;
  * then c = xi_1 = 0 asks y^2 = 1 - 4 < 0: no real q_D, so Newton must fail. */
 START_TEST(phi_inverse_has_no_solution) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_euler);
   sdae_mbs_stepper *s;
   double q[2] = {0.0, -1.0}, v[2] = {10.0, 0.0};
@@ -382,13 +391,14 @@ static int asymmetric_mass(double t, const double *q, double *M, void *params) {
 }
 
 START_TEST(mass_not_symmetric) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   double q[2], v[2];
   sys.mass = asymmetric_mass;
-  pendulum_state(&p, 0.3, 0.5, q, v);
+  mech_pendulum_state(&p, 0.3, 0.5, q, v);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
   sdae_mbs_stepper_free(s);
@@ -396,15 +406,16 @@ START_TEST(mass_not_symmetric) {
 END_TEST
 
 START_TEST(mass_not_spd) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   int (*masses[2])(double, const double *, double *, void *) = {negative_mass, indefinite_mass};
   for (int i = 0; i < 2; i++) {
     sdae_options o = options(sdae_map_midpoint);
     sdae_mbs_stepper *s;
     double q[2], v[2], lambda = 7.0;
     sys.mass = masses[i];
-    pendulum_state(&p, 0.3, 0.5, q, v);
+    mech_pendulum_state(&p, 0.3, 0.5, q, v);
     ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
     expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
     ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
@@ -423,7 +434,7 @@ enum { FAIL_FATAL, FAIL_RECOVERABLE, FAIL_NAN, FAIL_INF, FAIL_COUNT };
 
 /* the damped pendulum, every callback given, one of them failing at its fail_at-th call */
 typedef struct faulty {
-  pendulum p;
+  mech_pendulum p;
   int which, how;
   long calls, fail_at;
 } faulty;
@@ -440,25 +451,25 @@ static int inject(faulty *f, int me, double *out, size_t n) {
 
 static int f_mass(double t, const double *q, double *M, void *params) {
   faulty *f = params;
-  pendulum_mass(t, q, M, &f->p);
+  mech_pendulum_mass(t, q, M, &f->p);
   return inject(f, CB_MASS, M, 4);
 }
 
 static int f_force(double t, const double *q, const double *v, double *F, void *params) {
   faulty *f = params;
-  pendulum_force(t, q, v, F, &f->p);
+  mech_pendulum_force(t, q, v, F, &f->p);
   return inject(f, CB_FORCE, F, 2);
 }
 
 static int f_constraint(double t, const double *q, double *c, void *params) {
   faulty *f = params;
-  pendulum_constraint(t, q, c, &f->p);
+  mech_pendulum_constraint(t, q, c, &f->p);
   return inject(f, CB_CONSTRAINT, c, 1);
 }
 
 static int f_jacobian(double t, const double *q, double *G, void *params) {
   faulty *f = params;
-  pendulum_jacobian(t, q, G, &f->p);
+  mech_pendulum_jacobian(t, q, G, &f->p);
   return inject(f, CB_JACOBIAN, G, 2);
 }
 
@@ -471,13 +482,13 @@ static int f_constraint_t(double t, const double *q, double *ct, void *params) {
 
 static int f_potential(double t, const double *q, double *V, void *params) {
   faulty *f = params;
-  pendulum_potential(t, q, V, &f->p);
+  mech_pendulum_potential(t, q, V, &f->p);
   return inject(f, CB_POTENTIAL, V, 1);
 }
 
 static int f_damping(double t, const double *q, double *D, void *params) {
   faulty *f = params;
-  pendulum_damping(t, q, D, &f->p);
+  mech_pendulum_damping(t, q, D, &f->p);
   return inject(f, CB_DAMPING, D, 4);
 }
 
@@ -499,7 +510,7 @@ static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL,
 static void expect_failures(int which, int differences) {
   for (int how = 0; how < FAIL_COUNT; how++) {
     long calls_in_step, tries[4];
-    faulty f = {{1.0, 1.0, 9.81, 0.2}, which, how, 0, 0};
+    faulty f = {{.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.2}, which, how, 0, 0};
     sdae_mbs sys = faulty_mbs(&f);
     if (differences) sys.jacobian = NULL, sys.constraint_t = NULL;
     sdae_options o = options(sdae_map_dgrad);
@@ -507,7 +518,7 @@ static void expect_failures(int which, int differences) {
     double q[2], v[2];
     /* the calls a good second step makes */
     ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-    pendulum_state(&f.p, 0.3, 0.5, q, v);
+    mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
     ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
     f.calls = 0;
     ck_assert_int_eq(sdae_mbs_step(s, 0.01, 0.01, q, v), SDAE_OK);
@@ -517,7 +528,7 @@ static void expect_failures(int which, int differences) {
     tries[0] = 1, tries[1] = 2, tries[2] = (calls_in_step + 1) / 2, tries[3] = calls_in_step;
     for (int k = 0; k < 4; k++) {
       ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-      pendulum_state(&f.p, 0.3, 0.5, q, v);
+      mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
       f.fail_at = 0;
       ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
       f.calls = 0, f.fail_at = tries[k];
@@ -567,14 +578,14 @@ START_TEST(queries_report_callback_failures) {
   for (int which = 0; which < CB_COUNT; which++)
     for (int how = 0; how < FAIL_COUNT; how++)
       for (int query = 0; query < 3; query++) {
-        faulty f = {{1.0, 1.0, 9.81, 0.2}, which, how, 0, 0};
+        faulty f = {{.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.2}, which, how, 0, 0};
         sdae_mbs sys = faulty_mbs(&f);
         sdae_options o = options(sdae_map_dgrad);
         sdae_mbs_stepper *s;
         double q[2], v[2], out[2] = {7.0, 7.0};
         int rc;
         ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-        pendulum_state(&f.p, 0.3, 0.5, q, v);
+        mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
         for (int pass = 0; pass < 2; pass++) {
           f.calls = 0, f.fail_at = pass == 0 ? 0 : 1;
           rc = query == 0   ? sdae_mbs_lambda(s, 0.0, q, v, out)
@@ -598,8 +609,9 @@ END_TEST
 
 /* NaN or Inf in q or v: SDAE_ERR_STATE, for the step and for the queries */
 START_TEST(nonfinite_state) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   const double bad[3] = {NAN, INFINITY, -INFINITY};
@@ -607,7 +619,7 @@ START_TEST(nonfinite_state) {
   for (int b = 0; b < 3; b++)
     for (int i = 0; i < 4; i++) {
       double q[2], v[2], out[2] = {7.0, 7.0};
-      pendulum_state(&p, 0.3, 0.5, q, v);
+      mech_pendulum_state(&p, 0.3, 0.5, q, v);
       if (i < 2) q[i] = bad[b];
       else v[i - 2] = bad[b];
       expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_STATE);
@@ -624,14 +636,15 @@ END_TEST
 
 /* T <= 0 or not finite: SDAE_ERR_STEP, before and after a good step */
 START_TEST(bad_step_size) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   const double bad[5] = {0.0, -0.01, NAN, INFINITY, -INFINITY};
   double q[2], v[2];
   size_t done = 99;
-  pendulum_state(&p, 0.3, 0.5, q, v);
+  mech_pendulum_state(&p, 0.3, 0.5, q, v);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   for (int b = 0; b < 5; b++) expect_step_fails(s, 0.0, bad[b], q, v, 2, SDAE_ERR_STEP);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
@@ -655,7 +668,7 @@ START_TEST(integrate_failure_keeps_last_good_state) {
   long calls[4];
   size_t done = 99;
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  pendulum_state(&f.p, 0.3, 0.5, q3, v3);
+  mech_pendulum_state(&f.p, 0.3, 0.5, q3, v3);
   for (int n = 0; n < 4; n++) {
     ck_assert_int_eq(sdae_mbs_step(s, 0.01 * n, 0.01, q3, v3), SDAE_OK);
     calls[n] = f.calls;
@@ -664,7 +677,7 @@ START_TEST(integrate_failure_keeps_last_good_state) {
   sdae_mbs_stepper_free(s);
   memcpy(q3, q, sizeof q), memcpy(v3, v, sizeof v);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  pendulum_state(&f.p, 0.3, 0.5, q, v);
+  mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
   f.calls = 0, f.fail_at = calls[2] + 1; /* the first call of step 4 */
   ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 10, 1, q, v, NULL, NULL, &done),
                    SDAE_ERR_CALLBACK_FATAL);

@@ -1,11 +1,14 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanisms of mechanisms.h. Every one is point masses under gravity: M is diagonal,
- * F = -dV/dq is constant, and the constraints are half squared distances, whose jacobian rows
- * are differences of positions. */
+ * F = -dV/dq is constant (plus the damped pendulum's -d v), and the constraints are half
+ * squared distances, whose jacobian rows are differences of positions. */
 #include "mechanisms.h"
 
 #include <math.h>
 #include <string.h>
+
+#include <gsl/gsl_sf_ellint.h>
+#include <gsl/gsl_sf_elljac.h>
 
 /* M = diag(mass[0], mass[0], mass[1], mass[1], ...): one mass per planar point */
 static void point_masses(const double *mass, size_t points, double *M) {
@@ -52,44 +55,80 @@ static const double origin[2] = {0.0, 0.0};
 
 /* ---- pendulum ------------------------------------------------------------------------------ */
 
-static int pend_mass(double t, const double *q, double *M, void *params) {
+int mech_pendulum_mass(double t, const double *q, double *M, void *params) {
   const mech_pendulum *p = params;
   (void)t, (void)q;
   point_masses(&p->m, 1, M);
   return 0;
 }
 
-static int pend_force(double t, const double *q, const double *v, double *F, void *params) {
+/* gravity, and the damping force -d v when there is damping (D = d I) */
+int mech_pendulum_force(double t, const double *q, const double *v, double *F, void *params) {
   const mech_pendulum *p = params;
-  (void)t, (void)q, (void)v;
+  (void)t, (void)q;
   gravity(&p->m, 1, p->ga, F);
+  if (p->d != 0.0) {
+    F[0] -= p->d * v[0];
+    F[1] -= p->d * v[1];
+  }
   return 0;
 }
 
-static int pend_constraint(double t, const double *q, double *c, void *params) {
+int mech_pendulum_constraint(double t, const double *q, double *c, void *params) {
   const mech_pendulum *p = params;
   (void)t;
   c[0] = half_sq(q, origin, p->L);
   return 0;
 }
 
-static int pend_jacobian(double t, const double *q, double *G, void *params) {
+int mech_pendulum_jacobian(double t, const double *q, double *G, void *params) {
   (void)t, (void)params;
   half_sq_row(q, 2, 0, -1, origin, G);
   return 0;
 }
 
-static int pend_potential(double t, const double *q, double *V, void *params) {
+int mech_pendulum_potential(double t, const double *q, double *V, void *params) {
   const mech_pendulum *p = params;
   (void)t;
   *V = gravity_potential(&p->m, 1, p->ga, q);
   return 0;
 }
 
+int mech_pendulum_damping(double t, const double *q, double *D, void *params) {
+  const mech_pendulum *p = params;
+  (void)t, (void)q;
+  D[0] = p->d, D[1] = 0.0, D[2] = 0.0, D[3] = p->d;
+  return 0;
+}
+
 void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p) {
-  *sys = (sdae_mbs){.n_q = 2, .n_c = 1, .mass = pend_mass, .force = pend_force,
-                    .constraint = pend_constraint, .jacobian = pend_jacobian,
-                    .potential = pend_potential, .params = p};
+  *sys = (sdae_mbs){.n_q = 2, .n_c = 1, .mass = mech_pendulum_mass,
+                    .force = mech_pendulum_force, .constraint = mech_pendulum_constraint,
+                    .jacobian = mech_pendulum_jacobian, .potential = mech_pendulum_potential,
+                    .damping = p->d != 0.0 ? mech_pendulum_damping : NULL, .params = p};
+}
+
+void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q,
+                         double *v) {
+  q[0] = p->L * sin(theta), q[1] = -p->L * cos(theta);
+  v[0] = p->L * cos(theta) * omega, v[1] = p->L * sin(theta) * omega;
+}
+
+/* theta'' = -(ga/L) sin theta from (theta0, 0): sin(theta/2) = k sn(K - w t | k^2),
+ * k = sin(theta0/2), w = sqrt(ga/L); theta' = -2 k w cn(K - w t) (as dn = cos(theta/2)) */
+void mech_pendulum_exact(const mech_pendulum *p, double theta0, double t, double *theta,
+                         double *omega) {
+  double k = sin(0.5 * theta0), w = sqrt(p->ga / p->L), sn, cn, dn;
+  double K = gsl_sf_ellint_Kcomp(k, GSL_PREC_DOUBLE);
+  gsl_sf_elljac_e(K - w * t, k * k, &sn, &cn, &dn);
+  *theta = 2.0 * asin(k * sn);
+  *omega = -2.0 * k * w * cn;
+}
+
+/* -G^T lambda = -lambda q is the rod's pull, L lambda along -q/L: the tension; the radial
+ * balance tension - m ga cos theta = m L omega^2 gives lambda */
+double mech_pendulum_lambda(const mech_pendulum *p, double theta, double omega) {
+  return p->m * (p->L * omega * omega + p->ga * cos(theta)) / p->L;
 }
 
 /* ---- double pendulum ----------------------------------------------------------------------- */

@@ -2,18 +2,36 @@
 /* Three mechanisms in the multibody convention of <stabdae/mbs.h> (M v' = F - G^T lambda,
  * c(q) = 0): a pendulum and a double pendulum in Cartesian coordinates, and a four-bar
  * linkage (a closed loop). Point masses, gravity ga along -y, each with its potential so that
- * the discrete-gradient maps conserve the energy. */
+ * the discrete-gradient maps conserve the energy. The one definition of these mechanisms: the
+ * example programs, the unit suites (tests/) and the tools (IDA, benchmarks) all link it. */
 #ifndef STABDAE_EXAMPLES_MECHANISMS_H
 #define STABDAE_EXAMPLES_MECHANISMS_H
 
 #include <stabdae/mbs.h>
 
 /* q = (x, y): a mass m on a massless rod of length L from the origin;
- * c = (x^2 + y^2 - L^2)/2, V = m ga y. */
+ * c = (x^2 + y^2 - L^2)/2, V = m ga y; with d != 0 also the damping D = d I (F gains -d v).
+ * theta is the angle from the downward vertical: x = L sin theta, y = -L cos theta. */
 typedef struct mech_pendulum {
-  double L, m, ga;
+  double L, m, ga, d; /* d: damping coefficient (0: none) */
 } mech_pendulum;
+/* mass, force, constraint, jacobian and potential set; damping when p->d != 0 */
 void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p);
+/* The callbacks one by one (params: a mech_pendulum), for a system built around them. */
+int mech_pendulum_mass(double t, const double *q, double *M, void *params);
+int mech_pendulum_force(double t, const double *q, const double *v, double *F, void *params);
+int mech_pendulum_constraint(double t, const double *q, double *c, void *params);
+int mech_pendulum_jacobian(double t, const double *q, double *G, void *params);
+int mech_pendulum_potential(double t, const double *q, double *V, void *params);
+int mech_pendulum_damping(double t, const double *q, double *D, void *params);
+/* (q, v) at the angle theta turning at omega: on the circle, v tangent to it. */
+void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q,
+                         double *v);
+/* The exact undamped swing from rest at theta0 (Jacobi elliptic functions): theta(t), omega(t). */
+void mech_pendulum_exact(const mech_pendulum *p, double theta0, double t, double *theta,
+                         double *omega);
+/* The multiplier at (theta, omega), the rod's tension: m (L omega^2 + ga cos theta) / L. */
+double mech_pendulum_lambda(const mech_pendulum *p, double theta, double omega);
 
 /* q = (x1, y1, x2, y2): m1 on a rod L1 from the origin, m2 on a rod L2 from m1;
  * c = ((|p1|^2 - L1^2)/2, (|p2 - p1|^2 - L2^2)/2), V = ga (m1 y1 + m2 y2). */

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* Fuzz target for the example programs' argument parsing (examples/cli.c, certify_cli.c): the
+/* Fuzz target for the example programs' argument parsing (examples/cli/cli.c, certify_cli.c): the
  * input, split at NUL bytes, is argv[1..]. It is parsed against a table with every flag kind:
  * the shared run flags and certification flags the programs use, and model flags like the
  * oscillator's (a real, a vector, a choice, a seed). Then the programs' cross-checks run

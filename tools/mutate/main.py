@@ -1,5 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""tools/mutate: mutation testing of src/*.c against the unit and example suites."""
+"""tools/mutate/mutate: mutation testing of the library's C sources (src/**/*.c, in src/ or in
+its subfolders) against the unit and example suites. Files are named by their path relative to
+the repository (src/lu.c, src/core/lu.c), in the options, the mutants' ids and the reports."""
 import argparse
 import datetime
 import fcntl
@@ -25,15 +27,16 @@ SALT = "stabdae-mutate-16"  # the fixed seed of --sample and --max
 
 def parse_args(argv):
     p = argparse.ArgumentParser(
-        prog="tools/mutate", description="Mutation testing of src/*.c: each mutant is built in "
-        "build/mutate and must make a unit or example test fail.",
+        prog="tools/mutate/mutate", description="Mutation testing of src/**/*.c: each mutant is "
+        "built in build/mutate and must make a unit or example test fail.",
         epilog="operators: " + "; ".join(f"{k}: {v}" for k, v in DESCRIPTIONS.items()))
     p.add_argument("--sample", type=int, metavar="K", help="a fixed sample of K mutants spread "
                    "over the files; exit 1 when one survives")
     p.add_argument("--max", type=int, metavar="N", help="at most N mutants, spread over the files")
     p.add_argument("--list", action="store_true", help="print the mutants, run nothing")
     p.add_argument("--only", nargs="+", metavar="ID", help="these mutants")
-    p.add_argument("--files", nargs="+", metavar="FILE", help="mutants of these files (src/x.c)")
+    p.add_argument("--files", nargs="+", metavar="FILE", help="mutants of these files (paths "
+                   "relative to the repository, e.g. src/x.c)")
     p.add_argument("--ops", nargs="+", choices=OPERATORS, help="these operator classes")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 2, help="tests run at once")
     p.add_argument("--timeout", type=float, default=10.0, help="least per-test timeout (s); "
@@ -45,11 +48,18 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
+def library_files(pattern):
+    """The files of src/ matching pattern, in src/ and its subfolders at any depth (the layers'
+    folders), relative to the repository and sorted."""
+    return sorted(os.path.relpath(f, ROOT)
+                  for f in glob.glob(os.path.join(ROOT, "src", "**", pattern), recursive=True))
+
+
 def all_mutants(files, ops):
     """Every mutant of files, with the type and integer names of all of src/ and include/."""
     texts = [_read(f) for f in glob.glob(os.path.join(ROOT, "include", "**", "*.h"),
                                          recursive=True)]
-    texts += [_read(f) for f in sorted(glob.glob(os.path.join(ROOT, "src", "*.[ch]")))]
+    texts += [_read(os.path.join(ROOT, f)) for f in library_files("*.[ch]")]
     types, names = typedef_names(texts), integer_and_pointer_names(texts)
     out = []
     for rel in files:
@@ -153,8 +163,10 @@ def say(msg):
 
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    files = args.files or sorted(os.path.relpath(f, ROOT)
-                                 for f in glob.glob(os.path.join(ROOT, "src", "*.c")))
+    # the mutants' ids hold each file's path relative to the repository: ./src/x.c and an
+    # absolute path name the same mutants as src/x.c
+    files = [os.path.relpath(f, ROOT) if os.path.isabs(f) else os.path.normpath(f)
+             for f in args.files] if args.files else library_files("*.c")
     for f in files:
         if not os.path.isfile(os.path.join(ROOT, f)):
             raise SystemExit(f"mutate: no such file: {f}")

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The settings of a run: FULL (tools/crossval --full, the whole report) and FAST (the ctest
-subset run by tools/check: fewer cases and steps, same checks and tolerances)."""
+"""The settings of a run: FULL (tools/crossval/crossval --full, the whole report) and FAST (the
+ctest subset run by tools/check: fewer cases and steps, same checks and tolerances)."""
 import dataclasses
 
 

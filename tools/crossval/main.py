@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""tools/crossval [--full] [--build DIR] [--out FILE] [--only a,b,...] [--workers N]
+"""tools/crossval/crossval [--full] [--build DIR] [--out FILE] [--only a,b,...] [--workers N]
 
 Runs the checks, writes the report (default: BUILD/report/crossval.md for --full,
 BUILD/report/fast/crossval.md for the fast subset) with its PNG plots beside it, and exits 1

@@ -12,8 +12,8 @@
  *
  * The mechanical front-end (<stabdae/mbs.h>, sdae_mbs_step) is timed on the Cartesian pendulum
  * (beside the hand-written pendulum model, the same map: their ratio), the Cartesian double
- * pendulum and a four-bar, with the mechanisms' callbacks defined here (point masses joined by
- * bars) and their evaluations counted per step.
+ * pendulum and a four-bar, the problem library's mechanisms (examples/models/mechanisms.h), with
+ * their callbacks' evaluations counted per step.
  *
  * The table goes to stdout and, in full mode, to the Markdown report (default
  * build/report/bench.md) with the machine, the date and the command. --smoke runs every case
@@ -34,6 +34,7 @@
 #include <stabdae/stabdae.h>
 
 #include "chain_model.h"
+#include "mechanisms.h"
 #include "oscillator_model.h"
 #include "pendulum_model.h"
 
@@ -177,120 +178,81 @@ static int run_steps(sdae_stepper *s, problem *P, size_t nsteps, double *ns) {
   return rc;
 }
 
-/* ---- the front-end's mechanisms: point masses in the plane joined by bars ------------------ */
-
-/* c_j = (|p_a - p_b|^2 - len^2)/2 between mass a and mass b, or the fixed point at when b < 0 */
-typedef struct bar {
-  int a, b;
-  double at[2], len;
-} bar;
+/* ---- the front-end's mechanisms: the problem library's, their evaluations counted --------- */
 
 enum { EV_MASS, EV_FORCE, EV_CONSTRAINT, EV_JACOBIAN, EV_POTENTIAL, EV_KINDS };
 
+/* One of the problem library's mechanisms (examples/models/mechanisms.h, the examples' own) in
+ * front of callbacks that count their evaluations, for the cost per step, and call its own. */
 typedef struct mechanism {
-  size_t n_masses, n_bars;
-  double m[2], ga;
-  bar bars[3];
-  unsigned long evals[EV_KINDS]; /* callback evaluations, for the cost per step */
+  union {
+    mech_pendulum pendulum;
+    mech_double_pendulum doubled;
+    mech_fourbar fourbar;
+  } p;
+  sdae_mbs inner;
+  unsigned long evals[EV_KINDS];
 } mechanism;
 
-static int mech_mass(double t, const double *q, double *M, void *params) {
+static int counted_mass(double t, const double *q, double *M, void *params) {
   mechanism *k = params;
-  size_t n = 2 * k->n_masses;
-  (void)t, (void)q;
   k->evals[EV_MASS]++;
-  for (size_t i = 0; i < n * n; i++) M[i] = 0.0;
-  for (size_t i = 0; i < n; i++) M[i * n + i] = k->m[i / 2];
-  return 0;
+  return k->inner.mass(t, q, M, k->inner.params);
 }
 
-static int mech_force(double t, const double *q, const double *v, double *F, void *params) {
+static int counted_force(double t, const double *q, const double *v, double *F, void *params) {
   mechanism *k = params;
-  (void)t, (void)q, (void)v;
   k->evals[EV_FORCE]++;
-  for (size_t i = 0; i < k->n_masses; i++) F[2 * i] = 0.0, F[2 * i + 1] = -k->m[i] * k->ga;
-  return 0;
+  return k->inner.force(t, q, v, F, k->inner.params);
 }
 
-static void bar_vector(const bar *b, const double *q, double d[2]) {
-  const double *pb = b->b < 0 ? b->at : q + 2 * b->b;
-  d[0] = q[2 * b->a] - pb[0], d[1] = q[2 * b->a + 1] - pb[1];
-}
-
-static int mech_constraint(double t, const double *q, double *c, void *params) {
+static int counted_constraint(double t, const double *q, double *c, void *params) {
   mechanism *k = params;
-  (void)t;
   k->evals[EV_CONSTRAINT]++;
-  for (size_t j = 0; j < k->n_bars; j++) {
-    double d[2];
-    bar_vector(&k->bars[j], q, d);
-    c[j] = 0.5 * (d[0] * d[0] + d[1] * d[1] - k->bars[j].len * k->bars[j].len);
-  }
-  return 0;
+  return k->inner.constraint(t, q, c, k->inner.params);
 }
 
-static int mech_jacobian(double t, const double *q, double *G, void *params) {
+static int counted_jacobian(double t, const double *q, double *G, void *params) {
   mechanism *k = params;
-  size_t n = 2 * k->n_masses;
-  (void)t;
   k->evals[EV_JACOBIAN]++;
-  for (size_t j = 0; j < k->n_bars; j++) {
-    const bar *b = &k->bars[j];
-    double d[2], *row = G + j * n;
-    bar_vector(b, q, d);
-    for (size_t i = 0; i < n; i++) row[i] = 0.0;
-    row[2 * b->a] = d[0], row[2 * b->a + 1] = d[1];
-    if (b->b >= 0) row[2 * b->b] = -d[0], row[2 * b->b + 1] = -d[1];
-  }
-  return 0;
+  return k->inner.jacobian(t, q, G, k->inner.params);
 }
 
-static int mech_potential(double t, const double *q, double *V, void *params) {
+static int counted_potential(double t, const double *q, double *V, void *params) {
   mechanism *k = params;
-  (void)t;
   k->evals[EV_POTENTIAL]++;
-  *V = 0.0;
-  for (size_t i = 0; i < k->n_masses; i++) *V += k->m[i] * k->ga * q[2 * i + 1];
-  return 0;
+  return k->inner.potential(t, q, V, k->inner.params);
 }
 
-/* A four-bar: ground pivots A = (0, 0) and D = (2, 0), crank AB 1, coupler BC 2, rocker CD 1.5
- * (a crank-rocker); B straight above A, C where the circles about B and D meet above. */
-static void fourbar_start(double *q) {
-  const double B[2] = {0.0, 1.0}, D[2] = {2.0, 0.0}, r1 = 2.0, r2 = 1.5;
-  double e[2] = {D[0] - B[0], D[1] - B[1]}, d = hypot(e[0], e[1]);
-  double a = (r1 * r1 - r2 * r2 + d * d) / (2 * d), h = sqrt(r1 * r1 - a * a);
-  e[0] /= d, e[1] /= d;
-  q[0] = B[0], q[1] = B[1];
-  q[2] = B[0] + a * e[0] - h * e[1], q[3] = B[1] + a * e[1] + h * e[0];
-}
-
-/* The mechanism of kind, its start (from rest) and n_q. */
+/* The mechanism of kind (unit masses and bars, ga 9.81), its start from rest, and n_q; 0 when
+ * the start cannot be assembled. */
 static size_t mechanism_init(mechanism *k, model_kind kind, double *q) {
-  static const bar pendulum[1] = {{0, -1, {0.0, 0.0}, 1.0}};
-  static const bar doubled[2] = {{0, -1, {0.0, 0.0}, 1.0}, {1, 0, {0.0, 0.0}, 1.0}};
-  static const bar fourbar[3] = {{0, -1, {0.0, 0.0}, 1.0}, {1, 0, {0.0, 0.0}, 2.0},
-                                 {1, -1, {2.0, 0.0}, 1.5}};
+  double v[4];
   memset(k, 0, sizeof *k);
-  k->m[0] = k->m[1] = 1.0, k->ga = 9.81;
   if (kind == MBS_PENDULUM) { /* the hand-written pendulum's start: rest at 0.5 rad */
-    k->n_masses = 1, k->n_bars = 1, memcpy(k->bars, pendulum, sizeof pendulum);
-    q[0] = sin(0.5), q[1] = -cos(0.5);
+    k->p.pendulum = (mech_pendulum){.L = 1.0, .m = 1.0, .ga = 9.81};
+    mech_pendulum_system(&k->inner, &k->p.pendulum);
+    mech_pendulum_state(&k->p.pendulum, 0.5, 0.0, q, v);
   } else if (kind == MBS_DOUBLE) { /* rest at angles (1, 1.5) from the downward vertical */
-    k->n_masses = 2, k->n_bars = 2, memcpy(k->bars, doubled, sizeof doubled);
-    q[0] = sin(1.0), q[1] = -cos(1.0), q[2] = q[0] + sin(1.5), q[3] = q[1] - cos(1.5);
-  } else {
-    k->n_masses = 2, k->n_bars = 3, memcpy(k->bars, fourbar, sizeof fourbar);
-    fourbar_start(q);
+    const double a[2] = {1.0, 1.5}, w[2] = {0.0, 0.0};
+    k->p.doubled =
+        (mech_double_pendulum){.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
+    mech_double_pendulum_system(&k->inner, &k->p.doubled);
+    mech_double_pendulum_state(&k->p.doubled, a, w, q, v);
+  } else { /* a crank-rocker: ground pivots A = (0, 0) and D = (2, 0), crank AB 1, coupler BC 2,
+            * rocker CD 1.5; B straight above A, C where the circles about B and D meet above */
+    k->p.fourbar = (mech_fourbar){.a = 1.0, .b = 2.0, .e = 1.5, .d = 2.0, .mB = 1.0, .mC = 1.0,
+                                  .ga = 9.81};
+    mech_fourbar_system(&k->inner, &k->p.fourbar);
+    if (mech_fourbar_state(&k->p.fourbar, asin(1.0), 0.0, q, v) != 0) return 0;
   }
-  return 2 * k->n_masses;
+  return k->inner.n_q;
 }
 
 static void mechanism_sys(sdae_mbs *sys, mechanism *k) {
-  memset(sys, 0, sizeof *sys);
-  sys->n_q = 2 * k->n_masses, sys->n_c = k->n_bars;
-  sys->mass = mech_mass, sys->force = mech_force, sys->constraint = mech_constraint;
-  sys->jacobian = mech_jacobian, sys->potential = mech_potential, sys->params = k;
+  *sys = k->inner;
+  sys->mass = counted_mass, sys->force = counted_force, sys->constraint = counted_constraint;
+  sys->jacobian = counted_jacobian, sys->potential = counted_potential, sys->params = k;
 }
 
 static int is_mbs(model_kind k) { return k == MBS_PENDULUM || k == MBS_DOUBLE || k == MBS_FOURBAR; }
@@ -332,6 +294,10 @@ static result measure_mbs(const bench_case *c, size_t steps, int reps) {
   sdae_mbs_stepper *s = NULL;
   double q0[4], t[MAX_REPS];
   size_t n_q = mechanism_init(&k, c->kind, q0);
+  if (n_q == 0) { /* the four-bar did not close */
+    r.rc = SDAE_ERR_PARAM;
+    return r;
+  }
   mechanism_sys(&sys, &k);
   sdae_options_default(&opt);
   opt.delta = 2.0, opt.epsilon = 1.0, opt.scheme = c->scheme, opt.map = sdae_map_by_name(c->map);

@@ -47,8 +47,9 @@ class Section:
 
 def write(path, sections, profile, seconds):
     lines = ["# stabdae cross-validation (%s run)" % profile.name, "",
-             "Written by `tools/crossval%s` on %s in %.0f s. Each check states its tolerance; "
-             "a failed check is listed under Failures and makes tools/crossval exit 1."
+             "Written by `tools/crossval/crossval%s` on %s in %.0f s. Each check states its "
+             "tolerance; a failed check is listed under Failures and makes tools/crossval/crossval "
+             "exit 1."
              % (" --full" if profile.name == "full" else "",
                 datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), seconds), ""]
     lines += ["| check | verdict |", "|---|---|"]

@@ -2,8 +2,8 @@
 """The race on the standard index-3 benchmarks: runs build/tools/benchmarks and writes
 build/report/benchmarks.md with build/report/benchmarks.png.
 
-  python tools/workprecision/benchmarks.py [--build DIR] [--points CSV] [--reps N]
-                                           [--problems a,b]
+  python tools/benchmarks/benchmarks.py [--build DIR] [--points CSV] [--reps N]
+                                        [--problems a,b]
 
 For each problem (slider crank, car axis, Andrews' squeezer) the final relative error in the
 positions against the problem's reference, against CPU time: stabdae's maps over a sweep of T
@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from report import cpu_at, fmt, provenance, read_rows, series_where  # noqa: E402
+from workprecision import cpu_at, fmt, provenance, read_rows, series_where  # noqa: E402
 
 ERRORS = (1e-6, 1e-9)
 TARGET_RATIO = 2.0

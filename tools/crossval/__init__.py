@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""crossval_lib: the cross-validation harness of stabdae (run by tools/crossval).
+"""crossval: the cross-validation harness of stabdae (run by tools/crossval/crossval).
 
 It runs the C example programs (build/examples/*), the Python reference (tools/stabdae_ref,
 float64 and mpmath) and the SUNDIALS IDA reference (build/tools/ida_reference), checks

@@ -2,7 +2,7 @@
 """Work-precision report: runs build/tools/workprecision and draws build/report/workprecision.png
 and build/report/workprecision.md.
 
-  python tools/workprecision/report.py [--build DIR] [--points CSV] [--reps N]
+  python tools/benchmarks/workprecision.py [--build DIR] [--points CSV] [--reps N]
 
 The exact final states come from reference.py, computed once and cached in
 DIR/workprecision/reference.csv. --points re-draws from an existing CSV without running the

@@ -231,7 +231,7 @@ static int parse_positive(const char *flag, const char *v, double max, double *o
 
 static const char usage[] =
     "usage: " PROG " --reference FILE [--out FILE] [--reps N] [--budget S]\n"
-    "  --reference FILE  d,tf,X,Xdot of the exact final states (tools/workprecision/reference.py)\n"
+    "  --reference FILE  d,tf,X,Xdot of the exact final states (tools/benchmarks/reference.py)\n"
     "  --out FILE        CSV (default: stdout)\n"
     "  --reps N          repetitions per point, median CPU time (1..15, default 3)\n"
     "  --budget S        CPU seconds per point after which repetitions stop (default 3)\n";

@@ -332,10 +332,13 @@ class Workspace:
             json.dump(self.history, f, indent=1)
 
     def object_file(self, relfile):
-        name = os.path.basename(relfile) + ".o"
-        for d, _, names in os.walk(self.build):
-            if name in names and "stabdae_obj.dir" in d:
-                return os.path.join(d, name)
+        """The object of src/<path>.c: CMake writes it to stabdae_obj.dir/<path>.c.o, so the path
+        below src/ (not the name alone) tells apart files of the same name in two folders."""
+        below_src = os.path.relpath(relfile, "src") + ".o"
+        for d, _, _ in os.walk(self.build):
+            if os.path.basename(d) == "stabdae_obj.dir":
+                path = os.path.join(d, below_src)
+                return path if os.path.isfile(path) else None
         return None
 
     def run_mutant(self, mutant, original_text):
