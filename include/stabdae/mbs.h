@@ -39,6 +39,16 @@ typedef struct sdae_mbs {
   int (*potential)(double t, const double *q, double *V, void *params); /* 1 value */
   int (*damping)(double t, const double *q, double *D, void *params);   /* n_q x n_q, PSD */
   void *params;
+  /* optional, all three: the derivatives along the motion, at s = 0; each one given replaces a
+   * fourth-order difference stencil in every evaluation of the mu-dynamics and of lambda
+   * (NULL keeps the stencil). sdae_mbs_check compares them with differences. */
+  /* n_q values: (d/ds M(t + s, q + s v)) v */
+  int (*mass_dot_v)(double t, const double *q, const double *v, double *out, void *params);
+  /* n_c x n_q, row-major: d/ds G(t + s, q + s v); with it, jacobian is needed too */
+  int (*jacobian_dot)(double t, const double *q, const double *v, double *Gdot, void *params);
+  /* n_c values: d/ds (dc/dt)(t + s, q + s v); used with constraint_t */
+  int (*constraint_t_dot)(double t, const double *q, const double *v, double *out,
+                          void *params);
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure
@@ -103,6 +113,41 @@ SDAE_API int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent);
 
 SDAE_API const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s);
 SDAE_API void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s);
+
+/* The derivatives a mechanism gives, each compared by sdae_mbs_check with differences of the
+ * callbacks it derives from. */
+typedef enum sdae_mbs_derivative {
+  SDAE_MBS_JACOBIAN = 0,         /* jacobian against c */
+  SDAE_MBS_CONSTRAINT_T = 1,     /* constraint_t against c in t */
+  SDAE_MBS_MASS_DOT_V = 2,       /* mass_dot_v against M along (1, v) */
+  SDAE_MBS_JACOBIAN_DOT = 3,     /* jacobian_dot against jacobian (or c) along (1, v) */
+  SDAE_MBS_CONSTRAINT_T_DOT = 4, /* constraint_t_dot against constraint_t along (1, v) */
+  SDAE_MBS_FORCE = 5             /* force against -dV/dq, the Lagrangian's velocity terms and
+                                  * -D v, where a potential is given */
+} sdae_mbs_derivative;
+#define SDAE_MBS_DERIVATIVES 6
+
+typedef struct sdae_mbs_check_report {
+  unsigned checked;             /* bit k set: derivative k was given and compared */
+  double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst |given - differences| relative to
+                                          * the largest entry of either (0 when not given) */
+  int worst;                    /* the derivative with the largest mismatch */
+  size_t worst_index;           /* its entry (row-major) where that mismatch is */
+  int consistent;               /* every mismatch <= tol */
+} sdae_mbs_check_report;
+
+/* Compares every derivative the mechanism gives with fourth-order central differences of the
+ * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
+ * wrong sign would show), and reports the worst mismatch and where; *r is written whole. The
+ * differences are good to about 1e-9 relative for smooth callbacks: tol = 1e-6 separates a
+ * right derivative from a wrong one. SDAE_ERR_NULL, SDAE_ERR_DIM, SDAE_ERR_PARAM (tol not
+ * positive, a state not finite), or a callback's status. With its workspace (one block, given
+ * back before it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
+SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v,
+                            double tol, sdae_mbs_check_report *r);
+SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q,
+                                 const double *v, double tol, const sdae_allocator *a,
+                                 sdae_mbs_check_report *r);
 
 /* Called with the state after step `step` (0: the initial one); non-zero stops the run. */
 typedef int (*sdae_mbs_observer)(size_t step, double t, const double *q, const double *v,

@@ -1,0 +1,248 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The mechanism check (<stabdae/mbs.h>): every derivative a mechanism gives against
+ * fourth-order central differences of the callback it derives from,
+ *
+ *   f'(0) ~ [8 (f(h) - f(-h)) - (f(2h) - f(-2h))] / (12 h),   error ~ h^4 f^(5) / 30 + eps f / h,
+ *
+ * along a line (t + s dt, q + s dq) through the state: e_j for a column of G or a gradient, (1, 0)
+ * for dc/dt, (1, v) for the derivatives along the motion. With a potential, the force is checked
+ * against Lagrange's equations for T = v^T M v / 2 (DESIGN.md, mechanisms from sympy):
+ *
+ *   F = -dV/dq + (1/2) (v^T (dM/dq_k) v)_k - (d/ds M(q + s v)) v - D v. */
+#include <math.h>
+#include <string.h>
+
+#include <stabdae/mbs.h>
+
+#include "core/alloc.h"
+#include "core/arena.h"
+#include "core/callback.h"
+
+#define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5): truncation and rounding balanced */
+
+/* what is evaluated along a line */
+typedef enum quantity { C, CT, G, MV, V, KINETIC } quantity;
+
+typedef struct checker {
+  const sdae_mbs *sys;
+  size_t n_q, n_c;
+  const double *v;  /* the state's velocity: M v, v^T M v / 2 */
+  double *qs, *Mq;  /* n_q, n_q x n_q: the point on the line, M there */
+  double *at, *fd;  /* n_c x n_q or n_q each: a value on the line, the difference */
+  double *given;    /* the same size: the derivative the mechanism gives */
+  double *F, *Dv;   /* n_q each: the force's terms */
+} checker;
+
+static size_t width(const checker *k) { return k->n_c * k->n_q > k->n_q ? k->n_c * k->n_q : k->n_q; }
+
+static size_t size_of(const checker *k, quantity what) {
+  switch (what) {
+  case C:
+  case CT: return k->n_c;
+  case G: return k->n_c * k->n_q;
+  case MV: return k->n_q;
+  default: return 1;
+  }
+}
+
+/* M v (or v^T M v / 2) at (t, q) into out */
+static int mass_times_v(checker *k, double t, const double *q, int kinetic, double *out) {
+  const sdae_mbs *s = k->sys;
+  size_t n = k->n_q;
+  double e = 0.0;
+  int rc = sdae__callback_checked(s->mass(t, q, k->Mq, s->params), k->Mq, n * n);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++) {
+    double acc = 0.0;
+    for (size_t j = 0; j < n; j++) acc += k->Mq[i * n + j] * k->v[j];
+    if (kinetic)
+      e += 0.5 * k->v[i] * acc;
+    else
+      out[i] = acc;
+  }
+  if (kinetic) *out = e;
+  return SDAE_OK;
+}
+
+static int evaluate(checker *k, quantity what, double t, const double *q, double *out) {
+  const sdae_mbs *s = k->sys;
+  switch (what) {
+  case C: return sdae__callback_checked(s->constraint(t, q, out, s->params), out, k->n_c);
+  case CT: return sdae__callback_checked(s->constraint_t(t, q, out, s->params), out, k->n_c);
+  case G:
+    return sdae__callback_checked(s->jacobian(t, q, out, s->params), out, k->n_c * k->n_q);
+  case MV: return mass_times_v(k, t, q, 0, out);
+  case V: return sdae__callback_checked(s->potential(t, q, out, s->params), out, 1);
+  default: return mass_times_v(k, t, q, 1, out);
+  }
+}
+
+/* d/ds of the quantity at (t + s dt, q + s dq), s = 0, into out; h ~ FD_STEP times the scale
+ * of the line's variables, made exactly representable in the largest of them */
+static int derivative(checker *k, quantity what, double t, const double *q, double dt,
+                      const double *dq, double *out) {
+  static const double offset[4] = {1.0, -1.0, 2.0, -2.0}, weight[4] = {8.0, -8.0, -1.0, 1.0};
+  size_t n = size_of(k, what);
+  double scale = dt != 0.0 ? fmax(1.0, fabs(t)) : 1.0, speed = fabs(dt), h;
+  for (size_t j = 0; j < k->n_q; j++)
+    if (dq[j] != 0.0) scale = fmax(scale, fabs(q[j])), speed = fmax(speed, fabs(dq[j]));
+  h = FD_STEP * scale / speed;
+  h = (scale + h) - scale;
+  memset(out, 0, n * sizeof *out);
+  for (int o = 0; o < 4; o++) {
+    int rc;
+    for (size_t j = 0; j < k->n_q; j++) k->qs[j] = q[j] + offset[o] * h * dq[j];
+    if ((rc = evaluate(k, what, t + offset[o] * h * dt, k->qs, k->at)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) out[i] += weight[o] * k->at[i];
+  }
+  for (size_t i = 0; i < n; i++) out[i] /= 12.0 * h;
+  return SDAE_OK;
+}
+
+/* the worst |a - b| relative to the largest entry of either, and where */
+static double mismatch(const double *a, const double *b, size_t n, size_t *where) {
+  double scale = 0.0, worst = 0.0;
+  *where = 0;
+  for (size_t i = 0; i < n; i++) scale = fmax(scale, fmax(fabs(a[i]), fabs(b[i])));
+  if (scale == 0.0) return 0.0;
+  for (size_t i = 0; i < n; i++)
+    if (fabs(a[i] - b[i]) / scale > worst) worst = fabs(a[i] - b[i]) / scale, *where = i;
+  return worst;
+}
+
+static void record(sdae_mbs_check_report *r, sdae_mbs_derivative d, double m, size_t where) {
+  int first = r->checked == 0;
+  r->checked |= 1u << d;
+  r->mismatch[d] = m;
+  if (first || m > r->mismatch[r->worst]) r->worst = (int)d, r->worst_index = where;
+}
+
+/* G column by column, against c */
+static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
+  size_t n_q = k->n_q, n_c = k->n_c, where = 0;
+  double *e = k->Dv; /* the unit direction, in a free array */
+  int rc = evaluate(k, G, t, q, k->given);
+  if (rc != SDAE_OK) return rc;
+  memset(e, 0, n_q * sizeof *e);
+  for (size_t j = 0; j < n_q; j++) {
+    e[j] = 1.0;
+    rc = derivative(k, C, t, q, 0.0, e, k->F);
+    e[j] = 0.0;
+    if (rc != SDAE_OK) return rc;
+    for (size_t i = 0; i < n_c; i++) k->fd[i * n_q + j] = k->F[i];
+  }
+  record(r, SDAE_MBS_JACOBIAN, mismatch(k->given, k->fd, n_c * n_q, &where), where);
+  return SDAE_OK;
+}
+
+/* a derivative given by the callback `given` (its values already in k->given) against the
+ * difference of a quantity along (dt, dq) */
+static int compare(checker *k, sdae_mbs_derivative d, quantity what, double t, const double *q,
+                   double dt, const double *dq, sdae_mbs_check_report *r) {
+  size_t where = 0;
+  int rc = derivative(k, what, t, q, dt, dq, k->fd);
+  if (rc == SDAE_OK) record(r, d, mismatch(k->given, k->fd, size_of(k, what), &where), where);
+  return rc;
+}
+
+/* the force against Lagrange's equations: every term by differences */
+static int check_force(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
+  const sdae_mbs *s = k->sys;
+  size_t n = k->n_q, where = 0;
+  double *e = k->Dv, dV, dT;
+  int rc = sdae__callback_checked(s->force(t, q, k->v, k->F, s->params), k->F, n);
+  if (rc != SDAE_OK || (rc = derivative(k, MV, t, q, 1.0, k->v, k->given)) != SDAE_OK) return rc;
+  memset(e, 0, n * sizeof *e);
+  for (size_t j = 0; j < n; j++) { /* given = the Lagrangian's force, k->given holds Mdot v */
+    e[j] = 1.0;
+    if ((rc = derivative(k, V, t, q, 0.0, e, &dV)) == SDAE_OK)
+      rc = derivative(k, KINETIC, t, q, 0.0, e, &dT);
+    e[j] = 0.0;
+    if (rc != SDAE_OK) return rc;
+    k->fd[j] = -dV + dT - k->given[j];
+  }
+  if (s->damping) {
+    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) != SDAE_OK)
+      return rc;
+    for (size_t i = 0; i < n; i++)
+      for (size_t j = 0; j < n; j++) k->fd[i] -= k->Mq[i * n + j] * k->v[j];
+  }
+  record(r, SDAE_MBS_FORCE, mismatch(k->F, k->fd, n, &where), where);
+  return SDAE_OK;
+}
+
+static int run(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
+  const sdae_mbs *s = k->sys;
+  int rc = SDAE_OK;
+  double *zero = k->Dv; /* the direction (1, 0) of dc/dt */
+  memset(zero, 0, k->n_q * sizeof *zero);
+  if (s->jacobian) rc = check_jacobian(k, t, q, r);
+  if (rc == SDAE_OK && s->constraint_t && (rc = evaluate(k, CT, t, q, k->given)) == SDAE_OK)
+    rc = compare(k, SDAE_MBS_CONSTRAINT_T, C, t, q, 1.0, zero, r);
+  if (rc == SDAE_OK && s->mass_dot_v &&
+      (rc = sdae__callback_checked(s->mass_dot_v(t, q, k->v, k->given, s->params), k->given,
+                                   k->n_q)) == SDAE_OK)
+    rc = compare(k, SDAE_MBS_MASS_DOT_V, MV, t, q, 1.0, k->v, r);
+  if (rc == SDAE_OK && s->jacobian_dot &&
+      (rc = sdae__callback_checked(s->jacobian_dot(t, q, k->v, k->given, s->params), k->given,
+                                   k->n_c * k->n_q)) == SDAE_OK)
+    rc = compare(k, SDAE_MBS_JACOBIAN_DOT, G, t, q, 1.0, k->v, r);
+  if (rc == SDAE_OK && s->constraint_t_dot &&
+      (rc = sdae__callback_checked(s->constraint_t_dot(t, q, k->v, k->given, s->params),
+                                   k->given, k->n_c)) == SDAE_OK)
+    rc = compare(k, SDAE_MBS_CONSTRAINT_T_DOT, CT, t, q, 1.0, k->v, r);
+  if (rc == SDAE_OK && s->potential) rc = check_force(k, t, q, r);
+  return rc;
+}
+
+static void carve(checker *k, sdae_arena *a) {
+  size_t n_q = k->n_q;
+  k->qs = sdae__take(a, n_q, 1);
+  k->Mq = sdae__take(a, n_q, n_q);
+  k->at = sdae__take(a, width(k), 1);
+  k->fd = sdae__take(a, width(k), 1);
+  k->given = sdae__take(a, width(k), 1);
+  k->F = sdae__take(a, n_q, 1);
+  k->Dv = sdae__take(a, n_q, 1);
+}
+
+static int valid(const sdae_mbs *sys, double t, const double *q, const double *v, double tol) {
+  if (!sys || !q || !v || !sys->mass || !sys->force || !sys->constraint) return SDAE_ERR_NULL;
+  if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
+  /* the derivatives of G and dc/dt are checked against the callbacks themselves */
+  if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
+    return SDAE_ERR_NULL;
+  if (!(tol > 0.0) || !isfinite(t) || !sdae__all_finite(q, sys->n_q) ||
+      !sdae__all_finite(v, sys->n_q))
+    return SDAE_ERR_PARAM;
+  return SDAE_OK;
+}
+
+int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
+                        double tol, const sdae_allocator *a, sdae_mbs_check_report *r) {
+  checker k = {0};
+  sdae_arena count = {0}, take = {0};
+  sdae_mbs_check_report rep = {0};
+  size_t bytes;
+  int rc;
+  if (!r) return SDAE_ERR_NULL;
+  if ((rc = valid(sys, t, q, v, tol)) != SDAE_OK) return rc;
+  k.sys = sys, k.n_q = sys->n_q, k.n_c = sys->n_c, k.v = v;
+  carve(&k, &count);
+  if (sdae__arena_bytes(&count, 0, &bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(take.base = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
+  carve(&k, &take);
+  rc = run(&k, t, q, &rep);
+  sdae__free(a, take.base, bytes);
+  if (rc != SDAE_OK) return rc;
+  rep.consistent = 1;
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
+    if (rep.mismatch[d] > tol) rep.consistent = 0;
+  *r = rep;
+  return SDAE_OK;
+}
+
+int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v, double tol,
+                   sdae_mbs_check_report *r) {
+  return sdae_mbs_check_with(sys, t, q, v, tol, NULL, r);
+}
