@@ -226,8 +226,8 @@ static int sphere_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 static sdae_mbs sphere_mbs(sphere *p) {
-  sdae_mbs s = {3, 2, sphere_mass, sphere_force, sphere_constraint, sphere_jacobian, NULL, NULL,
-                NULL, p};
+  sdae_mbs s = {.n_q = 3, .n_c = 2, .mass = sphere_mass, .force = sphere_force,
+                .constraint = sphere_constraint, .jacobian = sphere_jacobian, .params = p};
   return s;
 }
 
@@ -493,8 +493,10 @@ static int f_damping(double t, const double *q, double *D, void *params) {
 }
 
 static sdae_mbs faulty_mbs(faulty *f) {
-  sdae_mbs s = {2, 1, f_mass, f_force, f_constraint, f_jacobian, f_constraint_t, f_potential,
-                f_damping, f};
+  sdae_mbs s = {.n_q = 2, .n_c = 1, .mass = f_mass, .force = f_force,
+                .constraint = f_constraint, .jacobian = f_jacobian,
+                .constraint_t = f_constraint_t, .potential = f_potential,
+                .damping = f_damping, .params = f};
   return s;
 }
 

@@ -119,8 +119,8 @@ static void record(sdae_mbs_check_report *r, sdae_mbs_derivative d, double m, si
 
 /* G column by column, against c */
 static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
-  size_t n_q = k->n_q, n_c = k->n_c, where = 0;
-  double *e = k->Dv; /* the unit direction, in a free array */
+  size_t n_q = k->n_q, n_c = k->n_c, where;
+  double *e = k->Dv, m; /* the unit direction, in a free array */
   int rc = evaluate(k, G, t, q, k->given);
   if (rc != SDAE_OK) return rc;
   memset(e, 0, n_q * sizeof *e);
@@ -131,7 +131,8 @@ static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_
     if (rc != SDAE_OK) return rc;
     for (size_t i = 0; i < n_c; i++) k->fd[i * n_q + j] = k->F[i];
   }
-  record(r, SDAE_MBS_JACOBIAN, mismatch(k->given, k->fd, n_c * n_q, &where), where);
+  m = mismatch(k->given, k->fd, n_c * n_q, &where);
+  record(r, SDAE_MBS_JACOBIAN, m, where);
   return SDAE_OK;
 }
 
@@ -139,17 +140,20 @@ static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_
  * difference of a quantity along (dt, dq) */
 static int compare(checker *k, sdae_mbs_derivative d, quantity what, double t, const double *q,
                    double dt, const double *dq, sdae_mbs_check_report *r) {
-  size_t where = 0;
+  size_t where;
   int rc = derivative(k, what, t, q, dt, dq, k->fd);
-  if (rc == SDAE_OK) record(r, d, mismatch(k->given, k->fd, size_of(k, what), &where), where);
+  if (rc == SDAE_OK) {
+    double m = mismatch(k->given, k->fd, size_of(k, what), &where);
+    record(r, d, m, where);
+  }
   return rc;
 }
 
 /* the force against Lagrange's equations: every term by differences */
 static int check_force(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
   const sdae_mbs *s = k->sys;
-  size_t n = k->n_q, where = 0;
-  double *e = k->Dv, dV, dT;
+  size_t n = k->n_q, where;
+  double *e = k->Dv, dV, dT, worst;
   int rc = sdae__callback_checked(s->force(t, q, k->v, k->F, s->params), k->F, n);
   if (rc != SDAE_OK || (rc = derivative(k, MV, t, q, 1.0, k->v, k->given)) != SDAE_OK) return rc;
   memset(e, 0, n * sizeof *e);
@@ -167,7 +171,8 @@ static int check_force(checker *k, double t, const double *q, sdae_mbs_check_rep
     for (size_t i = 0; i < n; i++)
       for (size_t j = 0; j < n; j++) k->fd[i] -= k->Mq[i * n + j] * k->v[j];
   }
-  record(r, SDAE_MBS_FORCE, mismatch(k->F, k->fd, n, &where), where);
+  worst = mismatch(k->F, k->fd, n, &where);
+  record(r, SDAE_MBS_FORCE, worst, where);
   return SDAE_OK;
 }
 

@@ -1,0 +1,197 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* sdae_mbs_check on a bead of position-dependent mass m (1 + x^2) on a line through the origin
+ * turning at rate w, c = x sin(w t) - y cos(w t), with gravity as a potential: every derivative
+ * in closed form, then each one given with a wrong sign, which the check must name. */
+#include <math.h>
+
+#include <stabdae/mbs.h>
+
+#include "testmodels.h"
+
+typedef struct bead {
+  double m, w, g;
+  int wrong; /* -1: none, else the sdae_mbs_derivative given with a wrong sign */
+} bead;
+
+static double sign(const bead *b, sdae_mbs_derivative d) { return b->wrong == (int)d ? -1 : 1; }
+
+static int mass(double t, const double *q, double *M, void *params) {
+  const bead *b = params;
+  double mu = b->m * (1 + q[0] * q[0]);
+  (void)t;
+  M[0] = M[3] = mu, M[1] = M[2] = 0;
+  return 0;
+}
+
+/* -dV/dq + (1/2) v^T dM/dq v - Mdot v with V = m g y, dM/dx = 2 m x I, Mdot = 2 m x vx I */
+static int force(double t, const double *q, const double *v, double *F, void *params) {
+  const bead *b = params;
+  double s = sign(b, SDAE_MBS_FORCE), x = q[0], vv = v[0] * v[0] + v[1] * v[1];
+  (void)t;
+  F[0] = s * (b->m * x * vv - 2 * b->m * x * v[0] * v[0]);
+  F[1] = -b->m * b->g - 2 * b->m * x * v[0] * v[1];
+  return 0;
+}
+
+static int potential(double t, const double *q, double *V, void *params) {
+  const bead *b = params;
+  (void)t;
+  *V = b->m * b->g * q[1];
+  return 0;
+}
+
+static int constraint(double t, const double *q, double *c, void *params) {
+  const bead *b = params;
+  c[0] = q[0] * sin(b->w * t) - q[1] * cos(b->w * t);
+  return 0;
+}
+
+static int jacobian(double t, const double *q, double *G, void *params) {
+  const bead *b = params;
+  (void)q;
+  G[0] = sign(b, SDAE_MBS_JACOBIAN) * sin(b->w * t), G[1] = -cos(b->w * t);
+  return 0;
+}
+
+static int constraint_t(double t, const double *q, double *ct, void *params) {
+  const bead *b = params;
+  double s = sign(b, SDAE_MBS_CONSTRAINT_T);
+  ct[0] = s * b->w * (q[0] * cos(b->w * t) + q[1] * sin(b->w * t));
+  return 0;
+}
+
+static int mass_dot_v(double t, const double *q, const double *v, double *out, void *params) {
+  const bead *b = params;
+  double k = sign(b, SDAE_MBS_MASS_DOT_V) * 2 * b->m * q[0] * v[0];
+  (void)t;
+  out[0] = k * v[0], out[1] = k * v[1];
+  return 0;
+}
+
+static int jacobian_dot(double t, const double *q, const double *v, double *Gdot, void *params) {
+  const bead *b = params;
+  (void)q, (void)v;
+  Gdot[0] = b->w * cos(b->w * t);
+  Gdot[1] = sign(b, SDAE_MBS_JACOBIAN_DOT) * b->w * sin(b->w * t);
+  return 0;
+}
+
+static int constraint_t_dot(double t, const double *q, const double *v, double *out,
+                            void *params) {
+  const bead *b = params;
+  double c = cos(b->w * t), s = sin(b->w * t);
+  out[0] = b->w * (v[0] * c + v[1] * s) +
+           sign(b, SDAE_MBS_CONSTRAINT_T_DOT) * b->w * b->w * (q[1] * c - q[0] * s);
+  return 0;
+}
+
+static sdae_mbs system_of(bead *b) {
+  return (sdae_mbs){.n_q = 2, .n_c = 1, .mass = mass, .force = force, .constraint = constraint,
+                    .jacobian = jacobian, .constraint_t = constraint_t, .potential = potential,
+                    .mass_dot_v = mass_dot_v, .jacobian_dot = jacobian_dot,
+                    .constraint_t_dot = constraint_t_dot, .params = b};
+}
+
+static const double t0 = 0.7, q0[2] = {0.8, -0.35}, v0[2] = {-1.3, 0.9};
+
+/* Right derivatives: every one compared, each within the differences' accuracy (about 1e-9
+ * relative for these smooth functions), consistent at 1e-6. */
+START_TEST(right_derivatives_are_consistent) {
+  bead b = {2.0, 3.0, 9.81, -1};
+  sdae_mbs sys = system_of(&b);
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, (1u << SDAE_MBS_DERIVATIVES) - 1);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-8);
+  ck_assert_int_eq(r.consistent, 1);
+}
+END_TEST
+
+/* One sign wrong: its mismatch is of order 1 (the entry changes by twice itself, relative to
+ * the largest entry), the check is inconsistent and names it, and only it. */
+START_TEST(a_wrong_sign_is_named) {
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) {
+    bead b = {2.0, 3.0, 9.81, d};
+    sdae_mbs sys = system_of(&b);
+    sdae_mbs_check_report r;
+    ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
+    ck_assert_int_eq(r.consistent, 0);
+    ck_assert_int_eq(r.worst, d);
+    ck_assert_double_gt(r.mismatch[d], 0.1);
+    for (int e = 0; e < SDAE_MBS_DERIVATIVES; e++) /* Gdot and ct_dot are checked against G
+                                                     * and ct as given */
+      if (e != d && !(d == SDAE_MBS_JACOBIAN && e == SDAE_MBS_JACOBIAN_DOT) &&
+          !(d == SDAE_MBS_CONSTRAINT_T && e == SDAE_MBS_CONSTRAINT_T_DOT))
+        ck_assert_double_lt(r.mismatch[e], 1e-8);
+  }
+}
+END_TEST
+
+/* The entry: jacobian_dot's second entry (row-major index 1) holds the wrong sign. */
+START_TEST(the_wrong_entry_is_named) {
+  bead b = {2.0, 3.0, 9.81, SDAE_MBS_JACOBIAN_DOT};
+  sdae_mbs sys = system_of(&b);
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN_DOT);
+  ck_assert_uint_eq(r.worst_index, 1);
+}
+END_TEST
+
+/* Without the optional callbacks only what is given is compared. */
+START_TEST(only_given_derivatives_are_compared) {
+  bead b = {2.0, 3.0, 9.81, -1};
+  sdae_mbs sys = system_of(&b);
+  sdae_mbs_check_report r;
+  sys.potential = NULL, sys.mass_dot_v = NULL, sys.constraint_t_dot = NULL;
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, (1u << SDAE_MBS_JACOBIAN) | (1u << SDAE_MBS_CONSTRAINT_T) |
+                                   (1u << SDAE_MBS_JACOBIAN_DOT));
+  ck_assert_double_eq(r.mismatch[SDAE_MBS_FORCE], 0.0);
+  ck_assert_int_eq(r.consistent, 1);
+}
+END_TEST
+
+static int failing(double t, const double *q, const double *v, double *out, void *params) {
+  (void)t, (void)q, (void)v, (void)out, (void)params;
+  return -1;
+}
+
+static int nan_out(double t, const double *q, const double *v, double *out, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  out[0] = out[1] = NAN;
+  return 0;
+}
+
+/* Bad input: a named status, the report untouched. */
+START_TEST(bad_input_is_a_status) {
+  bead b = {2.0, 3.0, 9.81, -1};
+  sdae_mbs sys = system_of(&b), bad;
+  sdae_mbs_check_report r = {.worst = 77};
+  const double qn[2] = {NAN, 0.0};
+  ck_assert_int_eq(sdae_mbs_check(NULL, t0, q0, v0, 1e-6, &r), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 0.0, &r), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, qn, v0, 1e-6, &r), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_mbs_check(&sys, INFINITY, q0, v0, 1e-6, &r), SDAE_ERR_PARAM);
+  bad = sys, bad.jacobian = NULL; /* jacobian_dot is checked against jacobian */
+  ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_NULL);
+  bad = sys, bad.n_c = 2;
+  ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_DIM);
+  bad = sys, bad.mass_dot_v = failing;
+  ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_CALLBACK_FATAL);
+  bad = sys, bad.mass_dot_v = nan_out;
+  ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_NONFINITE);
+  ck_assert_int_eq(r.worst, 77);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("mbs_check");
+  ADD_CASE(s, right_derivatives_are_consistent);
+  ADD_CASE(s, a_wrong_sign_is_named);
+  ADD_CASE(s, the_wrong_entry_is_named);
+  ADD_CASE(s, only_given_derivatives_are_compared);
+  ADD_CASE(s, bad_input_is_a_status);
+  return run_suite(s);
+}
