@@ -61,6 +61,9 @@ static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   s->Gdot = sdae__take(a, n_c, n_q);
   s->Mdv = sdae__take(a, n_q, 1);
   s->gdot = sdae__take(a, n_c, 1);
+  s->fd_Gt = sdae__take(a, n_c, n_q);
+  s->fd_Mdvt = sdae__take(a, n_q, 1);
+  s->fd_gdott = sdae__take(a, n_c, 1);
   s->r1 = sdae__take(a, n_q, 1);
   s->r2 = sdae__take(a, n_q, 1);
   s->r3 = sdae__take(a, n_q, 1);

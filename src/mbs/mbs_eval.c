@@ -68,9 +68,14 @@ int sdae__mbs_jacobian(sdae_mbs_stepper *s, double t, const double *q, double *G
   return sdae__callback_checked(s->sys.jacobian(t, q, G, s->sys.params), G, s->n_c * s->n_q);
 }
 
+/* A difference step in t, relative to max(1, |t|) as the steps in q are to max(1, |q_j|): an
+ * absolute one vanishes in t + h once the spacing of the doubles near t exceeds it (0.125 at
+ * t = 1e15). */
+static double t_step(double t) { return exact_step(t, FD_STEP * fmax(1.0, fabs(t))); }
+
 /* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal */
 static int constraint_t_fd(sdae_mbs_stepper *s, double t, const double *q, double *ct) {
-  double h = exact_step(t, FD_STEP), *c = s->fd_c;
+  double h = t_step(t), *c = s->fd_c;
   memset(ct, 0, s->n_c * sizeof *ct);
   for (int k = 0; k < 4; k++) {
     int rc = sdae__mbs_constraint(s, t + offset[k] * h, q, c);
@@ -92,13 +97,13 @@ static double inf_norm(const double *x, size_t n) {
   return m;
 }
 
-/* the sums of the stencil at offset k along (1, v): G, M v and G v + dc/dt there */
-static int along_point(sdae_mbs_stepper *s, double t, const double *q, const double *v, double h,
-                       int k, double *Gdot, double *Mdv, double *gdot) {
+/* the sums of the stencil at offset k at (t + k ht, q + k hq v): G, M v and G v + dc/dt there */
+static int along_point(sdae_mbs_stepper *s, double t, const double *q, const double *v, double ht,
+                       double hq, int k, double *Gdot, double *Mdv, double *gdot) {
   size_t n_q = s->n_q, n_c = s->n_c;
-  double w = weight[k], ts = t + offset[k] * h;
+  double w = weight[k], ts = t + offset[k] * ht;
   int rc;
-  for (size_t j = 0; j < n_q; j++) s->fd_q[j] = q[j] + offset[k] * h * v[j];
+  for (size_t j = 0; j < n_q; j++) s->fd_q[j] = q[j] + offset[k] * hq * v[j];
   if ((rc = sdae__mbs_jacobian(s, ts, s->fd_q, s->fd_G)) != SDAE_OK) return rc;
   for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += w * s->fd_G[i];
   if (Mdv) {
@@ -117,16 +122,16 @@ static int along_point(sdae_mbs_stepper *s, double t, const double *q, const dou
   return SDAE_OK;
 }
 
-int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *Gdot, double *Mdv, double *gdot) {
+/* the fourth-order difference in s of G, M v and G v + dc/dt at (t + s ht / h, q + s hq v / h),
+ * step h: the derivative along (ht, hq v) / h */
+static int stencil(sdae_mbs_stepper *s, double t, const double *q, const double *v, double ht,
+                   double hq, double h, double *Gdot, double *Mdv, double *gdot) {
   size_t n_q = s->n_q, n_c = s->n_c;
-  double nq = inf_norm(q, n_q), h;
-  h = exact_step(t, FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q)));
   memset(Gdot, 0, n_c * n_q * sizeof *Gdot);
   if (Mdv) memset(Mdv, 0, n_q * sizeof *Mdv);
   if (gdot) memset(gdot, 0, n_c * sizeof *gdot);
   for (int k = 0; k < 4; k++) {
-    int rc = along_point(s, t, q, v, h, k, Gdot, Mdv, gdot);
+    int rc = along_point(s, t, q, v, ht, hq, k, Gdot, Mdv, gdot);
     if (rc != SDAE_OK) return rc;
   }
   for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] /= 12.0 * h;
@@ -134,5 +139,29 @@ int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double
     for (size_t i = 0; i < n_q; i++) Mdv[i] /= 12.0 * h;
   if (gdot)
     for (size_t i = 0; i < n_c; i++) gdot[i] /= 12.0 * h;
+  return SDAE_OK;
+}
+
+/* One step s along (1, v) moves q by s v and t by s: s about FD_STEP relative to q and to v's
+ * time scale, exact in t + s. Where t is so large that its doubles are too sparse for such an
+ * s (t + s rounds to more than half the step away from it), the derivative is taken in two
+ * parts, d/ds at (t, q + s v) and d/ds at (t + s, q) with a step in t relative to |t|. */
+int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                    double *Gdot, double *Mdv, double *gdot) {
+  size_t n_q = s->n_q, n_c = s->n_c;
+  double nq = inf_norm(q, n_q), h0 = FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q));
+  double h = exact_step(t, h0), ht;
+  int rc;
+  if (fabs(h - h0) <= 0.5 * h0) return stencil(s, t, q, v, h, h, h, Gdot, Mdv, gdot);
+  if ((rc = stencil(s, t, q, v, 0.0, h0, h0, Gdot, Mdv, gdot)) != SDAE_OK) return rc;
+  ht = t_step(t);
+  if ((rc = stencil(s, t, q, v, ht, 0.0, ht, s->fd_Gt, Mdv ? s->fd_Mdvt : NULL,
+                    gdot ? s->fd_gdott : NULL)) != SDAE_OK)
+    return rc;
+  for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += s->fd_Gt[i];
+  if (Mdv)
+    for (size_t i = 0; i < n_q; i++) Mdv[i] += s->fd_Mdvt[i];
+  if (gdot)
+    for (size_t i = 0; i < n_c; i++) gdot[i] += s->fd_gdott[i];
   return SDAE_OK;
 }

@@ -61,6 +61,7 @@ struct sdae_mbs_stepper {
   /* differences: the shifted q (along the motion, and for G), G, M, c, dc/dt there */
   double *fd_q, *fd_qj, *fd_G, *fd_M, *fd_c, *fd_ct;
   double *Gdot, *Mdv, *gdot; /* along (1, v): n_c x n_q, n_q, n_c */
+  double *fd_Gt, *fd_Mdvt, *fd_gdott; /* their parts along t alone, at late times */
   double *r1, *r2, *r3;  /* n_q each */
   double *X;             /* n_c x n_f */
   double *LY, *LA;       /* lambda: n_c x n_q (G M^-1), n_c x n_c */
