@@ -286,7 +286,8 @@ int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double
 }
 
 /* (G M^-1 G^T) lambda = G M^-1 F + gamma: Y = G M^-1 row by row (M symmetric), then the
- * n_c x n_c system, singular only when the constraints are dependent */
+ * n_c x n_c system, singular only when the constraints are dependent; G Y^T symmetric by
+ * construction (its upper triangle, mirrored), as Cholesky requires */
 int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                     double *lambda) {
   size_t n_q, n_c;
@@ -308,10 +309,10 @@ int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double
     double b = s->gdot[i];
     for (size_t k = 0; k < n_q; k++) b += s->LY[i * n_q + k] * s->r1[k];
     s->r2[i] = b;
-    for (size_t j = 0; j < n_c; j++) {
+    for (size_t j = i; j < n_c; j++) {
       double acc = 0.0;
       for (size_t k = 0; k < n_q; k++) acc += s->Gdot[i * n_q + k] * s->LY[j * n_q + k];
-      s->LA[i * n_c + j] = acc;
+      s->LA[i * n_c + j] = s->LA[j * n_c + i] = acc;
     }
   }
   if (sdae__cholesky_factor(s->LA, n_c) != SDAE_OK) return SDAE_ERR_RANK;

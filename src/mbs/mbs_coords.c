@@ -79,7 +79,11 @@ static int solve_q(sdae_mbs_stepper *s, double t, const double *xi, const double
   return SDAE_ERR_PHI_INV;
 }
 
-/* the reduced mass W^T M W (n_f x n_f) into s->Mr, factored */
+/* the reduced mass W^T M W (n_f x n_f) into s->Mr, factored: symmetric by construction (DESIGN,
+ * the price of zero drift), Y = M W column by column, then the upper triangle of W^T Y, mirrored.
+ * Formed entry by entry, its two triangles would round differently by up to eps times M's
+ * largest entries, which W^T M W need not have (a heavy direction across the constraints):
+ * Cholesky would then see a non-symmetric matrix. */
 static int reduced_mass(sdae_mbs_stepper *s) {
   size_t n_q = s->n_q, n_f = s->n_f;
   const double *W = s->pt.W;
@@ -89,10 +93,10 @@ static int reduced_mass(sdae_mbs_stepper *s) {
       for (size_t j = 0; j < n_q; j++) acc += s->pt.M[i * n_q + j] * W[j * n_f + b];
       s->r1[i] = acc;
     }
-    for (size_t a = 0; a < n_f; a++) {
+    for (size_t a = 0; a <= b; a++) {
       double acc = 0.0;
       for (size_t i = 0; i < n_q; i++) acc += W[i * n_f + a] * s->r1[i];
-      s->Mr[a * n_f + b] = acc;
+      s->Mr[a * n_f + b] = s->Mr[b * n_f + a] = acc;
     }
   }
   return sdae__cholesky_factor(s->Mr, n_f);
