@@ -850,6 +850,63 @@ START_TEST(integrate_failure_keeps_last_good_state) {
 }
 END_TEST
 
+/* ---- a step failing after the normal form's step ---- */
+
+/* the pendulum whose constraint fails (recoverably) at t = fail_t while armed: the step from
+ * t = 0 with T = 0.01 calls it at 0.01 only in Phi^-1 at t + T, after the normal form's step */
+typedef struct late_failure {
+  pendulum p;
+  double fail_t;
+  int armed;
+} late_failure;
+
+static int late_constraint(double t, const double *q, double *c, void *params) {
+  late_failure *f = params;
+  pendulum_constraint(t, q, c, &f->p);
+  return f->armed && t == f->fail_t ? 1 : 0;
+}
+
+static void expect_same_stats(const sdae_mbs_stats *a, const sdae_mbs_stats *b) {
+  ck_assert_uint_eq(a->step.steps, b->step.steps);
+  ck_assert_uint_eq(a->step.phi_evals, b->step.phi_evals);
+  ck_assert_uint_eq(a->step.newton_iters_total, b->step.newton_iters_total);
+  ck_assert_uint_eq(a->step.newton_iters_last, b->step.newton_iters_last);
+  ck_assert_double_eq(a->step.newton_residual_last, b->step.newton_residual_last);
+  ck_assert_uint_eq(a->chart_switches, b->chart_switches);
+  ck_assert_uint_eq(a->phi_inv_iters, b->phi_inv_iters);
+  ck_assert_double_eq(a->chart_measure, b->chart_measure);
+}
+
+/* A failed step counts nothing: after it, the statistics are a fresh stepper's (all zero), and
+ * after the good step that follows, exactly what a fresh stepper's one good step reports. */
+START_TEST(failed_step_counts_nothing) {
+  late_failure f = {{1.0, 1.0, 9.81, 0.0}, 0.01, 0};
+  sdae_mbs sys = pendulum_mbs(&f.p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *fresh, *s;
+  sdae_mbs_stats zero;
+  double q[2], v[2], qf[2], vf[2];
+  memset(&zero, 0, sizeof zero);
+  sys.constraint = late_constraint, sys.params = &f;
+  pendulum_state(&f.p, 0.3, 0.5, qf, vf);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&fresh, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(fresh, 0.0, 0.01, qf, vf), SDAE_OK);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(fresh)->step.steps, 1);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_state(&f.p, 0.3, 0.5, q, v);
+  f.armed = 1;
+  expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_CALLBACK_RECOVERABLE);
+  expect_same_stats(sdae_mbs_stepper_stats(s), &zero);
+  f.armed = 0;
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
+  expect_same_stats(sdae_mbs_stepper_stats(s), sdae_mbs_stepper_stats(fresh));
+  ck_assert_mem_eq(q, qf, sizeof q);
+  ck_assert_mem_eq(v, vf, sizeof v);
+  sdae_mbs_stepper_free(fresh);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_errors");
   ADD_CASE(s, null_pointers);
@@ -882,5 +939,6 @@ int main(void) {
   ADD_CASE(s, nonfinite_state);
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
+  ADD_CASE(s, failed_step_counts_nothing);
   return run_suite(s);
 }

@@ -202,11 +202,13 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
   sdae_mbs_stats stats;
+  sdae_stats inner;
   int had_chart, rc;
   if (!s || !q || !v) return SDAE_ERR_NULL;
   if (!(isfinite(T) && T > 0.0)) return SDAE_ERR_STEP;
   if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
   stats = s->stats;
+  inner = *sdae_stepper_stats(s->inner);
   had_chart = s->have_chart;
   memcpy(s->saved, s->dep, s->n_c * sizeof *s->dep);
   memcpy(s->saved + s->n_c, s->ind, s->n_f * sizeof *s->ind);
@@ -217,11 +219,12 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
     rc = try_step(s, t, T, q, v);
     s->force_best = 0;
   }
-  if (rc != SDAE_OK) { /* the chart and the statistics as they were */
+  if (rc != SDAE_OK) { /* the chart and every count (the normal form's stepper's too) as before */
     memcpy(s->dep, s->saved, s->n_c * sizeof *s->dep);
     memcpy(s->ind, s->saved + s->n_c, s->n_f * sizeof *s->ind);
     s->have_chart = had_chart;
     s->stats = stats;
+    sdae__stepper_restore_stats(s->inner, &inner);
     sdae__mbs_forget(s);
     return rc;
   }
