@@ -795,6 +795,30 @@ START_TEST(nonfinite_state) {
 }
 END_TEST
 
+/* Finite states whose quantities overflow: |G v| = 0.6 v + 0.8 v = 2.1e308 > DBL_MAX for
+ * v = (1.5e308, 1.5e308) at q = (0.6, 0.8); v^T M v = 1e400 for |v| = 1e200; the multiplier,
+ * m (L omega^2 + g cos theta) / L, with omega = 1e200. Each query: SDAE_ERR_NONFINITE, its
+ * output untouched. */
+START_TEST(queries_report_overflow) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2] = {0.6, 0.8}, v[2] = {1.5e308, 1.5e308}, out[2] = {7.0, 7.0};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_double_eq(out[1], 7.0);
+  pendulum_state(&p, 0.3, 1e200, q, v);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, 0);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* T <= 0 or not finite: SDAE_ERR_STEP, before and after a good step */
 START_TEST(bad_step_size) {
   pendulum p = PENDULUM;
@@ -937,6 +961,7 @@ int main(void) {
   ADD_CASE(s, damping_fails);
   ADD_CASE(s, queries_report_callback_failures);
   ADD_CASE(s, nonfinite_state);
+  ADD_CASE(s, queries_report_overflow);
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
   ADD_CASE(s, failed_step_counts_nothing);

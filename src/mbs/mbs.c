@@ -70,6 +70,7 @@ static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   s->X = sdae__take(a, n_c, n_f);
   s->LY = sdae__take(a, n_c, n_q);
   s->LA = sdae__take(a, n_c, n_c);
+  s->query_xi = sdae__take(a, 2 * n_c, 1);
   sdae__mbs_derive_carve(s, a);
   s->inner = sdae__take_array(a, inner_bytes, 1, alignof(max_align_t));
 }
@@ -265,16 +266,22 @@ int sdae_mbs_integrate(sdae_mbs_stepper *s, double t0, double T, size_t nsteps, 
 
 /* ---- quantities at a state ---- */
 
+/* Every query computes into its scratch and hands out its result only when it is finite: a
+ * finite state may still overflow (G v, v^T M v, the multipliers' gamma ~ |v|^2). */
 int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
   int rc;
   if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
-  if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
-  return sdae__mbs_xi_at(s, t, q, v, xi);
+  if ((rc = state_ok(s, t, q, v)) != SDAE_OK ||
+      (rc = sdae__mbs_xi_at(s, t, q, v, s->query_xi)) != SDAE_OK)
+    return rc;
+  if (!sdae__all_finite(s->query_xi, 2 * s->n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(xi, s->query_xi, 2 * s->n_c * sizeof *xi);
+  return SDAE_OK;
 }
 
 int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                     double *E) {
-  double V = 0.0, kinetic = 0.0;
+  double V = 0.0, kinetic = 0.0, energy;
   size_t n = 0;
   int rc;
   if (!s || !q || !v || !E) return SDAE_ERR_NULL;
@@ -284,7 +291,9 @@ int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double
   if (s->sys.potential && (rc = sdae__mbs_potential(s, t, q, &V)) != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < n; j++) kinetic += v[i] * s->fd_M[i * n + j] * v[j];
-  *E = 0.5 * kinetic + V;
+  energy = 0.5 * kinetic + V;
+  if (!isfinite(energy)) return SDAE_ERR_NONFINITE;
+  *E = energy;
   return SDAE_OK;
 }
 
@@ -320,6 +329,7 @@ int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double
   }
   if (sdae__cholesky_factor(s->LA, n_c) != SDAE_OK) return SDAE_ERR_RANK;
   sdae__cholesky_solve(s->LA, n_c, s->r2);
+  if (!sdae__all_finite(s->r2, n_c)) return SDAE_ERR_NONFINITE;
   memcpy(lambda, s->r2, n_c * sizeof *lambda);
   return SDAE_OK;
 }

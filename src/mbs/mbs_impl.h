@@ -65,6 +65,7 @@ struct sdae_mbs_stepper {
   double *r1, *r2, *r3;  /* n_q each */
   double *X;             /* n_c x n_f */
   double *LY, *LA;       /* lambda: n_c x n_q (G M^-1), n_c x n_c */
+  double *query_xi;      /* 2 n_c: sdae_mbs_xi's result before it is checked */
 };
 
 /* ---- mbs_eval.c: the mechanism's callbacks, their status and values checked, and the
