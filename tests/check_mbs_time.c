@@ -211,6 +211,28 @@ START_TEST(energy_map_refused_on_moving_constraint) {
 }
 END_TEST
 
+/* Every map that evaluates H (the discrete gradient and its compositions) is refused on the
+ * moving wire; the midpoint maps, which need q0 only, are not. */
+START_TEST(every_energy_map_refused_on_moving_constraint) {
+  const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, sdae_map_midpoint,
+                                  sdae_map_midpoint4};
+  const int want[5] = {SDAE_ERR_MAP, SDAE_ERR_MAP, SDAE_ERR_MAP, SDAE_OK, SDAE_OK};
+  for (int i = 0; i < 5; i++) {
+    sdae_mbs sys = bead(1);
+    sdae_options o;
+    sdae_mbs_stepper *s;
+    double q[2], v[2];
+    sys.potential = potential;
+    sdae_options_default(&o);
+    o.map = maps[i];
+    memcpy(q, q_start, sizeof q), memcpy(v, v_start, sizeof v);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), want[i]);
+    sdae_mbs_stepper_free(s);
+  }
+}
+END_TEST
+
 /* ---- late times: the differences in t scale with max(1, |t|) ---- */
 
 static const pendulum PENDULUM = {1.0, 1.0, 9.81, 0.0};
@@ -328,6 +350,7 @@ int main(void) {
   ADD_CASE(s, lambda_differences);
   ADD_CASE(s, xi_vanishes_on_the_motion);
   ADD_CASE(s, energy_map_refused_on_moving_constraint);
+  ADD_CASE(s, every_energy_map_refused_on_moving_constraint);
   ADD_CASE(s, time_independent_at_late_time);
   ADD_CASE(s, integrate_from_the_largest_times);
   ADD_CASE(s, moving_constraint_at_late_time);

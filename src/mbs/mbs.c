@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "maps/map.h"
 #include "mbs_impl.h"
 #include "stepper/stepper.h"
 
@@ -87,7 +88,7 @@ static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o
   s->n_q = sys->n_q;
   s->n_c = sys->n_c;
   s->n_f = sys->n_q - sys->n_c;
-  s->energy_map = o->map == sdae_map_dgrad || o->map == sdae_map_dg4 || o->map == sdae_map_dg6;
+  s->energy_map = o->map && sdae__map_uses_H(o->map); /* no map: refused by the validation */
   sdae__mbs_model(s);
 }
 
