@@ -9,7 +9,7 @@
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 
-#include "mbs/mbs_impl.h"
+#include "mbs/mbs_chart.h"
 #include "mechanisms.h"
 #include "testmodels.h"
 
