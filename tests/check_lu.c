@@ -277,6 +277,102 @@ START_TEST(singular_leaves_x_untouched) {
 }
 END_TEST
 
+/* ---- Cholesky of a symmetric positive definite matrix ---- */
+
+enum { CMAX = 8 };
+
+/* M = B^T D B + identity I (n x n, B m x n) as a user's code writes it, each entry its own sum:
+ * the two triangles round differently, by up to about 2 (m + 1) eps max|M| */
+static void gram(const double *B, const double *D, size_t m, size_t n, double identity,
+                 double *M) {
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) {
+      double acc = i == j ? identity : 0.0;
+      for (size_t k = 0; k < m; k++) acc += B[k * n + i] * D[k] * B[k * n + j];
+      M[i * n + j] = acc;
+    }
+}
+
+static double max_abs(const double *x, size_t n) {
+  double m = 0.0;
+  for (size_t i = 0; i < n; i++) m = fmax(m, fabs(x[i]));
+  return m;
+}
+
+/* random B (m x n, entries in [-1, 1]) and D (log-uniform in [1e-2, 1e4]), seeded */
+static void random_gram(gsl_rng *rng, size_t m, size_t n, double *M) {
+  double B[8 * CMAX * CMAX], D[8 * CMAX];
+  for (size_t i = 0; i < m * n; i++) B[i] = 2.0 * gsl_rng_uniform(rng) - 1.0;
+  for (size_t k = 0; k < m; k++) D[k] = pow(10.0, -2.0 + 6.0 * gsl_rng_uniform(rng));
+  gram(B, D, m, n, 1.0, M);
+}
+
+/* R diag(K, 1, 1) R^T, R the rotation by 0.7 about the axis (1, 2, 3) (Rodrigues' formula) */
+static void rotated_diag(double K, double *M) {
+  const double c = cos(0.7), s = sin(0.7), nrm = sqrt(14.0), D[3] = {K, 1.0, 1.0};
+  const double u[3] = {1.0 / nrm, 2.0 / nrm, 3.0 / nrm};
+  const double ux[9] = {0.0, -u[2], u[1], u[2], 0.0, -u[0], -u[1], u[0], 0.0};
+  double Rt[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      Rt[j * 3 + i] = (i == j ? c : 0.0) + (1.0 - c) * u[i] * u[j] + s * ux[i * 3 + j];
+  gram(Rt, D, 3, 3, 0.0, M);
+}
+
+/* Cholesky's factor solves M x = b backward stably: ||M x - b|| <= 64 n eps ||M|| ||x|| */
+static void expect_cholesky_solves(const double *M, size_t n) {
+  double LLT[CMAX * CMAX], b[CMAX], x[CMAX];
+  memcpy(LLT, M, n * n * sizeof *M);
+  ck_assert_int_eq(sdae__cholesky_factor(LLT, n), SDAE_OK);
+  for (size_t i = 0; i < n; i++) b[i] = x[i] = 1.0 + (double)i;
+  sdae__cholesky_solve(LLT, n, x);
+  for (size_t i = 0; i < n; i++) {
+    double acc = -b[i];
+    for (size_t j = 0; j < n; j++) acc += M[i * n + j] * x[j];
+    ck_assert_double_le(fabs(acc), 64.0 * (double)n * DBL_EPSILON * max_abs(M, n * n) *
+                                       max_abs(x, n));
+  }
+}
+
+/* Products that are symmetric positive definite in exact arithmetic, symmetric to their
+ * rounding only: accepted, whatever their scale or conditioning (D up to 1e4, K up to 1e6),
+ * with n terms per entry and with 8 n (a sum over many bodies). */
+START_TEST(cholesky_takes_rounded_symmetric_products) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  double M[CMAX * CMAX];
+  gsl_rng_set(rng, 20240611);
+  for (size_t n = 2; n <= CMAX; n++)
+    for (int trial = 0; trial < 500; trial++) {
+      random_gram(rng, trial % 2 ? 8 * n : n, n, M);
+      expect_cholesky_solves(M, n);
+    }
+  gsl_rng_free(rng);
+  rotated_diag(100.0, M);
+  expect_cholesky_solves(M, 3);
+  rotated_diag(1e6, M);
+  expect_cholesky_solves(M, 3);
+}
+END_TEST
+
+/* the same products with one entry off by 1e-8 of the largest: no longer symmetric (a model's
+ * error, far above any rounding), refused */
+START_TEST(cholesky_refuses_asymmetry) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  double M[CMAX * CMAX];
+  gsl_rng_set(rng, 20240611);
+  for (size_t n = 4; n <= CMAX; n++)
+    for (int trial = 0; trial < 50; trial++) {
+      random_gram(rng, n, n, M);
+      M[(n - 1) * n + 1] += 1e-8 * max_abs(M, n * n);
+      ck_assert_int_eq(sdae__cholesky_factor(M, n), SDAE_ERR_MASS);
+    }
+  gsl_rng_free(rng);
+  rotated_diag(1e6, M);
+  M[1] += 1e-8 * 1e6;
+  ck_assert_int_eq(sdae__cholesky_factor(M, 3), SDAE_ERR_MASS);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("lu");
   ADD_CASE(s, same_solution_as_gsl);
@@ -294,5 +390,7 @@ int main(void) {
   ADD_CASE(s, scale_includes_last_entry);
   ADD_CASE(s, tiny_matrix_is_not_singular);
   ADD_CASE(s, singular_leaves_x_untouched);
+  ADD_CASE(s, cholesky_takes_rounded_symmetric_products);
+  ADD_CASE(s, cholesky_refuses_asymmetry);
   return run_suite(s);
 }

@@ -6,7 +6,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "mbs/mbs_impl.h"
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+
+#include "mbs/mbs_chart.h"
 #include "mechanisms.h"
 #include "wire.h"
 #include "testmodels.h"
@@ -426,6 +429,176 @@ START_TEST(mass_not_spd) {
 }
 END_TEST
 
+/* ---- symmetric positive definite masses of any conditioning ---- */
+
+enum { BALL_MAX = 8 };
+
+/* a particle on the unit sphere of R^n, c = (|q|^2 - 1)/2 (G = q^T), pulled by -9.81 along
+ * q_1, with a constant SPD mass M */
+typedef struct ball {
+  size_t n;
+  double M[BALL_MAX * BALL_MAX];
+} ball;
+
+static int ball_mass(double t, const double *q, double *M, void *params) {
+  const ball *b = params;
+  (void)t, (void)q;
+  memcpy(M, b->M, b->n * b->n * sizeof *M);
+  return 0;
+}
+
+static int ball_force(double t, const double *q, const double *v, double *F, void *params) {
+  const ball *b = params;
+  (void)t, (void)q, (void)v;
+  for (size_t i = 0; i < b->n; i++) F[i] = i == 1 ? -9.81 : 0.0;
+  return 0;
+}
+
+static int ball_constraint(double t, const double *q, double *c, void *params) {
+  const ball *b = params;
+  double r2 = 0.0;
+  (void)t;
+  for (size_t i = 0; i < b->n; i++) r2 += q[i] * q[i];
+  c[0] = 0.5 * (r2 - 1.0);
+  return 0;
+}
+
+static int ball_jacobian(double t, const double *q, double *G, void *params) {
+  const ball *b = params;
+  (void)t;
+  memcpy(G, q, b->n * sizeof *q);
+  return 0;
+}
+
+static sdae_mbs ball_mbs(ball *b) {
+  sdae_mbs s = {.n_q = b->n, .n_c = 1, .mass = ball_mass, .force = ball_force,
+                .constraint = ball_constraint, .jacobian = ball_jacobian, .params = b};
+  return s;
+}
+
+/* M = B^T D B (+ I) as a user's code writes it, each entry its own sum: symmetric to rounding */
+static void ball_gram(ball *b, const double *B, const double *D, double identity) {
+  size_t n = b->n;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) {
+      double acc = i == j ? identity : 0.0;
+      for (size_t k = 0; k < n; k++) acc += B[k * n + i] * D[k] * B[k * n + j];
+      b->M[i * n + j] = acc;
+    }
+}
+
+/* Steps of 0.01 from q on the sphere with velocity v tangent to it, the start where the
+ * heaviest direction of M is the sphere's normal: there W^T M W keeps none of M's large
+ * entries, the case where forming it entry by entry left its triangles different by more than
+ * the Cholesky test allowed. Every step SDAE_OK, c and G v at rounding (Phi^-1 solves c = 0 by
+ * Newton to rounding; v solves G v = 0 with W spanning ker G), the multiplier computed. */
+static void expect_ball_runs(ball *b, const double *q0, const double *v0, int steps) {
+  sdae_mbs sys = ball_mbs(b);
+  sdae_options o = options(sdae_map_euler);
+  sdae_mbs_stepper *s;
+  double q[BALL_MAX], v[BALL_MAX], lambda;
+  size_t n = b->n;
+  memcpy(q, q0, n * sizeof *q), memcpy(v, v0, n * sizeof *v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_OK);
+  for (int k = 0; k < steps; k++) {
+    double c, Gv = 0.0, vn = 0.0;
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * k, 0.01, q, v), SDAE_OK);
+    ball_constraint(0.0, q, &c, b);
+    for (size_t i = 0; i < n; i++) Gv += q[i] * v[i], vn = fmax(vn, fabs(v[i]));
+    ck_assert_double_le(fabs(c), 4.0 * DBL_EPSILON);
+    ck_assert_double_le(fabs(Gv), 4.0 * (double)n * DBL_EPSILON * vn);
+  }
+  sdae_mbs_stepper_free(s);
+}
+
+/* M = R diag(K, 1, 1) R^T, R the rotation by 0.7 about (1, 2, 3) (Rodrigues' formula); the
+ * start on the heavy axis R e_0, moving along R e_1 at 0.5 */
+static void ball_rotated(ball *b, double K, double *q, double *v) {
+  const double c = cos(0.7), s = sin(0.7), nrm = sqrt(14.0), D[3] = {K, 1.0, 1.0};
+  const double u[3] = {1.0 / nrm, 2.0 / nrm, 3.0 / nrm};
+  const double ux[9] = {0.0, -u[2], u[1], u[2], 0.0, -u[0], -u[1], u[0], 0.0};
+  double Rt[9];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      Rt[j * 3 + i] = (i == j ? c : 0.0) + (1.0 - c) * u[i] * u[j] + s * ux[i * 3 + j];
+  b->n = 3;
+  ball_gram(b, Rt, D, 0.0);
+  for (int i = 0; i < 3; i++) q[i] = Rt[i], v[i] = 0.5 * Rt[3 + i];
+}
+
+/* R diag(K, 1, 1) R^T for K = 100 and 1e6: as computed (symmetric to rounding) and with its
+ * upper triangle mirrored (exactly symmetric) */
+START_TEST(rotated_masses_are_accepted) {
+  const double K[2] = {100.0, 1e6};
+  for (int k = 0; k < 2; k++)
+    for (int exact = 0; exact < 2; exact++) {
+      ball b;
+      double q[3], v[3];
+      ball_rotated(&b, K[k], q, v);
+      if (exact)
+        for (size_t i = 0; i < 3; i++)
+          for (size_t j = 0; j < i; j++) b.M[i * 3 + j] = b.M[j * 3 + i];
+      expect_ball_runs(&b, q, v, 300);
+    }
+}
+END_TEST
+
+/* M = A^T D A + I, A with entries in [-1, 1], D log-uniform in [1e-2, 1e4] (a linear
+ * congruential generator, seeded): n = 4..8, five masses each; the start on M's heaviest
+ * eigenvector, moving along its lightest at 0.5 */
+START_TEST(random_masses_are_accepted) {
+  unsigned long long state = 20240611;
+  gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc(BALL_MAX);
+  for (size_t n = 4; n <= BALL_MAX; n++)
+    for (int trial = 0; trial < 5; trial++) {
+      ball b;
+      double A[BALL_MAX * BALL_MAX], D[BALL_MAX], S[BALL_MAX * BALL_MAX], lam[BALL_MAX];
+      double X[BALL_MAX * BALL_MAX], q[BALL_MAX], v[BALL_MAX];
+      gsl_matrix_view Sv = gsl_matrix_view_array(S, n, n), Xv = gsl_matrix_view_array(X, n, n);
+      gsl_vector_view lv = gsl_vector_view_array(lam, n);
+      size_t heavy = 0, light = 0;
+      b.n = n;
+      for (size_t i = 0; i < n * n + n; i++) {
+        double u;
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        u = (double)(state >> 11) * 0x1p-53;
+        if (i < n * n) A[i] = 2.0 * u - 1.0;
+        else D[i - n * n] = pow(10.0, -2.0 + 6.0 * u);
+      }
+      ball_gram(&b, A, D, 1.0);
+      memcpy(S, b.M, n * n * sizeof *S);
+      ck_assert_int_eq(gsl_eigen_symmv(&Sv.matrix, &lv.vector, &Xv.matrix, ws), GSL_SUCCESS);
+      for (size_t k = 1; k < n; k++) {
+        if (lam[k] > lam[heavy]) heavy = k;
+        if (lam[k] < lam[light]) light = k;
+      }
+      for (size_t i = 0; i < n; i++) q[i] = X[i * n + heavy], v[i] = 0.5 * X[i * n + light];
+      expect_ball_runs(&b, q, v, 100);
+    }
+  gsl_eigen_symmv_free(ws);
+}
+END_TEST
+
+/* the rotated mass with one off-diagonal entry off by 1e-8 of K: not symmetric (an error of
+ * the model, far above rounding), refused by the step and the multiplier, the state kept */
+START_TEST(slightly_asymmetric_mass_is_refused) {
+  ball b;
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_euler);
+  sdae_mbs_stepper *s;
+  double q[3], v[3], lambda = 7.0;
+  ball_rotated(&b, 1e6, q, v);
+  b.M[1] += 1e-8 * 1e6;
+  sys = ball_mbs(&b);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 0.01, q, v, 3, SDAE_ERR_MASS);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
+  ck_assert_double_eq(lambda, 7.0);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* ---- every callback failing ---- */
 
 enum { CB_MASS, CB_FORCE, CB_CONSTRAINT, CB_JACOBIAN, CB_CONSTRAINT_T, CB_POTENTIAL, CB_DAMPING,
@@ -636,6 +809,30 @@ START_TEST(nonfinite_state) {
 }
 END_TEST
 
+/* Finite states whose quantities overflow: |G v| = 0.6 v + 0.8 v = 2.1e308 > DBL_MAX for
+ * v = (1.5e308, 1.5e308) at q = (0.6, 0.8); v^T M v = 1e400 for |v| = 1e200; the multiplier,
+ * m (L omega^2 + g cos theta) / L, with omega = 1e200. Each query: SDAE_ERR_NONFINITE, its
+ * output untouched. */
+START_TEST(queries_report_overflow) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2] = {0.6, 0.8}, v[2] = {1.5e308, 1.5e308}, out[2] = {7.0, 7.0};
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_double_eq(out[1], 7.0);
+  pendulum_state(&p, 0.3, 1e200, q, v);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(out[0], 7.0);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, 0);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* T <= 0 or not finite: SDAE_ERR_STEP, before and after a good step */
 START_TEST(bad_step_size) {
   mech_pendulum p = PENDULUM;
@@ -692,6 +889,63 @@ START_TEST(integrate_failure_keeps_last_good_state) {
 }
 END_TEST
 
+/* ---- a step failing after the normal form's step ---- */
+
+/* the pendulum whose constraint fails (recoverably) at t = fail_t while armed: the step from
+ * t = 0 with T = 0.01 calls it at 0.01 only in Phi^-1 at t + T, after the normal form's step */
+typedef struct late_failure {
+  pendulum p;
+  double fail_t;
+  int armed;
+} late_failure;
+
+static int late_constraint(double t, const double *q, double *c, void *params) {
+  late_failure *f = params;
+  pendulum_constraint(t, q, c, &f->p);
+  return f->armed && t == f->fail_t ? 1 : 0;
+}
+
+static void expect_same_stats(const sdae_mbs_stats *a, const sdae_mbs_stats *b) {
+  ck_assert_uint_eq(a->step.steps, b->step.steps);
+  ck_assert_uint_eq(a->step.phi_evals, b->step.phi_evals);
+  ck_assert_uint_eq(a->step.newton_iters_total, b->step.newton_iters_total);
+  ck_assert_uint_eq(a->step.newton_iters_last, b->step.newton_iters_last);
+  ck_assert_double_eq(a->step.newton_residual_last, b->step.newton_residual_last);
+  ck_assert_uint_eq(a->chart_switches, b->chart_switches);
+  ck_assert_uint_eq(a->phi_inv_iters, b->phi_inv_iters);
+  ck_assert_double_eq(a->chart_measure, b->chart_measure);
+}
+
+/* A failed step counts nothing: after it, the statistics are a fresh stepper's (all zero), and
+ * after the good step that follows, exactly what a fresh stepper's one good step reports. */
+START_TEST(failed_step_counts_nothing) {
+  late_failure f = {{1.0, 1.0, 9.81, 0.0}, 0.01, 0};
+  sdae_mbs sys = pendulum_mbs(&f.p);
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *fresh, *s;
+  sdae_mbs_stats zero;
+  double q[2], v[2], qf[2], vf[2];
+  memset(&zero, 0, sizeof zero);
+  sys.constraint = late_constraint, sys.params = &f;
+  pendulum_state(&f.p, 0.3, 0.5, qf, vf);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&fresh, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(fresh, 0.0, 0.01, qf, vf), SDAE_OK);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(fresh)->step.steps, 1);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_state(&f.p, 0.3, 0.5, q, v);
+  f.armed = 1;
+  expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_CALLBACK_RECOVERABLE);
+  expect_same_stats(sdae_mbs_stepper_stats(s), &zero);
+  f.armed = 0;
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
+  expect_same_stats(sdae_mbs_stepper_stats(s), sdae_mbs_stepper_stats(fresh));
+  ck_assert_mem_eq(q, qf, sizeof q);
+  ck_assert_mem_eq(v, vf, sizeof v);
+  sdae_mbs_stepper_free(fresh);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_errors");
   ADD_CASE(s, null_pointers);
@@ -709,6 +963,9 @@ int main(void) {
   ADD_CASE(s, phi_inverse_has_no_solution);
   ADD_CASE(s, mass_not_spd);
   ADD_CASE(s, mass_not_symmetric);
+  ADD_CASE(s, rotated_masses_are_accepted);
+  ADD_CASE(s, random_masses_are_accepted);
+  ADD_CASE(s, slightly_asymmetric_mass_is_refused);
   ADD_CASE(s, mass_fails);
   ADD_CASE(s, force_fails);
   ADD_CASE(s, constraint_fails);
@@ -719,7 +976,9 @@ int main(void) {
   ADD_CASE(s, damping_fails);
   ADD_CASE(s, queries_report_callback_failures);
   ADD_CASE(s, nonfinite_state);
+  ADD_CASE(s, queries_report_overflow);
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
+  ADD_CASE(s, failed_step_counts_nothing);
   return run_suite(s);
 }

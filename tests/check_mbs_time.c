@@ -13,6 +13,7 @@
 
 #include <stabdae/mbs.h>
 
+#include "mechanisms.h"
 #include "testmodels.h"
 
 static const double w = 1.5, a = 0.2, k = 2.0, g0 = 1.0;
@@ -210,6 +211,135 @@ START_TEST(energy_map_refused_on_moving_constraint) {
 }
 END_TEST
 
+/* Every map that evaluates H (the discrete gradient and its compositions) is refused on the
+ * moving wire; the midpoint maps, which need q0 only, are not. */
+START_TEST(every_energy_map_refused_on_moving_constraint) {
+  const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, sdae_map_midpoint,
+                                  sdae_map_midpoint4};
+  const int want[5] = {SDAE_ERR_MAP, SDAE_ERR_MAP, SDAE_ERR_MAP, SDAE_OK, SDAE_OK};
+  for (int i = 0; i < 5; i++) {
+    sdae_mbs sys = bead(1);
+    sdae_options o;
+    sdae_mbs_stepper *s;
+    double q[2], v[2];
+    sys.potential = potential;
+    sdae_options_default(&o);
+    o.map = maps[i];
+    memcpy(q, q_start, sizeof q), memcpy(v, v_start, sizeof v);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), want[i]);
+    sdae_mbs_stepper_free(s);
+  }
+}
+END_TEST
+
+/* ---- late times: the differences in t scale with max(1, |t|) ---- */
+
+static const pendulum PENDULUM = {1.0, 1.0, 9.81, 0.0};
+
+/* The pendulum does not depend on t, so its xi, its multiplier and a step are the same at
+ * t = 1e15 as at t = 0 (dc/dt = 0 exactly). At 1e15 the spacing of the doubles is 0.125: a
+ * difference step in t below that vanishes. */
+START_TEST(time_independent_at_late_time) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o;
+  sdae_mbs_stepper *s;
+  const double late = 1e15;
+  double q[2], v[2], q0[2], v0[2], q1[2], v1[2], xi0[2], xi1[2], lam0, lam1;
+  sdae_options_default(&o);
+  o.map = sdae_map_midpoint;
+  pendulum_state(&p, 0.4, 0.7, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, xi0), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(s, late, q, v, xi1), SDAE_OK);
+  for (int i = 0; i < 2; i++) ck_assert_double_le(fabs(xi1[i] - xi0[i]), 1e-15);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lam0), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_lambda(s, late, q, v, &lam1), SDAE_OK);
+  ck_assert_double_le(fabs(lam1 - lam0), 1e-12 * fabs(lam0));
+  ck_assert_double_le(fabs(lam0 - pendulum_lambda(&p, 0.4, 0.7)), 1e-10);
+  memcpy(q0, q, sizeof q), memcpy(v0, v, sizeof v);
+  memcpy(q1, q, sizeof q), memcpy(v1, v, sizeof v);
+  for (int n = 0; n < 10; n++) {
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * n, 0.01, q0, v0), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(s, late + 0.01 * n, 0.01, q1, v1), SDAE_OK);
+  }
+  for (int i = 0; i < 2; i++) {
+    ck_assert_double_le(fabs(q1[i] - q0[i]), 1e-13);
+    ck_assert_double_le(fabs(v1[i] - v0[i]), 1e-13);
+  }
+  ck_assert_double_le(fabs(q1[0] * q1[0] + q1[1] * q1[1] - 1.0), 1e-15);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* the same from the largest times: 20 steps from t0 = 1.7e308 as from t0 = 0 */
+START_TEST(integrate_from_the_largest_times) {
+  pendulum p = PENDULUM;
+  sdae_mbs sys = pendulum_mbs(&p);
+  sdae_options o;
+  sdae_mbs_stepper *s;
+  double q0[2], v0[2], q1[2], v1[2];
+  size_t done = 0;
+  sdae_options_default(&o);
+  o.map = sdae_map_dgrad;
+  pendulum_state(&p, 0.4, 0.7, q0, v0);
+  memcpy(q1, q0, sizeof q0), memcpy(v1, v0, sizeof v0);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 0.01, 20, 20, q0, v0, NULL, NULL, NULL), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 1.7e308, 0.01, 20, 20, q1, v1, NULL, NULL, &done),
+                   SDAE_OK);
+  ck_assert_uint_eq(done, 20);
+  for (int i = 0; i < 2; i++) {
+    ck_assert_double_le(fabs(q1[i] - q0[i]), 1e-13);
+    ck_assert_double_le(fabs(v1[i] - v0[i]), 1e-13);
+  }
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* A driven particle q = (x, y, z), c = (x - a t, y - sqrt(t)), dc/dt = (-a, -1/(2 sqrt t)),
+ * left to the library's difference in t. At t = 1e15 its step, 7.4e-4 t, is as relative to t
+ * as it is to 1 at t = 1: the difference of a t is exact but for the rounding of c (about
+ * eps a t / step = 3e-13 a), that of sqrt(t) good to (step / t)^4 = 3e-13 relative. */
+static const double drive_a = 0.5;
+
+static int drive_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  for (int i = 0; i < 9; i++) M[i] = i % 4 == 0 ? 1.0 : 0.0;
+  return 0;
+}
+
+static int drive_force(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  F[0] = F[1] = F[2] = 0.0;
+  return 0;
+}
+
+static int drive_constraint(double t, const double *q, double *c, void *params) {
+  (void)params;
+  c[0] = q[0] - drive_a * t;
+  c[1] = q[1] - sqrt(t);
+  return 0;
+}
+
+START_TEST(moving_constraint_at_late_time) {
+  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = drive_mass, .force = drive_force,
+                  .constraint = drive_constraint};
+  sdae_options o;
+  sdae_mbs_stepper *s;
+  const double late = 1e15;
+  double q[3] = {drive_a * late, sqrt(late), 0.0}, v[3] = {0.0, 0.0, 0.0}, xi[4];
+  double want = -0.5 / sqrt(late);
+  sdae_options_default(&o);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(s, late, q, v, xi), SDAE_OK);
+  ck_assert_double_le(fabs(xi[1] + drive_a), 1e-11 * drive_a);
+  ck_assert_double_le(fabs(xi[3] - want), 1e-11 * fabs(want));
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_time");
   ADD_CASE(s, euler_order_1);
@@ -220,5 +350,9 @@ int main(void) {
   ADD_CASE(s, lambda_differences);
   ADD_CASE(s, xi_vanishes_on_the_motion);
   ADD_CASE(s, energy_map_refused_on_moving_constraint);
+  ADD_CASE(s, every_energy_map_refused_on_moving_constraint);
+  ADD_CASE(s, time_independent_at_late_time);
+  ADD_CASE(s, integrate_from_the_largest_times);
+  ADD_CASE(s, moving_constraint_at_late_time);
   return run_suite(s);
 }

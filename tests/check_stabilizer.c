@@ -228,6 +228,28 @@ START_TEST(relative_degree_one_chains) {
 }
 END_TEST
 
+/* delta = 1e200: delta^2 / 2 = 5e399 overflows, so the gains of eq. 6 are -inf, which no step
+ * can use. Both schemes say so (SDAE_ERR_NONFINITE), xi and mu left as they were: scheme 15
+ * must not turn xi / (1 - T k) = xi / inf into a silent 0. */
+START_TEST(overflowing_gains_refused_by_both_schemes) {
+  const sdae_scheme schemes[2] = {SDAE_SCHEME_EXPLICIT, SDAE_SCHEME_SEMI_IMPLICIT};
+  for (int apply = 0; apply < 2; apply++)
+    for (int j = 0; j < 2; j++) {
+      sdae_model m = two_model(apply);
+      sdae_options o = two_options(schemes[j]);
+      sdae_stepper *s;
+      double xi[2] = {XI0[0], XI0[1]}, mu[3] = {MU0[0], MU0[1], MU0[2]};
+      o.delta = 1e200;
+      ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+      ck_assert_int_eq(sdae_step(s, 0.0, 0.01, xi, mu), SDAE_ERR_NONFINITE);
+      ck_assert_mem_eq(xi, XI0, sizeof xi);
+      ck_assert_mem_eq(mu, MU0, sizeof mu);
+      ck_assert_uint_eq(sdae_stepper_stats(s)->steps, 0);
+      sdae_stepper_free(s);
+    }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("stabilizer");
   ADD_CASE(s, gains_eq6_two_constraints);
@@ -237,5 +259,6 @@ int main(void) {
   ADD_CASE(s, baumgarte_decays_with_order_1);
   ADD_CASE(s, paper_stabilizer_factor_along_run);
   ADD_CASE(s, relative_degree_one_chains);
+  ADD_CASE(s, overflowing_gains_refused_by_both_schemes);
   return run_suite(s);
 }

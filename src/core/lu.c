@@ -155,15 +155,25 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
  * Cholesky's factorization, written out because GSL's reports a matrix that is not positive
  * definite through its error handler, which aborts by default, and the library must return a
  * status instead. The factor is laid out as gsl_linalg_cholesky_decomp1 leaves it (L below the
- * diagonal, L^T above). A is taken as not symmetric positive definite
- * when it is not symmetric to n eps of its largest entry or a pivot falls to n eps of it. */
+ * diagonal, L^T above). A is taken as not symmetric positive definite when its triangles differ
+ * by more than rounding (below) or a pivot falls to n eps of its largest entry.
+ *
+ * The rounding of a symmetric product (B^T D B, R diag R^T, a sum over bodies of J^T M_b J)
+ * formed entry by entry: each entry of m terms is off by at most m eps times the sum of the
+ * terms' sizes, which is at most max|A| when the terms are positive semidefinite (Cauchy-Schwarz
+ * bounds them by the diagonal), and the two triangles round independently: 2 m eps max|A|. The
+ * test allows m = SYM_TERMS n terms per entry (a rigid body's six per coordinate and more),
+ * 3.6e-15 n of max|A|: an asymmetry of 1e-8 of it, a model's error and not rounding, is still
+ * refused up to n = 2.8e6. */
+#define SYM_TERMS 8.0
 int sdae__cholesky_factor(double *A, size_t n) {
-  double scale = 0.0, tol;
+  double scale = 0.0, tol, sym_tol;
   for (size_t i = 0; i < n * n; i++) scale = fabs(A[i]) > scale ? fabs(A[i]) : scale;
   tol = (double)n * DBL_EPSILON * scale;
+  sym_tol = 2.0 * SYM_TERMS * tol;
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < i; j++)
-      if (!(fabs(A[i * n + j] - A[j * n + i]) <= tol)) return SDAE_ERR_MASS;
+      if (!(fabs(A[i * n + j] - A[j * n + i]) <= sym_tol)) return SDAE_ERR_MASS;
   for (size_t j = 0; j < n; j++) {
     double d = A[j * n + j];
     for (size_t k = 0; k < j; k++) d -= A[j * n + k] * A[j * n + k];

@@ -24,6 +24,9 @@ struct sdae_map_type {
   const char *name;
   unsigned order;  /* of accuracy as T -> 0; 0: the user's map decides */
   int implicit;    /* phi depends on mu+: the step solves for mu+ by Newton */
+  /* phi evaluates the model's energy H (a discrete gradient): what it conserves is H at a fixed
+   * t, so a front-end whose H would depend on t must refuse it */
+  int uses_H;
   /* optional (NULL: nothing beyond q0 and Q): SDAE_OK when the model gives every callback the
    * map needs, SDAE_ERR_MAP otherwise */
   int (*needs)(const sdae_model *m);
@@ -57,6 +60,11 @@ static inline int sdae__map_phi(const sdae_map_type *map, sdae_map_ctx *c, doubl
 /* the map's Newton solves need a Newton workspace (implicit maps and compositions of them) */
 static inline int sdae__map_uses_newton(const sdae_map_type *map) {
   return map->implicit || (map->base && map->base->implicit);
+}
+
+/* the map evaluates H: its own property, or its base's for a composed map */
+static inline int sdae__map_uses_H(const sdae_map_type *map) {
+  return map->uses_H || (map->base && map->base->uses_H);
 }
 
 /* Newton on a step's or a stage's equation y = x + h (phi_T(x, y) + shift) (shift may be NULL),

@@ -158,6 +158,7 @@ const sdae_map_type sdae__dgrad_type = {
     .name = "dgrad",
     .order = 2,
     .implicit = 1,
+    .uses_H = 1,
     .needs = dgrad_needs,
     .scratch = dgrad_scratch,
     .phi = dgrad_phi,

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "maps/map.h"
 #include "mbs_impl.h"
 #include "stepper/stepper.h"
 
@@ -18,63 +19,22 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
   return SDAE_OK;
 }
 
-static void carve_point(sdae_mbs_point *p, size_t n_q, size_t n_c, size_t n_f, sdae_arena *a) {
-  p->q = sdae__take(a, n_q, 1);
-  p->v = sdae__take(a, n_q, 1);
-  p->c = sdae__take(a, n_c, 1);
-  p->ct = sdae__take(a, n_c, 1);
-  p->G = sdae__take(a, n_c, n_q);
-  p->GD = sdae__take(a, n_c, n_c <= SDAE_SMALL_DENSE ? n_c : sdae__lu_band_cols(n_c - 1, n_c - 1));
-  p->piv = sdae__take_pivots(a, n_c);
-  p->A = sdae__take(a, n_c, n_f);
-  p->W = sdae__take(a, n_q, n_f);
-  p->M = sdae__take(a, n_q, n_q);
-}
-
-/* the front-end's arrays, then the normal form's stepper (its bytes counted by its own rule) */
+/* the parts' arrays, the step's own, then the normal form's stepper (its bytes counted by its
+ * own rule) */
 static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
-  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f;
-  s->dep = sdae__take_indices(a, n_c);
-  s->ind = sdae__take_indices(a, n_f);
-  s->perm = sdae__take_indices(a, n_q);
-  s->cand_dep = sdae__take_indices(a, n_c);
-  s->cand_ind = sdae__take_indices(a, n_f);
-  s->saved = sdae__take_indices(a, n_q);
-  s->qr = sdae__take(a, n_c, n_q);
-  s->tau = sdae__take(a, n_c, 1);
-  s->norm = sdae__take(a, n_q, 1);
-  carve_point(&s->pt, n_q, n_c, n_f, a);
-  s->pt_key = sdae__take(a, 2 * n_q, 1);
-  s->q_base = sdae__take(a, n_q, 1);
-  s->xi = sdae__take(a, 2 * n_c, 1);
-  s->mu = sdae__take(a, 2 * n_f, 1);
-  s->zero = sdae__take(a, 2 * n_c, 1);
-  s->Mr = sdae__take(a, n_f, n_f);
-  s->R = sdae__take(a, n_f, n_f);
-  s->rf = sdae__take(a, n_f, 1);
-  s->fd_q = sdae__take(a, n_q, 1);
-  s->fd_qj = sdae__take(a, n_q, 1);
-  s->fd_G = sdae__take(a, n_c, n_q);
-  s->fd_M = sdae__take(a, n_q, n_q);
-  s->fd_c = sdae__take(a, n_c, 1);
-  s->fd_ct = sdae__take(a, n_c, 1);
-  s->Gdot = sdae__take(a, n_c, n_q);
-  s->Mdv = sdae__take(a, n_q, 1);
-  s->gdot = sdae__take(a, n_c, 1);
-  s->r1 = sdae__take(a, n_q, 1);
-  s->r2 = sdae__take(a, n_q, 1);
-  s->r3 = sdae__take(a, n_q, 1);
-  s->X = sdae__take(a, n_c, n_f);
-  s->LY = sdae__take(a, n_c, n_q);
-  s->LA = sdae__take(a, n_c, n_c);
-  sdae__mbs_derive_carve(s, a);
+  sdae__mbs_eval_carve(&s->eval, a);
+  sdae__mbs_chart_carve(&s->chart, a);
+  sdae__mbs_coords_carve(&s->coords, a);
+  sdae__mbs_model_carve(&s->nf, a);
+  sdae__mbs_query_carve(&s->query, s->n_q, s->n_c, a);
+  s->xi = sdae__take(a, 2 * s->n_c, 1);
+  s->mu = sdae__take(a, 2 * s->n_f, 1);
   s->inner = sdae__take_array(a, inner_bytes, 1, alignof(max_align_t));
 }
 
-/* the stepper's fields that do not live in the arrays */
+/* the stepper's parts wired to each other, arrays not yet handed out */
 static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o) {
   memset(s, 0, sizeof *s);
-  s->sys = *sys;
   s->opt = *o;
   /* the noise of the differences (SDAE_MBS_NEWTON_TOL); an invalid tolerance stays, for the
    * validation to refuse */
@@ -83,8 +43,11 @@ static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o
   s->n_q = sys->n_q;
   s->n_c = sys->n_c;
   s->n_f = sys->n_q - sys->n_c;
-  s->energy_map = o->map == sdae_map_dgrad || o->map == sdae_map_dg4 || o->map == sdae_map_dg6;
-  sdae__mbs_model(s);
+  s->energy_map = o->map && sdae__map_uses_H(o->map); /* no map: refused by the validation */
+  sdae__mbs_eval_init(&s->eval, sys);
+  sdae__mbs_chart_init(&s->chart, s->n_q, s->n_c);
+  sdae__mbs_coords_init(&s->coords, &s->eval, &s->chart, o->newton_max_iter);
+  sdae__mbs_model_init(&s->nf, &s->eval, &s->coords);
 }
 
 /* the block's bytes (with room to align a caller's block) and the normal form's stepper's */
@@ -94,8 +57,8 @@ static int measure(const sdae_mbs *sys, const sdae_options *o, size_t *bytes, si
   int rc = validate(sys, o);
   if (rc != SDAE_OK) return rc;
   wire(&probe, sys, o);
-  if ((rc = sdae__stepper_validate(&probe.model, &probe.opt)) != SDAE_OK) return rc;
-  if ((*inner = sdae_stepper_size(&probe.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
+  if ((rc = sdae__stepper_validate(&probe.nf.model, &probe.opt)) != SDAE_OK) return rc;
+  if ((*inner = sdae_stepper_size(&probe.nf.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
   carve(&probe, &a, *inner);
   return sdae__block_bytes(&a, sizeof(sdae_mbs_stepper), bytes);
 }
@@ -113,9 +76,8 @@ static sdae_mbs_stepper *build(void *mem, const sdae_mbs *sys, const sdae_option
   wire(s, sys, o);
   carve(s, &a, inner);
   inner_mem = s->inner;
-  memset(s->zero, 0, 2 * s->n_c * sizeof *s->zero);
   /* measured with the same model and options: cannot fail */
-  sdae_stepper_init(&s->inner, inner_mem, inner, &s->model, &s->opt);
+  sdae_stepper_init(&s->inner, inner_mem, inner, &s->nf.model, &s->opt);
   return s;
 }
 
@@ -154,24 +116,28 @@ void sdae_mbs_stepper_free(sdae_mbs_stepper *s) {
 
 /* ---- the step ---- */
 
-static int state_ok(const sdae_mbs_stepper *s, double t, const double *q, const double *v) {
-  if (!isfinite(t)) return SDAE_ERR_PARAM;
-  return sdae__all_finite(q, s->n_q) && sdae__all_finite(v, s->n_q) ? SDAE_OK : SDAE_ERR_STATE;
+/* the statistics, from the parts' counters and the normal form's stepper's: the one place they
+ * are put together, after every step and reset */
+static void gather_stats(sdae_mbs_stepper *s) {
+  s->stats.step = *sdae_stepper_stats(s->inner);
+  s->stats.chart_switches = s->chart.switches;
+  s->stats.phi_inv_iters = s->coords.phi_inv_iters;
+  s->stats.chart_measure = s->chart.measure;
 }
 
-/* M at (t, q) into the point, and its Cholesky factor in scratch: SDAE_ERR_MASS unless SPD */
-static int mass_at(sdae_mbs_stepper *s, double t, const double *q) {
-  int rc = sdae__mbs_mass(s, t, q, s->pt.M);
-  if (rc != SDAE_OK) return rc;
-  memcpy(s->fd_M, s->pt.M, s->n_q * s->n_q * sizeof *s->fd_M);
-  return sdae__cholesky_factor(s->fd_M, s->n_q);
+/* what coords and the normal form keep (Phi^-1's configuration, q0 at a (t, mu)) came from an
+ * earlier start of Phi^-1's Newton, and after a chart switch from another chart: a step starts
+ * without it, and a failed one leaves none of its own behind */
+static void forget(sdae_mbs_stepper *s) {
+  sdae__mbs_coords_forget(&s->coords);
+  sdae__mbs_model_forget(&s->nf);
 }
 
 /* the energy-conserving maps need time-independent constraints */
 static int energy_map_ok(const sdae_mbs_stepper *s) {
   if (!s->energy_map) return SDAE_OK;
   for (size_t j = 0; j < s->n_c; j++)
-    if (s->pt.ct[j] != 0.0) return SDAE_ERR_MAP;
+    if (s->coords.ct[j] != 0.0) return SDAE_ERR_MAP;
   return SDAE_OK;
 }
 
@@ -179,53 +145,50 @@ static int energy_map_ok(const sdae_mbs_stepper *s) {
 static int normal_step(sdae_mbs_stepper *s, double t, double T) {
   int rc = sdae_step(s->inner, t, T, s->xi, s->mu);
   if ((rc == SDAE_ERR_CALLBACK_FATAL || rc == SDAE_ERR_CALLBACK_RECOVERABLE) &&
-      s->status != SDAE_OK)
-    rc = s->status;
+      s->nf.status != SDAE_OK)
+    rc = s->nf.status;
   return rc;
 }
 
-static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v) {
+/* (q, v) -> xi, the chart (the best one with force_best), mu -> one step -> Phi^-1 at t + T */
+static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v,
+                    int force_best) {
   int rc;
-  s->status = SDAE_OK;
-  if ((rc = sdae__mbs_xi_at(s, t, q, v, s->xi)) != SDAE_OK || (rc = energy_map_ok(s)) != SDAE_OK ||
-      (rc = sdae__mbs_choose_chart(s)) != SDAE_OK || (rc = mass_at(s, t, q)) != SDAE_OK)
+  s->nf.status = SDAE_OK;
+  if ((rc = sdae__mbs_coords_xi(&s->coords, t, q, v, s->xi)) != SDAE_OK ||
+      (rc = energy_map_ok(s)) != SDAE_OK ||
+      (rc = sdae__mbs_chart_choose(&s->chart, s->coords.G, force_best)) != SDAE_OK ||
+      (rc = sdae__mbs_coords_begin(&s->coords, t, q, v, s->mu)) != SDAE_OK)
     return rc;
-  sdae__mbs_mu_at(s, q, v, s->mu);
-  memcpy(s->q_base, q, s->n_q * sizeof *q);
-  sdae__mbs_forget(s);
+  forget(s);
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
-  return sdae__mbs_phi_inv(s, t + T, s->xi, s->mu);
+  return sdae__mbs_phi_inv(&s->coords, t + T, s->xi, s->mu);
 }
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
-  sdae_mbs_stats stats;
-  int had_chart, rc;
+  sdae_stats inner;
+  unsigned long phi_inv_iters;
+  int rc;
   if (!s || !q || !v) return SDAE_ERR_NULL;
   if (!(isfinite(T) && T > 0.0)) return SDAE_ERR_STEP;
-  if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
-  stats = s->stats;
-  had_chart = s->have_chart;
-  memcpy(s->saved, s->dep, s->n_c * sizeof *s->dep);
-  memcpy(s->saved + s->n_c, s->ind, s->n_f * sizeof *s->ind);
-  rc = try_step(s, t, T, q, v);
-  if (rc == SDAE_ERR_PHI_INV && s->kept) {
-    /* the chart kept by hysteresis folds within the step: once more in the best one */
-    s->force_best = 1;
-    rc = try_step(s, t, T, q, v);
-    s->force_best = 0;
+  if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK) return rc;
+  inner = *sdae_stepper_stats(s->inner);
+  phi_inv_iters = s->coords.phi_inv_iters;
+  sdae__mbs_chart_save(&s->chart);
+  rc = try_step(s, t, T, q, v, 0);
+  if (rc == SDAE_ERR_PHI_INV && s->chart.kept) /* the chart kept by hysteresis folds within */
+    rc = try_step(s, t, T, q, v, 1);           /* the step: once more in the best one */
+  if (rc == SDAE_OK) {
+    memcpy(q, s->coords.q, s->n_q * sizeof *q);
+    memcpy(v, s->coords.v, s->n_q * sizeof *v);
+  } else { /* the chart and every count (the normal form's stepper's too) as before */
+    sdae__mbs_chart_restore(&s->chart);
+    s->coords.phi_inv_iters = phi_inv_iters;
+    sdae__stepper_restore_stats(s->inner, &inner);
+    forget(s);
   }
-  if (rc != SDAE_OK) { /* the chart and the statistics as they were */
-    memcpy(s->dep, s->saved, s->n_c * sizeof *s->dep);
-    memcpy(s->ind, s->saved + s->n_c, s->n_f * sizeof *s->ind);
-    s->have_chart = had_chart;
-    s->stats = stats;
-    sdae__mbs_forget(s);
-    return rc;
-  }
-  memcpy(q, s->pt.q, s->n_q * sizeof *q);
-  memcpy(v, s->pt.v, s->n_q * sizeof *v);
-  s->stats.step = *sdae_stepper_stats(s->inner);
-  return SDAE_OK;
+  gather_stats(s);
+  return rc;
 }
 
 /* ---- integrate ---- */
@@ -257,79 +220,15 @@ int sdae_mbs_integrate(sdae_mbs_stepper *s, double t0, double T, size_t nsteps, 
   return sdae__drive(&d, t0, T, nsteps, every, steps_done);
 }
 
-/* ---- quantities at a state ---- */
-
-int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
-  int rc;
-  if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
-  if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
-  return sdae__mbs_xi_at(s, t, q, v, xi);
-}
-
-int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *E) {
-  double V = 0.0, kinetic = 0.0;
-  size_t n = 0;
-  int rc;
-  if (!s || !q || !v || !E) return SDAE_ERR_NULL;
-  if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
-  n = s->n_q;
-  if ((rc = sdae__mbs_mass(s, t, q, s->fd_M)) != SDAE_OK) return rc;
-  if (s->sys.potential && (rc = sdae__mbs_potential(s, t, q, &V)) != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++)
-    for (size_t j = 0; j < n; j++) kinetic += v[i] * s->fd_M[i * n + j] * v[j];
-  *E = 0.5 * kinetic + V;
-  return SDAE_OK;
-}
-
-/* (G M^-1 G^T) lambda = G M^-1 F + gamma: Y = G M^-1 row by row (M symmetric), then the
- * n_c x n_c system, singular only when the constraints are dependent */
-int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *lambda) {
-  size_t n_q, n_c;
-  int rc;
-  if (!s || !q || !v || !lambda) return SDAE_ERR_NULL;
-  if ((rc = state_ok(s, t, q, v)) != SDAE_OK) return rc;
-  n_q = s->n_q, n_c = s->n_c;
-  if ((rc = sdae__mbs_along(s, t, q, v, s->Gdot, NULL, s->gdot)) != SDAE_OK ||
-      (rc = sdae__mbs_jacobian(s, t, q, s->Gdot)) != SDAE_OK ||
-      (rc = sdae__mbs_force(s, t, q, v, s->r1)) != SDAE_OK ||
-      (rc = sdae__mbs_mass(s, t, q, s->fd_M)) != SDAE_OK ||
-      (rc = sdae__cholesky_factor(s->fd_M, n_q)) != SDAE_OK)
-    return rc;
-  for (size_t j = 0; j < n_c; j++) {
-    memcpy(s->LY + j * n_q, s->Gdot + j * n_q, n_q * sizeof *s->LY);
-    sdae__cholesky_solve(s->fd_M, n_q, s->LY + j * n_q);
-  }
-  for (size_t i = 0; i < n_c; i++) {
-    double b = s->gdot[i];
-    for (size_t k = 0; k < n_q; k++) b += s->LY[i * n_q + k] * s->r1[k];
-    s->r2[i] = b;
-    for (size_t j = 0; j < n_c; j++) {
-      double acc = 0.0;
-      for (size_t k = 0; k < n_q; k++) acc += s->Gdot[i * n_q + k] * s->LY[j * n_q + k];
-      s->LA[i * n_c + j] = acc;
-    }
-  }
-  if (sdae__cholesky_factor(s->LA, n_c) != SDAE_OK) return SDAE_ERR_RANK;
-  sdae__cholesky_solve(s->LA, n_c, s->r2);
-  memcpy(lambda, s->r2, n_c * sizeof *lambda);
-  return SDAE_OK;
-}
-
-int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
-  if (!s || !dependent) return SDAE_ERR_NULL;
-  if (!s->have_chart) return SDAE_ERR_CHART;
-  memcpy(dependent, s->dep, s->n_c * sizeof *dependent);
-  return SDAE_OK;
-}
-
 const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s) {
   return s ? &s->stats : NULL;
 }
 
 void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   if (!s) return;
-  memset(&s->stats, 0, sizeof s->stats);
+  s->chart.switches = 0;
+  s->chart.measure = 0.0;
+  s->coords.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
+  gather_stats(s);
 }

@@ -11,8 +11,10 @@
 
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_permutation.h>
+#include <stabdae/mbs.h>
 
-#include "mbs_impl.h"
+#include "core/lu.h"
+#include "mbs_chart.h"
 
 static void sort(size_t *x, size_t n) {
   for (size_t i = 1; i < n; i++)
@@ -23,62 +25,88 @@ static void sort(size_t *x, size_t n) {
     }
 }
 
-/* G_D's LU in the point, from the current chart's columns of its G: the small dense one for up
- * to SDAE_SMALL_DENSE constraints (GSL's views and calls would dominate), GSL's otherwise;
- * SDAE_ERR_RANK when it is singular */
-static int gd_factor(sdae_mbs_stepper *s, const size_t *dep) {
-  size_t n_q = s->n_q, n_c = s->n_c, b = n_c - 1;
-  for (size_t i = 0; i < n_c; i++)
-    for (size_t j = 0; j < n_c; j++) s->LA[i * n_c + j] = s->pt.G[i * n_q + dep[j]];
-  if (n_c <= SDAE_SMALL_DENSE) {
-    memcpy(s->pt.GD, s->LA, n_c * n_c * sizeof *s->LA);
-    return sdae__lu_small_factor(s->pt.GD, s->pt.piv, n_c) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
-  }
-  sdae__lu_pack(s->LA, n_c, b, b, s->pt.GD);
-  return sdae__lu_factor(s->pt.GD, s->pt.piv, n_c, b, b) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
+void sdae__mbs_chart_init(sdae_mbs_atlas *ch, size_t n_q, size_t n_c) {
+  ch->n_q = n_q;
+  ch->n_c = n_c;
+  ch->n_f = n_q - n_c;
 }
 
-int sdae__mbs_gd_factor(sdae_mbs_stepper *s) { return gd_factor(s, s->dep); }
+void sdae__mbs_chart_carve(sdae_mbs_atlas *ch, sdae_arena *a) {
+  size_t n_q = ch->n_q, n_c = ch->n_c, n_f = ch->n_f;
+  ch->dep = sdae__take_indices(a, n_c);
+  ch->ind = sdae__take_indices(a, n_f);
+  ch->qr = sdae__take(a, n_c, n_q);
+  ch->tau = sdae__take(a, n_c, 1);
+  ch->norm = sdae__take(a, n_q, 1);
+  ch->perm = sdae__take_indices(a, n_q);
+  ch->cand_dep = sdae__take_indices(a, n_c);
+  ch->cand_ind = sdae__take_indices(a, n_f);
+  ch->gd = sdae__take(a, n_c, n_c);
+  ch->GD = sdae__take(a, n_c, n_c <= SDAE_SMALL_DENSE ? n_c : sdae__lu_band_cols(n_c - 1, n_c - 1));
+  ch->piv = sdae__take_pivots(a, n_c);
+  ch->A = sdae__take(a, n_c, n_f);
+  ch->W = sdae__take(a, n_q, n_f);
+  ch->col = sdae__take(a, n_c, 1);
+  ch->sol = sdae__take(a, n_c, 1);
+  ch->saved = sdae__take_indices(a, n_q);
+}
 
-void sdae__mbs_gd_solve(const sdae_mbs_stepper *s, const double *rhs, double *x) {
-  size_t n_c = s->n_c, b = n_c - 1;
+/* G_D's LU from the chart dep's columns of G: the small dense one for up to SDAE_SMALL_DENSE
+ * constraints (GSL's views and calls would dominate), GSL's otherwise; SDAE_ERR_RANK when it is
+ * singular */
+static int gd_factor(sdae_mbs_atlas *ch, const double *G, const size_t *dep) {
+  size_t n_q = ch->n_q, n_c = ch->n_c, b = n_c - 1;
+  for (size_t i = 0; i < n_c; i++)
+    for (size_t j = 0; j < n_c; j++) ch->gd[i * n_c + j] = G[i * n_q + dep[j]];
+  if (n_c <= SDAE_SMALL_DENSE) {
+    memcpy(ch->GD, ch->gd, n_c * n_c * sizeof *ch->gd);
+    return sdae__lu_small_factor(ch->GD, ch->piv, n_c) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
+  }
+  sdae__lu_pack(ch->gd, n_c, b, b, ch->GD);
+  return sdae__lu_factor(ch->GD, ch->piv, n_c, b, b) == SDAE_OK ? SDAE_OK : SDAE_ERR_RANK;
+}
+
+int sdae__mbs_gd_factor(sdae_mbs_atlas *ch, const double *G) { return gd_factor(ch, G, ch->dep); }
+
+void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x) {
+  size_t n_c = ch->n_c, b = n_c - 1;
   if (n_c <= SDAE_SMALL_DENSE)
-    sdae__lu_small_solve(s->pt.GD, s->pt.piv, n_c, rhs, x);
+    sdae__lu_small_solve(ch->GD, ch->piv, n_c, rhs, x);
   else
-    sdae__lu_factored_solve(s->pt.GD, s->pt.piv, n_c, b, b, rhs, x);
+    sdae__lu_factored_solve(ch->GD, ch->piv, n_c, b, b, rhs, x);
 }
 
 /* G_D's LU and A = G_D^-1 G_I in the chart (dep, ind); max |A| into *measure */
-static int factor(sdae_mbs_stepper *s, const size_t *dep, const size_t *ind, double *measure) {
-  size_t n_q = s->n_q, n_c = s->n_c, n_f = s->n_f;
-  sdae_mbs_point *p = &s->pt;
+static int factor(sdae_mbs_atlas *ch, const double *G, const size_t *dep, const size_t *ind,
+                  double *measure) {
+  size_t n_q = ch->n_q, n_c = ch->n_c, n_f = ch->n_f;
   double m = 0.0;
-  if (gd_factor(s, dep) != SDAE_OK) return SDAE_ERR_RANK;
+  if (gd_factor(ch, G, dep) != SDAE_OK) return SDAE_ERR_RANK;
   for (size_t k = 0; k < n_f; k++) {
-    for (size_t i = 0; i < n_c; i++) s->r1[i] = p->G[i * n_q + ind[k]];
-    sdae__mbs_gd_solve(s, s->r1, s->r2);
+    for (size_t i = 0; i < n_c; i++) ch->col[i] = G[i * n_q + ind[k]];
+    sdae__mbs_gd_solve(ch, ch->col, ch->sol);
     for (size_t i = 0; i < n_c; i++) {
-      p->A[i * n_f + k] = s->r2[i];
-      m = fabs(s->r2[i]) > m ? fabs(s->r2[i]) : m;
+      ch->A[i * n_f + k] = ch->sol[i];
+      m = fabs(ch->sol[i]) > m ? fabs(ch->sol[i]) : m;
     }
   }
-  memset(p->W, 0, n_q * n_f * sizeof *p->W);
+  memset(ch->W, 0, n_q * n_f * sizeof *ch->W);
   for (size_t k = 0; k < n_f; k++) {
-    p->W[ind[k] * n_f + k] = 1.0;
-    for (size_t j = 0; j < n_c; j++) p->W[dep[j] * n_f + k] = -p->A[j * n_f + k];
+    ch->W[ind[k] * n_f + k] = 1.0;
+    for (size_t j = 0; j < n_c; j++) ch->W[dep[j] * n_f + k] = -ch->A[j * n_f + k];
   }
   if (measure) *measure = m;
   return SDAE_OK;
 }
 
-int sdae__mbs_chart_factor(sdae_mbs_stepper *s, double *measure) {
-  return factor(s, s->dep, s->ind, measure);
+int sdae__mbs_chart_factor(sdae_mbs_atlas *ch, const double *G, double *measure) {
+  return factor(ch, G, ch->dep, ch->ind, measure);
 }
 
-void sdae__mbs_Wt(const sdae_mbs_stepper *s, const double *u, double *out) {
-  for (size_t k = 0; k < s->n_f; k++) {
-    double acc = u[s->ind[k]];
-    for (size_t j = 0; j < s->n_c; j++) acc -= s->pt.A[j * s->n_f + k] * u[s->dep[j]];
+void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out) {
+  for (size_t k = 0; k < ch->n_f; k++) {
+    double acc = u[ch->ind[k]];
+    for (size_t j = 0; j < ch->n_c; j++) acc -= ch->A[j * ch->n_f + k] * u[ch->dep[j]];
     out[k] = acc;
   }
 }
@@ -94,28 +122,28 @@ int sdae__mbs_chart_verdict(double last, double first, size_t n_q) {
  * smallest angle between a gradient and the span of the others: zero to working precision is
  * SDAE_ERR_RANK (dependent constraints), below SDAE_MBS_CHART_MIN SDAE_ERR_CHART (nearly
  * dependent: q_D would be solved for with a condition number above 1 / SDAE_MBS_CHART_MIN). */
-static int proposal(sdae_mbs_stepper *s) {
-  size_t n_q = s->n_q, n_c = s->n_c;
-  gsl_matrix_view R = gsl_matrix_view_array(s->qr, n_c, n_q);
-  gsl_vector_view tau = gsl_vector_view_array(s->tau, n_c);
-  gsl_vector_view norm = gsl_vector_view_array(s->norm, n_q);
-  gsl_permutation perm = {n_q, s->perm};
+static int proposal(sdae_mbs_atlas *ch, const double *G) {
+  size_t n_q = ch->n_q, n_c = ch->n_c;
+  gsl_matrix_view R = gsl_matrix_view_array(ch->qr, n_c, n_q);
+  gsl_vector_view tau = gsl_vector_view_array(ch->tau, n_c);
+  gsl_vector_view norm = gsl_vector_view_array(ch->norm, n_q);
+  gsl_permutation perm = {n_q, ch->perm};
   double last, first;
   int signum, rc;
   for (size_t i = 0; i < n_c; i++) {
     double row = 0.0;
-    for (size_t j = 0; j < n_q; j++) row = hypot(row, s->pt.G[i * n_q + j]);
+    for (size_t j = 0; j < n_q; j++) row = hypot(row, G[i * n_q + j]);
     if (!(row > 0.0)) return SDAE_ERR_RANK;
-    for (size_t j = 0; j < n_q; j++) s->qr[i * n_q + j] = s->pt.G[i * n_q + j] / row;
+    for (size_t j = 0; j < n_q; j++) ch->qr[i * n_q + j] = G[i * n_q + j] / row;
   }
   gsl_linalg_QRPT_decomp(&R.matrix, &tau.vector, &perm, &signum, &norm.vector);
-  first = fabs(s->qr[0]);
-  last = fabs(s->qr[(n_c - 1) * n_q + (n_c - 1)]);
+  first = fabs(ch->qr[0]);
+  last = fabs(ch->qr[(n_c - 1) * n_q + (n_c - 1)]);
   if ((rc = sdae__mbs_chart_verdict(last, first, n_q)) != SDAE_OK) return rc;
-  memcpy(s->cand_dep, s->perm, n_c * sizeof *s->perm);
-  memcpy(s->cand_ind, s->perm + n_c, s->n_f * sizeof *s->perm);
-  sort(s->cand_dep, n_c);
-  sort(s->cand_ind, s->n_f);
+  memcpy(ch->cand_dep, ch->perm, n_c * sizeof *ch->perm);
+  memcpy(ch->cand_ind, ch->perm + n_c, ch->n_f * sizeof *ch->perm);
+  sort(ch->cand_dep, n_c);
+  sort(ch->cand_ind, ch->n_f);
   return SDAE_OK;
 }
 
@@ -124,50 +152,65 @@ static int proposal(sdae_mbs_stepper *s) {
  * EXCHANGE (the maxvol rule): |det G_D| grows every time, so it ends, with a chart whose
  * measure is at most EXCHANGE, factored last. */
 #define EXCHANGE 1.05
-static int best_chart(sdae_mbs_stepper *s, double *measure) {
-  size_t n_c = s->n_c, n_f = s->n_f;
-  int rc = proposal(s);
+static int best_chart(sdae_mbs_atlas *ch, const double *G, double *measure) {
+  size_t n_c = ch->n_c, n_f = ch->n_f;
+  int rc = proposal(ch, G);
   for (size_t it = 0; rc == SDAE_OK; it++) {
     size_t jb = 0, kb = 0, tmp;
-    if ((rc = factor(s, s->cand_dep, s->cand_ind, measure)) != SDAE_OK) break;
-    if (*measure <= EXCHANGE || it == 4 * s->n_q) break;
+    if ((rc = factor(ch, G, ch->cand_dep, ch->cand_ind, measure)) != SDAE_OK) break;
+    if (*measure <= EXCHANGE || it == 4 * ch->n_q) break;
     for (size_t j = 0; j < n_c; j++)
       for (size_t k = 0; k < n_f; k++)
-        if (fabs(s->pt.A[j * n_f + k]) > fabs(s->pt.A[jb * n_f + kb])) jb = j, kb = k;
-    tmp = s->cand_dep[jb];
-    s->cand_dep[jb] = s->cand_ind[kb];
-    s->cand_ind[kb] = tmp;
-    sort(s->cand_dep, n_c);
-    sort(s->cand_ind, n_f);
+        if (fabs(ch->A[j * n_f + k]) > fabs(ch->A[jb * n_f + kb])) jb = j, kb = k;
+    tmp = ch->cand_dep[jb];
+    ch->cand_dep[jb] = ch->cand_ind[kb];
+    ch->cand_ind[kb] = tmp;
+    sort(ch->cand_dep, n_c);
+    sort(ch->cand_ind, n_f);
   }
   return rc;
 }
 
-static void adopt(sdae_mbs_stepper *s) {
-  memcpy(s->dep, s->cand_dep, s->n_c * sizeof *s->dep);
-  memcpy(s->ind, s->cand_ind, s->n_f * sizeof *s->ind);
-  if (s->have_chart) s->stats.chart_switches++;
-  s->have_chart = 1;
-  sdae__mbs_forget(s);
+static void adopt(sdae_mbs_atlas *ch) {
+  memcpy(ch->dep, ch->cand_dep, ch->n_c * sizeof *ch->dep);
+  memcpy(ch->ind, ch->cand_ind, ch->n_f * sizeof *ch->ind);
+  if (ch->have) ch->switches++;
+  ch->have = 1;
 }
 
-int sdae__mbs_choose_chart(sdae_mbs_stepper *s) {
+int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best) {
   double now = HUGE_VAL, best; /* a current chart gone singular keeps HUGE_VAL: replaced */
-  int rc = best_chart(s, &best);
-  s->kept = 0;
+  int rc = best_chart(ch, G, &best);
+  ch->kept = 0;
   if (rc != SDAE_OK) return rc;
-  if (!s->have_chart) {
-    adopt(s);
-  } else if (memcmp(s->dep, s->cand_dep, s->n_c * sizeof *s->dep) != 0) {
-    factor(s, s->dep, s->ind, &now); /* sets now only when G_D is regular */
-    if (s->force_best || now > SDAE_MBS_CHART_FACTOR * best) {
-      adopt(s);
-      rc = factor(s, s->dep, s->ind, &best); /* factored last was the old one */
+  if (!ch->have) {
+    adopt(ch);
+  } else if (memcmp(ch->dep, ch->cand_dep, ch->n_c * sizeof *ch->dep) != 0) {
+    factor(ch, G, ch->dep, ch->ind, &now); /* sets now only when G_D is regular */
+    if (force_best || now > SDAE_MBS_CHART_FACTOR * best) {
+      adopt(ch);
+      rc = factor(ch, G, ch->dep, ch->ind, &best); /* factored last was the old one */
     } else {
       best = now; /* the current one stays, factored */
-      s->kept = 1;
+      ch->kept = 1;
     }
   }
-  if (rc == SDAE_OK) s->stats.chart_measure = best;
+  if (rc == SDAE_OK) ch->measure = best;
   return rc;
+}
+
+void sdae__mbs_chart_save(sdae_mbs_atlas *ch) {
+  memcpy(ch->saved, ch->dep, ch->n_c * sizeof *ch->dep);
+  memcpy(ch->saved + ch->n_c, ch->ind, ch->n_f * sizeof *ch->ind);
+  ch->saved_have = ch->have;
+  ch->saved_switches = ch->switches;
+  ch->saved_measure = ch->measure;
+}
+
+void sdae__mbs_chart_restore(sdae_mbs_atlas *ch) {
+  memcpy(ch->dep, ch->saved, ch->n_c * sizeof *ch->dep);
+  memcpy(ch->ind, ch->saved + ch->n_c, ch->n_f * sizeof *ch->ind);
+  ch->have = ch->saved_have;
+  ch->switches = ch->saved_switches;
+  ch->measure = ch->saved_measure;
 }

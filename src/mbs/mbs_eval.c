@@ -11,30 +11,56 @@
 #include <math.h>
 #include <string.h>
 
-#include "mbs_impl.h"
+#include "core/callback.h"
+#include "mbs_eval.h"
 
 static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
 static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
 #define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5) */
 
-int sdae__mbs_mass(sdae_mbs_stepper *s, double t, const double *q, double *M) {
-  return sdae__callback_checked(s->sys.mass(t, q, M, s->sys.params), M, s->n_q * s->n_q);
+void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys) {
+  e->sys = *sys;
+  e->n_q = sys->n_q;
+  e->n_c = sys->n_c;
 }
 
-int sdae__mbs_force(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *F) {
-  return sdae__callback_checked(s->sys.force(t, q, v, F, s->sys.params), F, s->n_q);
+void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
+  size_t n_q = e->n_q, n_c = e->n_c;
+  e->jac_q = sdae__take(a, n_q, 1);
+  e->jac_c = sdae__take(a, n_c, 1);
+  e->ct_c = sdae__take(a, n_c, 1);
+  e->along_q = sdae__take(a, n_q, 1);
+  e->along_G = sdae__take(a, n_c, n_q);
+  e->along_M = sdae__take(a, n_q, n_q);
+  e->along_ct = sdae__take(a, n_c, 1);
+  e->t_Gdot = sdae__take(a, n_c, n_q);
+  e->t_Mdv = sdae__take(a, n_q, 1);
+  e->t_gdot = sdae__take(a, n_c, 1);
 }
 
-int sdae__mbs_constraint(sdae_mbs_stepper *s, double t, const double *q, double *c) {
-  return sdae__callback_checked(s->sys.constraint(t, q, c, s->sys.params), c, s->n_c);
+int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v) {
+  if (!isfinite(t)) return SDAE_ERR_PARAM;
+  return sdae__all_finite(q, e->n_q) && sdae__all_finite(v, e->n_q) ? SDAE_OK : SDAE_ERR_STATE;
 }
 
-int sdae__mbs_potential(sdae_mbs_stepper *s, double t, const double *q, double *V) {
-  return sdae__callback_checked(s->sys.potential(t, q, V, s->sys.params), V, 1);
+int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
+  return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
 }
 
-int sdae__mbs_damping(sdae_mbs_stepper *s, double t, const double *q, double *D) {
-  return sdae__callback_checked(s->sys.damping(t, q, D, s->sys.params), D, s->n_q * s->n_q);
+int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F) {
+  return sdae__callback_checked(e->sys.force(t, q, v, F, e->sys.params), F, e->n_q);
+}
+
+int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c) {
+  return sdae__callback_checked(e->sys.constraint(t, q, c, e->sys.params), c, e->n_c);
+}
+
+int sdae__mbs_potential(sdae_mbs_eval *e, double t, const double *q, double *V) {
+  return sdae__callback_checked(e->sys.potential(t, q, V, e->sys.params), V, 1);
+}
+
+int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D) {
+  return sdae__callback_checked(e->sys.damping(t, q, D, e->sys.params), D, e->n_q * e->n_q);
 }
 
 /* a step h near h0 that x + h represents exactly */
@@ -44,9 +70,9 @@ static double exact_step(double x, double h0) {
 }
 
 /* G column by column: d/dh c(t, q + h e_j) */
-static int jacobian_fd(sdae_mbs_stepper *s, double t, const double *q, double *G) {
-  size_t n_q = s->n_q, n_c = s->n_c;
-  double *qs = s->fd_qj, *c = s->fd_c;
+static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
+  size_t n_q = e->n_q, n_c = e->n_c;
+  double *qs = e->jac_q, *c = e->jac_c;
   memcpy(qs, q, n_q * sizeof *q);
   for (size_t j = 0; j < n_q; j++) {
     double h = exact_step(q[j], FD_STEP * fmax(1.0, fabs(q[j])));
@@ -54,7 +80,7 @@ static int jacobian_fd(sdae_mbs_stepper *s, double t, const double *q, double *G
     for (int k = 0; k < 4; k++) {
       int rc;
       qs[j] = q[j] + offset[k] * h;
-      if ((rc = sdae__mbs_constraint(s, t, qs, c)) != SDAE_OK) return rc;
+      if ((rc = sdae__mbs_constraint(e, t, qs, c)) != SDAE_OK) return rc;
       for (size_t i = 0; i < n_c; i++) G[i * n_q + j] += weight[k] * c[i];
     }
     qs[j] = q[j];
@@ -63,27 +89,32 @@ static int jacobian_fd(sdae_mbs_stepper *s, double t, const double *q, double *G
   return SDAE_OK;
 }
 
-int sdae__mbs_jacobian(sdae_mbs_stepper *s, double t, const double *q, double *G) {
-  if (!s->sys.jacobian) return jacobian_fd(s, t, q, G);
-  return sdae__callback_checked(s->sys.jacobian(t, q, G, s->sys.params), G, s->n_c * s->n_q);
+int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
+  if (!e->sys.jacobian) return jacobian_fd(e, t, q, G);
+  return sdae__callback_checked(e->sys.jacobian(t, q, G, e->sys.params), G, e->n_c * e->n_q);
 }
 
+/* A difference step in t, relative to max(1, |t|) as the steps in q are to max(1, |q_j|): an
+ * absolute one vanishes in t + h once the spacing of the doubles near t exceeds it (0.125 at
+ * t = 1e15). */
+static double t_step(double t) { return exact_step(t, FD_STEP * fmax(1.0, fabs(t))); }
+
 /* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal */
-static int constraint_t_fd(sdae_mbs_stepper *s, double t, const double *q, double *ct) {
-  double h = exact_step(t, FD_STEP), *c = s->fd_c;
-  memset(ct, 0, s->n_c * sizeof *ct);
+static int constraint_t_fd(sdae_mbs_eval *e, double t, const double *q, double *ct) {
+  double h = t_step(t), *c = e->ct_c;
+  memset(ct, 0, e->n_c * sizeof *ct);
   for (int k = 0; k < 4; k++) {
-    int rc = sdae__mbs_constraint(s, t + offset[k] * h, q, c);
+    int rc = sdae__mbs_constraint(e, t + offset[k] * h, q, c);
     if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < s->n_c; i++) ct[i] += weight[k] * c[i];
+    for (size_t i = 0; i < e->n_c; i++) ct[i] += weight[k] * c[i];
   }
-  for (size_t i = 0; i < s->n_c; i++) ct[i] /= 12.0 * h;
+  for (size_t i = 0; i < e->n_c; i++) ct[i] /= 12.0 * h;
   return SDAE_OK;
 }
 
-int sdae__mbs_constraint_t(sdae_mbs_stepper *s, double t, const double *q, double *ct) {
-  if (!s->sys.constraint_t) return constraint_t_fd(s, t, q, ct);
-  return sdae__callback_checked(s->sys.constraint_t(t, q, ct, s->sys.params), ct, s->n_c);
+int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct) {
+  if (!e->sys.constraint_t) return constraint_t_fd(e, t, q, ct);
+  return sdae__callback_checked(e->sys.constraint_t(t, q, ct, e->sys.params), ct, e->n_c);
 }
 
 static double inf_norm(const double *x, size_t n) {
@@ -92,47 +123,104 @@ static double inf_norm(const double *x, size_t n) {
   return m;
 }
 
-/* the sums of the stencil at offset k along (1, v): G, M v and G v + dc/dt there */
-static int along_point(sdae_mbs_stepper *s, double t, const double *q, const double *v, double h,
-                       int k, double *Gdot, double *Mdv, double *gdot) {
-  size_t n_q = s->n_q, n_c = s->n_c;
-  double w = weight[k], ts = t + offset[k] * h;
+/* the sums of the stencil at offset k at (t + k ht, q + k hq v): G, M v and G v + dc/dt there */
+static int along_point(sdae_mbs_eval *e, double t, const double *q, const double *v, double ht,
+                       double hq, int k, double *Gdot, double *Mdv, double *gdot) {
+  size_t n_q = e->n_q, n_c = e->n_c;
+  double w = weight[k], ts = t + offset[k] * ht;
   int rc;
-  for (size_t j = 0; j < n_q; j++) s->fd_q[j] = q[j] + offset[k] * h * v[j];
-  if ((rc = sdae__mbs_jacobian(s, ts, s->fd_q, s->fd_G)) != SDAE_OK) return rc;
-  for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += w * s->fd_G[i];
+  for (size_t j = 0; j < n_q; j++) e->along_q[j] = q[j] + offset[k] * hq * v[j];
+  if ((rc = sdae__mbs_jacobian(e, ts, e->along_q, e->along_G)) != SDAE_OK) return rc;
+  if (Gdot)
+    for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += w * e->along_G[i];
   if (Mdv) {
-    if ((rc = sdae__mbs_mass(s, ts, s->fd_q, s->fd_M)) != SDAE_OK) return rc;
+    if ((rc = sdae__mbs_mass(e, ts, e->along_q, e->along_M)) != SDAE_OK) return rc;
     for (size_t i = 0; i < n_q; i++)
-      for (size_t j = 0; j < n_q; j++) Mdv[i] += w * s->fd_M[i * n_q + j] * v[j];
+      for (size_t j = 0; j < n_q; j++) Mdv[i] += w * e->along_M[i * n_q + j] * v[j];
   }
   if (gdot) {
-    if ((rc = sdae__mbs_constraint_t(s, ts, s->fd_q, s->fd_ct)) != SDAE_OK) return rc;
+    if ((rc = sdae__mbs_constraint_t(e, ts, e->along_q, e->along_ct)) != SDAE_OK) return rc;
     for (size_t i = 0; i < n_c; i++) {
-      double g = s->fd_ct[i];
-      for (size_t j = 0; j < n_q; j++) g += s->fd_G[i * n_q + j] * v[j];
+      double g = e->along_ct[i];
+      for (size_t j = 0; j < n_q; j++) g += e->along_G[i * n_q + j] * v[j];
       gdot[i] += w * g;
     }
   }
   return SDAE_OK;
 }
 
-int sdae__mbs_along(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *Gdot, double *Mdv, double *gdot) {
-  size_t n_q = s->n_q, n_c = s->n_c;
-  double nq = inf_norm(q, n_q), h;
-  h = exact_step(t, FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q)));
-  memset(Gdot, 0, n_c * n_q * sizeof *Gdot);
+/* the fourth-order difference in s of G, M v and G v + dc/dt at (t + s ht / h, q + s hq v / h),
+ * step h: the derivative along (ht, hq v) / h */
+static int stencil(sdae_mbs_eval *e, double t, const double *q, const double *v, double ht,
+                   double hq, double h, double *Gdot, double *Mdv, double *gdot) {
+  size_t n_q = e->n_q, n_c = e->n_c;
+  if (Gdot) memset(Gdot, 0, n_c * n_q * sizeof *Gdot);
   if (Mdv) memset(Mdv, 0, n_q * sizeof *Mdv);
   if (gdot) memset(gdot, 0, n_c * sizeof *gdot);
   for (int k = 0; k < 4; k++) {
-    int rc = along_point(s, t, q, v, h, k, Gdot, Mdv, gdot);
+    int rc = along_point(e, t, q, v, ht, hq, k, Gdot, Mdv, gdot);
     if (rc != SDAE_OK) return rc;
   }
-  for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] /= 12.0 * h;
+  if (Gdot)
+    for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] /= 12.0 * h;
   if (Mdv)
     for (size_t i = 0; i < n_q; i++) Mdv[i] /= 12.0 * h;
   if (gdot)
     for (size_t i = 0; i < n_c; i++) gdot[i] /= 12.0 * h;
+  return SDAE_OK;
+}
+
+static void add(double *x, const double *y, size_t n) {
+  if (x)
+    for (size_t i = 0; i < n; i++) x[i] += y[i];
+}
+
+/* One step s along (1, v) moves q by s v and t by s: s about FD_STEP relative to q and to v's
+ * time scale, exact in t + s. Where t is so large that its doubles are too sparse for such an
+ * s (t + s rounds to more than half the step away from it), the derivative is taken in two
+ * parts, d/ds at (t, q + s v) and d/ds at (t + s, q) with a step in t relative to |t|. */
+int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
+                    double *Mdv, double *gdot) {
+  size_t n_q = e->n_q, n_c = e->n_c;
+  double nq = inf_norm(q, n_q), h0 = FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q));
+  double h = exact_step(t, h0), ht;
+  int rc;
+  if (fabs(h - h0) <= 0.5 * h0) return stencil(e, t, q, v, h, h, h, Gdot, Mdv, gdot);
+  if ((rc = stencil(e, t, q, v, 0.0, h0, h0, Gdot, Mdv, gdot)) != SDAE_OK) return rc;
+  ht = t_step(t);
+  if ((rc = stencil(e, t, q, v, ht, 0.0, ht, Gdot ? e->t_Gdot : NULL, Mdv ? e->t_Mdv : NULL,
+                    gdot ? e->t_gdot : NULL)) != SDAE_OK)
+    return rc;
+  add(Gdot, e->t_Gdot, n_c * n_q);
+  add(Mdv, e->t_Mdv, n_q);
+  add(gdot, e->t_gdot, n_c);
+  return SDAE_OK;
+}
+
+int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v, double *c,
+                    double *G, double *ct, double *xi) {
+  int rc;
+  if ((rc = sdae__mbs_constraint(e, t, q, c)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian(e, t, q, G)) != SDAE_OK ||
+      (rc = sdae__mbs_constraint_t(e, t, q, ct)) != SDAE_OK)
+    return rc;
+  for (size_t j = 0; j < e->n_c; j++) {
+    double cdot = ct[j];
+    for (size_t i = 0; i < e->n_q; i++) cdot += G[j * e->n_q + i] * v[i];
+    xi[2 * j] = c[j];
+    xi[2 * j + 1] = cdot;
+  }
+  return SDAE_OK;
+}
+
+int sdae__mbs_energy_of(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                        const double *M, double *E) {
+  size_t n = e->n_q;
+  double V = 0.0, kinetic = 0.0;
+  int rc;
+  if (e->sys.potential && (rc = sdae__mbs_potential(e, t, q, &V)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) kinetic += v[i] * M[i * n + j] * v[j];
+  *E = 0.5 * kinetic + V;
   return SDAE_OK;
 }

@@ -9,110 +9,118 @@
  * (q_I, p_I) being canonical on the manifold, so no further derivative is needed. */
 #include <string.h>
 
-#include "mbs_impl.h"
+#include "core/callback.h"
+#include "mbs_model.h"
 
 /* a callback's return for a status, the status kept for sdae_mbs_step to report */
-static int code(sdae_mbs_stepper *s, int rc) {
-  if (rc != SDAE_OK) s->status = rc;
+static int code(sdae_mbs_model *m, int rc) {
+  if (rc != SDAE_OK) m->status = rc;
   return sdae__callback_code(rc);
 }
 
 static int rate(void *ctx, double t, const double *xi, const double *mu, double *out) {
-  sdae_mbs_stepper *s = ctx;
-  int rc = sdae__mbs_phi_inv(s, t, xi, mu);
-  return rc == SDAE_OK ? sdae__mbs_mu_dot(s, t, out) : rc;
+  sdae_mbs_model *m = ctx;
+  int rc = sdae__mbs_phi_inv(m->co, t, xi, mu);
+  return rc == SDAE_OK ? sdae__mbs_mu_dot(m->co, t, out) : rc;
 }
 
 static int q0(double t, const double *mu, double *out, void *params) {
-  sdae_mbs_stepper *s = params;
-  return code(s, sdae__derive_q0(&s->derive, t, mu, out));
+  sdae_mbs_model *m = params;
+  return code(m, sdae__derive_q0(&m->derive, t, mu, out));
 }
 
 static int Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
                    void *params) {
-  sdae_mbs_stepper *s = params;
-  return code(s, sdae__derive_Q_apply(&s->derive, t, xi, mu, Qxi, qnorm2));
+  sdae_mbs_model *m = params;
+  return code(m, sdae__derive_Q_apply(&m->derive, t, xi, mu, Qxi, qnorm2));
 }
 
 static int H(double t, const double *mu, double *out, void *params) {
-  sdae_mbs_stepper *s = params;
-  const sdae_mbs_point *p = &s->pt;
-  double V, kinetic = 0.0;
-  int rc = sdae__mbs_phi_inv(s, t, s->zero, mu);
-  if (rc == SDAE_OK) rc = sdae__mbs_potential(s, t, p->q, &V);
-  if (rc != SDAE_OK) return code(s, rc);
-  for (size_t i = 0; i < s->n_q; i++)
-    for (size_t j = 0; j < s->n_q; j++) kinetic += p->v[i] * p->M[i * s->n_q + j] * p->v[j];
-  *out = 0.5 * kinetic + V;
-  return 0;
+  sdae_mbs_model *m = params;
+  const sdae_mbs_coords *co = m->co;
+  int rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu);
+  if (rc == SDAE_OK) rc = sdae__mbs_energy_of(m->eval, t, co->q, co->v, co->M, out);
+  return code(m, rc);
 }
 
-/* R = W^T D W at Phi^-1(t, 0, mu) into s->R; zero without damping */
-static int damping(sdae_mbs_stepper *s, double t, const double *mu) {
-  size_t n_q = s->n_q, n_f = s->n_f;
-  const double *W = s->pt.W, *D = s->fd_M;
+/* R = W^T D W at Phi^-1(t, 0, mu) into m->R; zero without damping */
+static int damping(sdae_mbs_model *m, double t, const double *mu) {
+  size_t n_q = m->n_q, n_f = m->n_f;
+  const double *W = m->co->chart->W, *D = m->D;
   int rc;
-  memset(s->R, 0, n_f * n_f * sizeof *s->R);
-  if (!s->sys.damping) return SDAE_OK;
-  if ((rc = sdae__mbs_phi_inv(s, t, s->zero, mu)) != SDAE_OK ||
-      (rc = sdae__mbs_damping(s, t, s->pt.q, s->fd_M)) != SDAE_OK)
+  memset(m->R, 0, n_f * n_f * sizeof *m->R);
+  if (!m->eval->sys.damping) return SDAE_OK;
+  if ((rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu)) != SDAE_OK ||
+      (rc = sdae__mbs_damping(m->eval, t, m->co->q, m->D)) != SDAE_OK)
     return rc;
   for (size_t a = 0; a < n_f; a++)
     for (size_t b = 0; b < n_f; b++) {
       double acc = 0.0;
       for (size_t i = 0; i < n_q; i++)
         for (size_t j = 0; j < n_q; j++) acc += W[i * n_f + a] * D[i * n_q + j] * W[j * n_f + b];
-      s->R[a * n_f + b] = acc;
+      m->R[a * n_f + b] = acc;
     }
   return SDAE_OK;
 }
 
 static int grad_H(double t, const double *mu, double *out, void *params) {
-  sdae_mbs_stepper *s = params;
-  size_t n_f = s->n_f;
-  int rc = sdae__derive_q0(&s->derive, t, mu, out);
-  if (rc == SDAE_OK) rc = damping(s, t, mu);
-  if (rc != SDAE_OK) return code(s, rc);
+  sdae_mbs_model *m = params;
+  size_t n_f = m->n_f;
+  int rc = sdae__derive_q0(&m->derive, t, mu, out);
+  if (rc == SDAE_OK) rc = damping(m, t, mu);
+  if (rc != SDAE_OK) return code(m, rc);
   for (size_t a = 0; a < n_f; a++) { /* out = (q0_q, q0_p) becomes (-q0_p - R q0_q, q0_q) */
     double qa = out[a];
-    s->rf[a] = -out[n_f + a];
-    for (size_t b = 0; b < n_f; b++) s->rf[a] -= s->R[a * n_f + b] * out[b];
+    m->row[a] = -out[n_f + a];
+    for (size_t b = 0; b < n_f; b++) m->row[a] -= m->R[a * n_f + b] * out[b];
     out[n_f + a] = qa;
   }
-  memcpy(out, s->rf, n_f * sizeof *out);
+  memcpy(out, m->row, n_f * sizeof *out);
   return 0;
 }
 
 static int S(double t, const double *mu, double *out, void *params) {
-  sdae_mbs_stepper *s = params;
-  size_t n_f = s->n_f, n = 2 * n_f;
-  int rc = damping(s, t, mu);
-  if (rc != SDAE_OK) return code(s, rc);
+  sdae_mbs_model *m = params;
+  size_t n_f = m->n_f, n = 2 * n_f;
+  int rc = damping(m, t, mu);
+  if (rc != SDAE_OK) return code(m, rc);
   memset(out, 0, n * n * sizeof *out);
   for (size_t a = 0; a < n_f; a++) {
     out[a * n + n_f + a] = 1.0;
     out[(n_f + a) * n + a] = -1.0;
-    for (size_t b = 0; b < n_f; b++) out[(n_f + a) * n + n_f + b] = -s->R[a * n_f + b];
+    for (size_t b = 0; b < n_f; b++) out[(n_f + a) * n + n_f + b] = -m->R[a * n_f + b];
   }
   return 0;
 }
 
-void sdae__mbs_model(sdae_mbs_stepper *s) {
-  sdae_model *m = &s->model;
-  memset(m, 0, sizeof *m);
-  m->n_xi = 2 * s->n_c;
-  m->n_mu = 2 * s->n_f;
-  m->q0 = q0;
-  m->Q_apply = Q_apply;
-  if (s->sys.potential) {
-    m->H = H;
-    m->grad_H = grad_H;
-    m->S = S;
+void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co) {
+  sdae_model *nf = &m->model;
+  m->eval = eval;
+  m->co = co;
+  m->n_q = co->n_q;
+  m->n_c = co->n_c;
+  m->n_f = co->n_f;
+  memset(nf, 0, sizeof *nf);
+  nf->n_xi = 2 * m->n_c;
+  nf->n_mu = 2 * m->n_f;
+  nf->q0 = q0;
+  nf->Q_apply = Q_apply;
+  if (eval->sys.potential) {
+    nf->H = H;
+    nf->grad_H = grad_H;
+    nf->S = S;
   }
-  m->params = s;
+  nf->params = m;
 }
 
-/* the derive rule's G for this stepper's arrays */
-void sdae__mbs_derive_carve(sdae_mbs_stepper *s, sdae_arena *a) {
-  sdae__derive_carve(&s->derive, 2 * s->n_c, 2 * s->n_f, rate, s, a);
+void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
+  sdae__derive_carve(&m->derive, 2 * m->n_c, 2 * m->n_f, rate, m, a);
+  m->zero = sdae__take(a, 2 * m->n_c, 1);
+  if (m->zero) /* NULL while the block is only counted */
+    memset(m->zero, 0, 2 * m->n_c * sizeof *m->zero);
+  m->D = sdae__take(a, m->n_q, m->n_q);
+  m->R = sdae__take(a, m->n_f, m->n_f);
+  m->row = sdae__take(a, m->n_f, 1);
 }
+
+void sdae__mbs_model_forget(sdae_mbs_model *m) { sdae__derive_forget(&m->derive); }

@@ -3,6 +3,7 @@
  * for comparison, the linear baselines of index reduction and Baumgarte. */
 #include <math.h>
 
+#include "core/callback.h"
 #include "core/lu.h"
 #include "stabilizer.h"
 
@@ -17,9 +18,12 @@ static void paper_carve(sdae_stab_ctx *c, sdae_arena *a) {
   c->k = sdae__take(a, c->model->n_xi, 1);
 }
 
+/* Gains that overflow (delta^2 ||q_i||^2 beyond the doubles) are refused under either scheme:
+ * scheme 15's xi / (1 - T k) would turn k = -inf into a silent xi+ = 0, scheme 11 into Inf. */
 static int paper_update(sdae_stab_ctx *c, double T, const double *xi, double *xi_new) {
   size_t n = c->model->n_xi;
   sdae__gains(c->opt, c->qnorm2, n, c->k);
+  if (!sdae__all_finite(c->k, n)) return SDAE_ERR_NONFINITE;
   if (c->opt->scheme == SDAE_SCHEME_EXPLICIT)
     for (size_t i = 0; i < n; i++) xi_new[i] = (1.0 + T * c->k[i]) * xi[i]; /* eq. 11 */
   else

@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* Charts of the constraint manifold (mbs_chart.c): the split of q into dependent q_D (n_c) and
+ * independent q_I, the best one by pivoted QR of G, G_D's factors, A = G_D^-1 G_I and
+ * W = dq/dq_I = P [-A; I] at the G factored last. Its functions take that G as an argument; the
+ * chart knows nothing of the configuration it came from, nor of the coordinates built on it. */
+#ifndef STABDAE_SRC_MBS_MBS_CHART_H
+#define STABDAE_SRC_MBS_MBS_CHART_H
+
+#include <stddef.h>
+
+#include "core/arena.h"
+
+/* the charts of the manifold, an atlas: the current one, the search for the best, its factors */
+typedef struct sdae_mbs_atlas {
+  size_t n_q, n_c, n_f;
+  int have;               /* a chart was chosen */
+  int kept;               /* the last choice kept the current chart over a better proposal */
+  size_t *dep, *ind;      /* the chart: n_c and n_f coordinates, ascending */
+  /* the search for the best chart: QRPT's work (n_c x n_q, n_c, n_q) and its permutation, the
+   * candidate chart */
+  double *qr, *tau, *norm;
+  size_t *perm, *cand_dep, *cand_ind;
+  /* the factors at the G factored last */
+  double *gd;             /* n_c x n_c: G_D gathered, the factorization's input */
+  double *GD;             /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
+  unsigned *piv;          /* n_c */
+  double *A;              /* n_c x n_f: G_D^-1 G_I */
+  double *W;              /* n_q x n_f: dq/dq_I, spans ker G */
+  double *col, *sol;      /* n_c each: a column of G_I and G_D^-1 of it */
+  /* the chart before a step, given back when the step fails */
+  size_t *saved;          /* n_q: dep, then ind */
+  int saved_have;
+  unsigned long saved_switches;
+  double saved_measure;
+  /* counters */
+  unsigned long switches; /* charts replaced (the first one is not) */
+  double measure;         /* max |A| of the current chart where it was chosen */
+} sdae_mbs_atlas;
+
+/* the sizes; the arrays come from sdae__mbs_chart_carve */
+void sdae__mbs_chart_init(sdae_mbs_atlas *ch, size_t n_q, size_t n_c);
+void sdae__mbs_chart_carve(sdae_mbs_atlas *ch, sdae_arena *a);
+
+/* from the last and first diagonal entries of the QR of G (rows of unit length), n_q columns:
+ * SDAE_ERR_RANK when last <= n_q eps first, SDAE_ERR_CHART when below SDAE_MBS_CHART_MIN first */
+int sdae__mbs_chart_verdict(double last, double first, size_t n_q);
+/* the best chart for G (n_c x n_q) by column-pivoted QR, kept unless it beats the current one by
+ * SDAE_MBS_CHART_FACTOR (force_best: whatever the hysteresis); leaves ch->kept, the chart
+ * factored at G; SDAE_ERR_RANK, SDAE_ERR_CHART */
+int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best);
+/* G_D's LU, A and W at G in the current chart; SDAE_ERR_RANK when G_D is singular;
+ * *measure = max |A| (may be NULL) */
+int sdae__mbs_chart_factor(sdae_mbs_atlas *ch, const double *G, double *measure);
+/* G_D's LU alone at G in the current chart (Newton's matrix); SDAE_ERR_RANK */
+int sdae__mbs_gd_factor(sdae_mbs_atlas *ch, const double *G);
+/* x = G_D^-1 rhs (n_c values) with the factors */
+void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x);
+/* out (n_f) = W^T u for u (n_q) */
+void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out);
+
+/* the chart and its counters before a step; given back after a failed one */
+void sdae__mbs_chart_save(sdae_mbs_atlas *ch);
+void sdae__mbs_chart_restore(sdae_mbs_atlas *ch);
+
+#endif /* STABDAE_SRC_MBS_MBS_CHART_H */

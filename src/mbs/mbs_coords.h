@@ -1,0 +1,64 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The coordinates of a mechanism in the current chart (mbs_coords.c): xi = per constraint
+ * (c_j, G_j v + dc_j/dt), mu = (q_I, W^T M v), Phi^-1 and the mu-dynamics. It owns the point, the
+ * configuration and velocity Phi^-1 found last (or the step's start) with what is known there,
+ * and keeps it for the next call at the same (t, xi, mu). It reads the chart and has it factor
+ * the point's G; it never changes the chart's choice. */
+#ifndef STABDAE_SRC_MBS_MBS_COORDS_H
+#define STABDAE_SRC_MBS_MBS_COORDS_H
+
+#include "core/arena.h"
+#include "mbs_chart.h"
+#include "mbs_eval.h"
+
+typedef struct sdae_mbs_coords {
+  sdae_mbs_eval *eval;
+  sdae_mbs_atlas *chart;
+  size_t n_q, n_c, n_f;
+  unsigned newton_max_iter; /* Phi^-1's Newton: the options' cap */
+  /* the point */
+  double *q, *v;            /* n_q each */
+  double *c, *ct;           /* n_c each */
+  double *G;                /* n_c x n_q: dc/dq */
+  double *M;                /* n_q x n_q */
+  double *Mr;               /* n_f x n_f: the reduced mass W^T M W, factored (Phi^-1) */
+  int valid;                /* the point is Phi^-1(key_t, key) */
+  double key_t;
+  double *key;              /* 2 n_q: (xi, mu) */
+  double *q_base;           /* n_q: where Phi^-1's Newton starts (the step's q) */
+  /* scratch, one array a role */
+  double *M_spd;            /* n_q x n_q: M at the step's start, factored to test it is SPD */
+  double *Mv;               /* n_q: M v at the point */
+  double *res, *dq_D;       /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
+  double *Y;                /* n_q: a column of M W */
+  double *rhs, *z_D;        /* n_c each: G_D z_D = xi's velocity part - dc/dt */
+  double *Mz;               /* n_q: M z */
+  double *v_I;              /* n_f: v's independent part */
+  double *F, *Gdot, *Mdv;   /* the mu-dynamics: F + (dM/dt) v (n_q), dG/dt (n_c x n_q),
+                               (dM/dt) v (n_q) */
+  double *GdW, *X;          /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
+  double *dW;               /* n_f: (dW/dt)^T M v */
+  /* counter */
+  unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
+} sdae_mbs_coords;
+
+/* wired to the callbacks and the chart; the arrays come from sdae__mbs_coords_carve */
+void sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, sdae_mbs_atlas *chart,
+                           unsigned newton_max_iter);
+void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a);
+
+/* xi (2 n_c) of (t, q, v), the same in every chart; leaves c, G and dc/dt at q in the point */
+int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const double *v,
+                        double *xi);
+/* a step's start at (t, q, v), the chart factored at q: M at q into the point (SDAE_ERR_MASS
+ * unless SPD), mu (2 n_f) in the chart, and q as Phi^-1's start */
+int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const double *v,
+                           double *mu);
+/* the point's q, v = Phi^-1(t, xi, mu), with G, M and the chart's W there */
+int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
+/* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */
+int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out);
+/* forgets the configuration kept: another start of Phi^-1, another chart */
+void sdae__mbs_coords_forget(sdae_mbs_coords *co);
+
+#endif /* STABDAE_SRC_MBS_MBS_COORDS_H */

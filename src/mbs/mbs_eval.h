@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The mechanism's callbacks (mbs_eval.c), every status and value checked, and the derivatives
+ * the mechanism may leave out, by fourth-order central differences: the lowest part of the
+ * mechanical front-end, which knows the user's sdae_mbs and nothing else. Its scratch serves its
+ * difference stencils alone. */
+#ifndef STABDAE_SRC_MBS_MBS_EVAL_H
+#define STABDAE_SRC_MBS_MBS_EVAL_H
+
+#include <stabdae/mbs.h>
+
+#include "core/arena.h"
+
+typedef struct sdae_mbs_eval {
+  sdae_mbs sys;
+  size_t n_q, n_c;
+  double *jac_q, *jac_c;    /* G by differences: q moved in one coordinate, c there */
+  double *ct_c;             /* dc/dt by differences: c at a moved t */
+  double *along_q;          /* the derivatives along (1, v): q moved along v, and there */
+  double *along_G, *along_M, *along_ct; /* G, M and dc/dt */
+  double *t_Gdot, *t_Mdv, *t_gdot;      /* their parts along t alone, at late times */
+} sdae_mbs_eval;
+
+/* the mechanism (copied) and its sizes; the arrays come from sdae__mbs_eval_carve */
+void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys);
+void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a);
+
+/* SDAE_ERR_PARAM for a t that is not finite, SDAE_ERR_STATE for a q or v that is not */
+int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v);
+
+int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M);
+int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F);
+int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c);
+int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G);
+int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct);
+int sdae__mbs_potential(sdae_mbs_eval *e, double t, const double *q, double *V);
+int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D);
+
+/* derivatives along (1, v) in (t, q), v held fixed: Gdot = d/ds G (n_c x n_q), Mdv = (d/ds M) v
+ * and gdot = d/ds (G v + dc/dt); each may be NULL (not wanted) */
+int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
+                    double *Mdv, double *gdot);
+
+/* xi (2 n_c) of (t, q, v): per constraint (c_j, G_j v + dc_j/dt), the same in every chart; c,
+ * G and dc/dt at q left in c, G, ct */
+int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v, double *c,
+                    double *G, double *ct, double *xi);
+
+/* the energy v^T M v / 2 + V(q) with M at q given (V = 0 without potential) */
+int sdae__mbs_energy_of(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                        const double *M, double *E);
+
+#endif /* STABDAE_SRC_MBS_MBS_EVAL_H */

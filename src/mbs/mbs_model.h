@@ -1,0 +1,35 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The normal form of a mechanism in the current chart (mbs_model.c): the sdae_model handed to the
+ * stepper, its q0 and Q by the rule of derive.c from the mu-dynamics, and with a potential the
+ * energy structure of the discrete gradients. A failing callback of the mechanism reaches the
+ * stepper as a callback's failure; the status behind it is kept here for the front-end. */
+#ifndef STABDAE_SRC_MBS_MBS_MODEL_H
+#define STABDAE_SRC_MBS_MBS_MODEL_H
+
+#include <stabdae/stabdae.h>
+
+#include "core/arena.h"
+#include "mbs_coords.h"
+#include "mbs_eval.h"
+#include "model/derive.h"
+
+typedef struct sdae_mbs_model {
+  sdae_model model;      /* params = this */
+  sdae_derive derive;    /* q0 and Q from the mu-dynamics */
+  sdae_mbs_eval *eval;
+  sdae_mbs_coords *co;
+  size_t n_q, n_c, n_f;
+  int status;            /* the status behind the last failing callback of the normal form */
+  double *zero;          /* 2 n_c zeros: xi on the manifold, where H and R are taken */
+  double *D, *R;         /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
+  double *row;           /* n_f: grad H's first half while q0's is still read */
+} sdae_mbs_model;
+
+/* the normal form of the mechanism behind eval, in coords' chart; the arrays come from
+ * sdae__mbs_model_carve */
+void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co);
+void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
+/* forgets the q0 kept: another start of Phi^-1, another chart */
+void sdae__mbs_model_forget(sdae_mbs_model *m);
+
+#endif /* STABDAE_SRC_MBS_MBS_MODEL_H */

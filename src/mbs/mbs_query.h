@@ -1,0 +1,26 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The quantities at a state (mbs_query.c: sdae_mbs_xi, sdae_mbs_energy, sdae_mbs_lambda,
+ * sdae_mbs_chart): each computes into its own scratch, never the step's, and hands out its result
+ * only when it is finite. */
+#ifndef STABDAE_SRC_MBS_MBS_QUERY_H
+#define STABDAE_SRC_MBS_MBS_QUERY_H
+
+#include <stddef.h>
+
+#include "core/arena.h"
+
+typedef struct sdae_mbs_query {
+  /* sdae_mbs_xi: c, G and dc/dt at q, and xi before it is checked */
+  double *c, *G, *ct, *xi;      /* n_c, n_c x n_q, n_c, 2 n_c */
+  /* sdae_mbs_energy: M at q */
+  double *M;                    /* n_q x n_q */
+  /* sdae_mbs_lambda: G, gamma and F at the state, M's Cholesky factor, Y = G M^-1, G Y^T
+   * factored, the right side G M^-1 F + gamma solved in place */
+  double *lam_G, *gamma, *F;    /* n_c x n_q, n_c, n_q */
+  double *M_chol, *Y, *GY;      /* n_q x n_q, n_c x n_q, n_c x n_c */
+  double *lambda;               /* n_c */
+} sdae_mbs_query;
+
+void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a);
+
+#endif /* STABDAE_SRC_MBS_MBS_QUERY_H */
