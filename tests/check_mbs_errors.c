@@ -814,16 +814,17 @@ END_TEST
  * m (L omega^2 + g cos theta) / L, with omega = 1e200. Each query: SDAE_ERR_NONFINITE, its
  * output untouched. */
 START_TEST(queries_report_overflow) {
-  pendulum p = PENDULUM;
-  sdae_mbs sys = pendulum_mbs(&p);
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *s;
   double q[2] = {0.6, 0.8}, v[2] = {1.5e308, 1.5e308}, out[2] = {7.0, 7.0};
+  mech_pendulum_system(&sys, &p);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
   ck_assert_double_eq(out[0], 7.0);
   ck_assert_double_eq(out[1], 7.0);
-  pendulum_state(&p, 0.3, 1e200, q, v);
+  mech_pendulum_state(&p, 0.3, 1e200, q, v);
   ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
   ck_assert_double_eq(out[0], 7.0);
   ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, out), SDAE_ERR_NONFINITE);
@@ -894,14 +895,14 @@ END_TEST
 /* the pendulum whose constraint fails (recoverably) at t = fail_t while armed: the step from
  * t = 0 with T = 0.01 calls it at 0.01 only in Phi^-1 at t + T, after the normal form's step */
 typedef struct late_failure {
-  pendulum p;
+  mech_pendulum p; /* first: the pendulum's other callbacks take the late_failure as theirs */
   double fail_t;
   int armed;
 } late_failure;
 
 static int late_constraint(double t, const double *q, double *c, void *params) {
   late_failure *f = params;
-  pendulum_constraint(t, q, c, &f->p);
+  mech_pendulum_constraint(t, q, c, &f->p);
   return f->armed && t == f->fail_t ? 1 : 0;
 }
 
@@ -919,20 +920,21 @@ static void expect_same_stats(const sdae_mbs_stats *a, const sdae_mbs_stats *b) 
 /* A failed step counts nothing: after it, the statistics are a fresh stepper's (all zero), and
  * after the good step that follows, exactly what a fresh stepper's one good step reports. */
 START_TEST(failed_step_counts_nothing) {
-  late_failure f = {{1.0, 1.0, 9.81, 0.0}, 0.01, 0};
-  sdae_mbs sys = pendulum_mbs(&f.p);
+  late_failure f = {PENDULUM, 0.01, 0};
+  sdae_mbs sys;
   sdae_options o = options(sdae_map_midpoint);
   sdae_mbs_stepper *fresh, *s;
   sdae_mbs_stats zero;
   double q[2], v[2], qf[2], vf[2];
   memset(&zero, 0, sizeof zero);
+  mech_pendulum_system(&sys, &f.p);
   sys.constraint = late_constraint, sys.params = &f;
-  pendulum_state(&f.p, 0.3, 0.5, qf, vf);
+  mech_pendulum_state(&f.p, 0.3, 0.5, qf, vf);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&fresh, &sys, &o), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_step(fresh, 0.0, 0.01, qf, vf), SDAE_OK);
   ck_assert_uint_eq(sdae_mbs_stepper_stats(fresh)->step.steps, 1);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  pendulum_state(&f.p, 0.3, 0.5, q, v);
+  mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
   f.armed = 1;
   expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_CALLBACK_RECOVERABLE);
   expect_same_stats(sdae_mbs_stepper_stats(s), &zero);

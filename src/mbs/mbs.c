@@ -232,3 +232,29 @@ void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   sdae_stepper_reset_stats(s->inner);
   gather_stats(s);
 }
+
+/* ---- quantities at a state (mbs_query.c) ---- */
+
+int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
+  if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
+  return sdae__mbs_query_xi(&s->query, &s->eval, t, q, v, xi);
+}
+
+int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                    double *E) {
+  if (!s || !q || !v || !E) return SDAE_ERR_NULL;
+  return sdae__mbs_query_energy(&s->query, &s->eval, t, q, v, E);
+}
+
+int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                    double *lambda) {
+  if (!s || !q || !v || !lambda) return SDAE_ERR_NULL;
+  return sdae__mbs_query_lambda(&s->query, &s->eval, t, q, v, lambda);
+}
+
+int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
+  if (!s || !dependent) return SDAE_ERR_NULL;
+  if (!s->chart.have) return SDAE_ERR_CHART;
+  memcpy(dependent, s->chart.dep, s->n_c * sizeof *dependent);
+  return SDAE_OK;
+}

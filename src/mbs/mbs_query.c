@@ -8,7 +8,7 @@
 
 #include "core/callback.h"
 #include "core/lu.h"
-#include "mbs_impl.h"
+#include "mbs_query.h"
 
 void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a) {
   qy->c = sdae__take(a, n_c, 1);
@@ -25,27 +25,24 @@ void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_aren
   qy->lambda = sdae__take(a, n_c, 1);
 }
 
-int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
-  sdae_mbs_query *qy;
+int sdae__mbs_query_xi(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                       const double *v, double *xi) {
   int rc;
-  if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
-  qy = &s->query;
-  if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK ||
-      (rc = sdae__mbs_xi_of(&s->eval, t, q, v, qy->c, qy->G, qy->ct, qy->xi)) != SDAE_OK)
+  if ((rc = sdae__mbs_state_ok(ev, t, q, v)) != SDAE_OK ||
+      (rc = sdae__mbs_xi_of(ev, t, q, v, qy->c, qy->G, qy->ct, qy->xi)) != SDAE_OK)
     return rc;
-  if (!sdae__all_finite(qy->xi, 2 * s->n_c)) return SDAE_ERR_NONFINITE;
-  memcpy(xi, qy->xi, 2 * s->n_c * sizeof *xi);
+  if (!sdae__all_finite(qy->xi, 2 * ev->n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(xi, qy->xi, 2 * ev->n_c * sizeof *xi);
   return SDAE_OK;
 }
 
-int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *E) {
+int sdae__mbs_query_energy(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                           const double *v, double *E) {
   double energy;
   int rc;
-  if (!s || !q || !v || !E) return SDAE_ERR_NULL;
-  if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK ||
-      (rc = sdae__mbs_mass(&s->eval, t, q, s->query.M)) != SDAE_OK ||
-      (rc = sdae__mbs_energy_of(&s->eval, t, q, v, s->query.M, &energy)) != SDAE_OK)
+  if ((rc = sdae__mbs_state_ok(ev, t, q, v)) != SDAE_OK ||
+      (rc = sdae__mbs_mass(ev, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_energy_of(ev, t, q, v, qy->M, &energy)) != SDAE_OK)
     return rc;
   if (!isfinite(energy)) return SDAE_ERR_NONFINITE;
   *E = energy;
@@ -55,18 +52,15 @@ int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double
 /* (G M^-1 G^T) lambda = G M^-1 F + gamma: Y = G M^-1 row by row (M symmetric), then the
  * n_c x n_c system, singular only when the constraints are dependent; G Y^T symmetric by
  * construction (its upper triangle, mirrored), as Cholesky requires */
-int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *lambda) {
-  sdae_mbs_query *qy;
-  size_t n_q, n_c;
+int sdae__mbs_query_lambda(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                           const double *v, double *lambda) {
+  size_t n_q = ev->n_q, n_c = ev->n_c;
   int rc;
-  if (!s || !q || !v || !lambda) return SDAE_ERR_NULL;
-  if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK) return rc;
-  qy = &s->query, n_q = s->n_q, n_c = s->n_c;
-  if ((rc = sdae__mbs_along(&s->eval, t, q, v, NULL, NULL, qy->gamma)) != SDAE_OK ||
-      (rc = sdae__mbs_jacobian(&s->eval, t, q, qy->lam_G)) != SDAE_OK ||
-      (rc = sdae__mbs_force(&s->eval, t, q, v, qy->F)) != SDAE_OK ||
-      (rc = sdae__mbs_mass(&s->eval, t, q, qy->M_chol)) != SDAE_OK ||
+  if ((rc = sdae__mbs_state_ok(ev, t, q, v)) != SDAE_OK) return rc;
+  if ((rc = sdae__mbs_along(ev, t, q, v, NULL, NULL, qy->gamma)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian(ev, t, q, qy->lam_G)) != SDAE_OK ||
+      (rc = sdae__mbs_force(ev, t, q, v, qy->F)) != SDAE_OK ||
+      (rc = sdae__mbs_mass(ev, t, q, qy->M_chol)) != SDAE_OK ||
       (rc = sdae__cholesky_factor(qy->M_chol, n_q)) != SDAE_OK)
     return rc;
   for (size_t j = 0; j < n_c; j++) {
@@ -87,12 +81,5 @@ int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double
   sdae__cholesky_solve(qy->GY, n_c, qy->lambda);
   if (!sdae__all_finite(qy->lambda, n_c)) return SDAE_ERR_NONFINITE;
   memcpy(lambda, qy->lambda, n_c * sizeof *lambda);
-  return SDAE_OK;
-}
-
-int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
-  if (!s || !dependent) return SDAE_ERR_NULL;
-  if (!s->chart.have) return SDAE_ERR_CHART;
-  memcpy(dependent, s->chart.dep, s->n_c * sizeof *dependent);
   return SDAE_OK;
 }

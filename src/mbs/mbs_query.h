@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The quantities at a state (mbs_query.c: sdae_mbs_xi, sdae_mbs_energy, sdae_mbs_lambda,
- * sdae_mbs_chart): each computes into its own scratch, never the step's, and hands out its result
+/* The quantities at a state (mbs_query.c, behind sdae_mbs_xi, sdae_mbs_energy and
+ * sdae_mbs_lambda of mbs.c): each computes into its own scratch, never the step's, and hands out its result
  * only when it is finite. */
 #ifndef STABDAE_SRC_MBS_MBS_QUERY_H
 #define STABDAE_SRC_MBS_MBS_QUERY_H
@@ -8,6 +8,7 @@
 #include <stddef.h>
 
 #include "core/arena.h"
+#include "mbs_eval.h"
 
 typedef struct sdae_mbs_query {
   /* sdae_mbs_xi: c, G and dc/dt at q, and xi before it is checked */
@@ -22,5 +23,13 @@ typedef struct sdae_mbs_query {
 } sdae_mbs_query;
 
 void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a);
+/* sdae_mbs_xi, sdae_mbs_energy and sdae_mbs_lambda on the query's scratch, the mechanism's
+ * callbacks through ev; the output written only when the result is finite */
+int sdae__mbs_query_xi(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                       const double *v, double *xi);
+int sdae__mbs_query_energy(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                           const double *v, double *E);
+int sdae__mbs_query_lambda(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
+                           const double *v, double *lambda);
 
 #endif /* STABDAE_SRC_MBS_MBS_QUERY_H */
