@@ -267,6 +267,47 @@ START_TEST(wire_derivatives_checked) {
 }
 END_TEST
 
+/* A wrong sign in the wire's derivatives is found where it is: in the constraint's time term
+ * w^2 (sin(w t) x - cos(w t) y) of d/ds dc/dt, and in the second entry of the turning G'. */
+static int (*true_constraint_t_dot)(double t, const double *q, const double *v, double *out,
+                                    void *params);
+
+static int wrong_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                  void *params) {
+  const wire *p = params;
+  int rc = true_constraint_t_dot(t, q, v, out, params);
+  /* the time term's sign flipped: subtract it twice */
+  out[0] -= 2 * p->w * p->w * (sin(p->w * t) * q[0] - cos(p->w * t) * q[1]);
+  return rc;
+}
+
+static int wrong_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                              void *params) {
+  const wire *p = params;
+  (void)q, (void)v;
+  Gdot[0] = -p->w * cos(p->w * t), Gdot[1] = p->w * sin(p->w * t); /* entry 1's sign */
+  return 0;
+}
+
+START_TEST(wire_derivative_errors_found) {
+  wire p = WIRE;
+  sdae_mbs sys = wire_mbs(&p), wrong = sys;
+  sdae_mbs_check_report r;
+  true_constraint_t_dot = sys.constraint_t_dot;
+  wrong.constraint_t_dot = wrong_constraint_t_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, WIRE_T[0], WIRE_Q[0], WIRE_V[0], 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_CONSTRAINT_T_DOT);
+  ck_assert_uint_eq(r.worst_index, 0);
+  wrong = sys;
+  wrong.jacobian_dot = wrong_jacobian_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, WIRE_T[0], WIRE_Q[0], WIRE_V[0], 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN_DOT);
+  ck_assert_uint_eq(r.worst_index, 1);
+}
+END_TEST
+
 /* ---- the pendulum's multiplier, xi and energy ---- */
 
 /* lambda = m (L omega^2 + ga cos theta) / L on the circle (mechanisms.c: -G^T lambda = -lambda q is
@@ -595,6 +636,7 @@ int main(void) {
   ADD_CASE(s, wire_lambda_exact);
   ADD_CASE(s, wire_xi);
   ADD_CASE(s, wire_derivatives_checked);
+  ADD_CASE(s, wire_derivative_errors_found);
   ADD_CASE(s, pendulum_lambda_tension);
   ADD_CASE(s, pendulum_xi_and_energy);
   ADD_CASE(s, pendulum_chart_hysteresis);

@@ -357,6 +357,67 @@ START_TEST(test_derivatives_andrews) {
 }
 END_TEST
 
+/* A copy of a mechanism with one entry of one derivative along the motion of the wrong sign
+ * (the three share a signature): the sign error a hand derivation makes most easily. */
+typedef int (*along_motion)(double t, const double *q, const double *v, double *out,
+                            void *params);
+static along_motion true_derivative;
+static size_t flipped_entry;
+
+static int flipped_derivative(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  int rc = true_derivative(t, q, v, out, params);
+  out[flipped_entry] = -out[flipped_entry];
+  return rc;
+}
+
+/* the check names the derivative and the entry, and the others stay exact */
+static void assert_flip_found(const sdae_mbs *s, sdae_mbs_derivative d, size_t entry, double t,
+                              const double *q, const double *v) {
+  sdae_mbs wrong = *s;
+  sdae_mbs_check_report r;
+  flipped_entry = entry;
+  if (d == SDAE_MBS_MASS_DOT_V)
+    true_derivative = s->mass_dot_v, wrong.mass_dot_v = flipped_derivative;
+  else if (d == SDAE_MBS_JACOBIAN_DOT)
+    true_derivative = s->jacobian_dot, wrong.jacobian_dot = flipped_derivative;
+  else
+    true_derivative = s->constraint_t_dot, wrong.constraint_t_dot = flipped_derivative;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, d);
+  ck_assert_uint_eq(r.worst_index, entry);
+  for (int k = 0; k < SDAE_MBS_DERIVATIVES; k++)
+    if (k != (int)d) ck_assert_double_lt(r.mismatch[k], 1e-7);
+}
+
+/* one entry each, non-zero at the state (a flipped 0 is no error) */
+START_TEST(test_wrong_sign_found) {
+  benchmarks b;
+  all_benchmarks(&b);
+  double q[NQ], v[NQ];
+  /* the slider crank: entry 5, the second row's phi column, sin(phi) phi' = sin(0.4) 1.6 */
+  const double q_crank[3] = {-1.1, 1.2, 0.4}, v_crank[3] = {-0.8, 0.35, 1.6};
+  assert_flip_found(&b.sys[0], SDAE_MBS_JACOBIAN_DOT, 5, 0.0, q_crank, v_crank);
+  /* the car axis: entry 1 of Gdot, the road's vertical velocity r w cos(w t) = -0.85 at
+   * t = 0.37, and d/ds dc/dt = b''(t) . q_left + b'(t) . v_left, its one non-zero entry */
+  bench_car_axis_initial(&b.car, q, v);
+  q[0] += 0.05, q[1] -= 0.03, q[2] += 0.02, q[3] += 0.04;
+  v[1] = 0.2, v[3] = -0.3;
+  assert_flip_found(&b.sys[1], SDAE_MBS_JACOBIAN_DOT, 1, 0.37, q, v);
+  assert_flip_found(&b.sys[1], SDAE_MBS_CONSTRAINT_T_DOT, 0, 0.37, q, v);
+  /* Andrews: entry 4 of (d/ds M) v, m4 zt (e - ea) cos(phi) phi' (phi' + 2 delta'), and entry
+   * 25 of Gdot, the second loop's y row in delta, -e cos(phi + delta) (phi' + delta') +
+   * zt sin(delta) delta' */
+  const double dq[7] = {0.11, -0.23, 0.07, 0.19, -0.13, 0.05, -0.17};
+  const double rates[7] = {13, -21, 4, 9, -7, 11, -5};
+  bench_andrews_initial(q, v);
+  for (int i = 0; i < 7; i++) q[i] += dq[i], v[i] = rates[i];
+  assert_flip_found(&b.sys[2], SDAE_MBS_MASS_DOT_V, 4, 0.0, q, v);
+  assert_flip_found(&b.sys[2], SDAE_MBS_JACOBIAN_DOT, 25, 0.0, q, v);
+}
+END_TEST
+
 /* ---- integrated through the front-end ------------------------------------------------------ */
 
 typedef struct run_result {
@@ -509,6 +570,9 @@ static Suite *benchmarks_suite(void) {
   tcase_add_test(tc, test_derivatives_slider_crank);
   tcase_add_test(tc, test_derivatives_car_axis);
   tcase_add_test(tc, test_derivatives_andrews);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivative_errors");
+  tcase_add_test(tc, test_wrong_sign_found);
   suite_add_tcase(s, tc);
   tc = tcase_create("integrated");
   tcase_set_timeout(tc, 60);

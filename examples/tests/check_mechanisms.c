@@ -203,6 +203,54 @@ START_TEST(test_derivatives_fourbar) {
 }
 END_TEST
 
+/* A copy of a mechanism whose jacobian_dot has one entry of the wrong sign, the error a hand
+ * derivation makes most easily ((d/ds M) v = 0 here has no sign to get wrong). */
+static int (*true_jacobian_dot)(double t, const double *q, const double *v, double *Gdot,
+                                void *params);
+static size_t flipped_entry;
+
+static int flipped_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                                void *params) {
+  int rc = true_jacobian_dot(t, q, v, Gdot, params);
+  Gdot[flipped_entry] = -Gdot[flipped_entry];
+  return rc;
+}
+
+/* the check finds it: inconsistent, jacobian_dot the worst at that entry, the others exact */
+static void assert_flip_found(const sdae_mbs *s, size_t entry, double t, const double *q,
+                              const double *v) {
+  sdae_mbs wrong = *s;
+  sdae_mbs_check_report r;
+  true_jacobian_dot = s->jacobian_dot, flipped_entry = entry;
+  wrong.jacobian_dot = flipped_jacobian_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN_DOT);
+  ck_assert_uint_eq(r.worst_index, entry);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
+    if (d != SDAE_MBS_JACOBIAN_DOT) ck_assert_double_lt(r.mismatch[d], 1e-7);
+}
+
+/* one entry each, non-zero at the state (a flipped 0 is no error) */
+START_TEST(test_wrong_sign_found) {
+  mechanisms m;
+  all_mechanisms(&m);
+  double q[4], v[4];
+  /* the pendulum: Gdot = (v_x, v_y), entry 1 is v_y = 1.21 */
+  const double q_off[2] = {0.93, -0.71}, v_off[2] = {0.37, 1.21};
+  assert_flip_found(&m.sys[0], 1, 0.3, q_off, v_off);
+  /* the double pendulum: entry 6, the second arm's row in x2, v_x2 - v_x1 = L2 w2 cos a2 =
+   * 0.8 0.9 cos 1.3 = 0.19 */
+  const double a[2] = {-0.4, 1.3}, w[2] = {-2.2, 0.9};
+  mech_double_pendulum_state(&m.dpend, a, w, q, v);
+  assert_flip_found(&m.sys[1], 6, 0.0, q, v);
+  /* the four-bar: entry 11, the rocker's row in Cy, C's vertical velocity (D is fixed) */
+  ck_assert_int_eq(mech_fourbar_state(&m.fourbar, -2.2, -4.1, q, v), 0);
+  ck_assert_double_gt(fabs(v[3]), 0.1);
+  assert_flip_found(&m.sys[2], 11, 0.0, q, v);
+}
+END_TEST
+
 /* ---- integrated through the front-end ------------------------------------------------------- */
 
 static const double two_pi = 6.283185307179586;
@@ -357,6 +405,9 @@ static Suite *mechanisms_suite(void) {
   tcase_add_test(tc, test_derivatives_pendulum);
   tcase_add_test(tc, test_derivatives_double_pendulum);
   tcase_add_test(tc, test_derivatives_fourbar);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivative_errors");
+  tcase_add_test(tc, test_wrong_sign_found);
   suite_add_tcase(s, tc);
   tc = tcase_create("integrated");
   tcase_set_timeout(tc, 60);
