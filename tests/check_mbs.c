@@ -3,8 +3,8 @@
  * (examples/models/mechanisms.h, tests/fixtures/wire.h): orders of convergence against exact
  * solutions (the pendulum's Jacobi elliptic swing, the bead on a rotating wire), multipliers
  * against the exact rod tension and wire reaction, the energy kept by the discrete gradient
- * through chart switches, the decay of xi by the gains of eq. 6, dissipation with damping, and
- * the chart rule. */
+ * through chart switches, the decay of xi by the gains of eq. 6, dissipation with damping, the
+ * chart rule, and the wire's derivatives along the motion by sdae_mbs_check. */
 #include <math.h>
 #include <string.h>
 
@@ -94,7 +94,7 @@ START_TEST(pendulum_order_midpoint_no_jacobian) {
   mech_pendulum p = PENDULUM;
   sdae_mbs sys;
   mech_pendulum_system(&sys, &p);
-  sys.jacobian = NULL;
+  sys.jacobian = NULL, sys.jacobian_dot = NULL; /* differences: Gdot needs G */
   expect_pendulum_order(&sys, sdae_map_midpoint, 2, 0.02);
 }
 END_TEST
@@ -188,6 +188,7 @@ START_TEST(wire_order_midpoint_differences) {
   wire p = WIRE;
   sdae_mbs sys = wire_mbs(&p);
   sys.jacobian = NULL, sys.constraint_t = NULL;
+  sys.jacobian_dot = NULL, sys.constraint_t_dot = NULL; /* differences: these need those */
   expect_wire_order(&sys);
 }
 END_TEST
@@ -217,6 +218,7 @@ START_TEST(wire_lambda_exact) {
   sdae_mbs sys = wire_mbs(&p);
   expect_wire_lambda(&sys);
   sys.jacobian = NULL, sys.constraint_t = NULL;
+  sys.jacobian_dot = NULL, sys.constraint_t_dot = NULL; /* differences: these need those */
   expect_wire_lambda(&sys);
 }
 END_TEST
@@ -240,6 +242,69 @@ START_TEST(wire_xi) {
   ck_assert_double_eq_tol(xi[1], n[0] * v[0] + n[1] * v[1] - (e[0] * q[0] + e[1] * q[1]),
                           1e-15);
   sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* The wire's derivatives along the motion agree with sdae_mbs_check's differences (measured
+ * <= 4.7e-12; the check's step in t grows with |t| while the wire turns at w = 1, so the
+ * difference in t is the least accurate at t = 2.9). */
+static const double WIRE_T[2] = {0.37, 2.9}, WIRE_Q[2][2] = {{0.8, -0.3}, {-1.2, 0.5}};
+static const double WIRE_V[2][2] = {{0.4, 1.1}, {-0.6, 0.25}};
+
+START_TEST(wire_derivatives_checked) {
+  wire p = WIRE;
+  sdae_mbs sys = wire_mbs(&p);
+  sdae_mbs_check_report r;
+  const unsigned given = 1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_CONSTRAINT_T |
+                         1u << SDAE_MBS_MASS_DOT_V | 1u << SDAE_MBS_JACOBIAN_DOT |
+                         1u << SDAE_MBS_CONSTRAINT_T_DOT;
+  for (int k = 0; k < 2; k++) {
+    ck_assert_int_eq(sdae_mbs_check(&sys, WIRE_T[k], WIRE_Q[k], WIRE_V[k], 1e-6, &r), SDAE_OK);
+    ck_assert_uint_eq(r.checked, given);
+    ck_assert_int_eq(r.consistent, 1);
+    for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
+  }
+}
+END_TEST
+
+/* A wrong sign in the wire's derivatives is found where it is: in the constraint's time term
+ * w^2 (sin(w t) x - cos(w t) y) of d/ds dc/dt, and in the second entry of the turning G'. */
+static int (*true_constraint_t_dot)(double t, const double *q, const double *v, double *out,
+                                    void *params);
+
+static int wrong_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                  void *params) {
+  const wire *p = params;
+  int rc = true_constraint_t_dot(t, q, v, out, params);
+  /* the time term's sign flipped: subtract it twice */
+  out[0] -= 2 * p->w * p->w * (sin(p->w * t) * q[0] - cos(p->w * t) * q[1]);
+  return rc;
+}
+
+static int wrong_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                              void *params) {
+  const wire *p = params;
+  (void)q, (void)v;
+  Gdot[0] = -p->w * cos(p->w * t), Gdot[1] = p->w * sin(p->w * t); /* entry 1's sign */
+  return 0;
+}
+
+START_TEST(wire_derivative_errors_found) {
+  wire p = WIRE;
+  sdae_mbs sys = wire_mbs(&p), wrong = sys;
+  sdae_mbs_check_report r;
+  true_constraint_t_dot = sys.constraint_t_dot;
+  wrong.constraint_t_dot = wrong_constraint_t_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, WIRE_T[0], WIRE_Q[0], WIRE_V[0], 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_CONSTRAINT_T_DOT);
+  ck_assert_uint_eq(r.worst_index, 0);
+  wrong = sys;
+  wrong.jacobian_dot = wrong_jacobian_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, WIRE_T[0], WIRE_Q[0], WIRE_V[0], 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN_DOT);
+  ck_assert_uint_eq(r.worst_index, 1);
 }
 END_TEST
 
@@ -272,7 +337,7 @@ START_TEST(pendulum_lambda_tension) {
   sdae_mbs sys;
   mech_pendulum_system(&sys, &p);
   expect_pendulum_lambda(&sys, 1e-12);
-  sys.jacobian = NULL;
+  sys.jacobian = NULL, sys.jacobian_dot = NULL; /* differences: Gdot needs G */
   expect_pendulum_lambda(&sys, 1e-9);
 }
 END_TEST
@@ -570,6 +635,8 @@ int main(void) {
   ADD_CASE(s, wire_order_midpoint_differences);
   ADD_CASE(s, wire_lambda_exact);
   ADD_CASE(s, wire_xi);
+  ADD_CASE(s, wire_derivatives_checked);
+  ADD_CASE(s, wire_derivative_errors_found);
   ADD_CASE(s, pendulum_lambda_tension);
   ADD_CASE(s, pendulum_xi_and_energy);
   ADD_CASE(s, pendulum_chart_hysteresis);

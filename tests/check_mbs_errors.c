@@ -229,9 +229,8 @@ static int sphere_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 static sdae_mbs sphere_mbs(sphere *p) {
-  sdae_mbs s = {.n_q = 3, .n_c = 2, .mass = sphere_mass, .force = sphere_force,
-                .constraint = sphere_constraint, .jacobian = sphere_jacobian, .params = p};
-  return s;
+  return (sdae_mbs){.n_q = 3, .n_c = 2, .mass = sphere_mass, .force = sphere_force,
+                    .constraint = sphere_constraint, .jacobian = sphere_jacobian, .params = p};
 }
 
 /* the same constraint twice: rank G = 1 < 2 at every state, SDAE_ERR_RANK at the first step,
@@ -665,12 +664,12 @@ static int f_damping(double t, const double *q, double *D, void *params) {
   return inject(f, CB_DAMPING, D, 4);
 }
 
+/* the derivatives along the motion are left out: every callback here can be made to fail */
 static sdae_mbs faulty_mbs(faulty *f) {
-  sdae_mbs s = {.n_q = 2, .n_c = 1, .mass = f_mass, .force = f_force,
-                .constraint = f_constraint, .jacobian = f_jacobian,
-                .constraint_t = f_constraint_t, .potential = f_potential,
-                .damping = f_damping, .params = f};
-  return s;
+  return (sdae_mbs){.n_q = 2, .n_c = 1, .mass = f_mass, .force = f_force,
+                    .constraint = f_constraint, .jacobian = f_jacobian,
+                    .constraint_t = f_constraint_t, .potential = f_potential,
+                    .damping = f_damping, .params = f};
 }
 
 static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL,

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The benchmark mechanisms of benchmarks.h, written from their published equations. */
+/* The benchmark mechanisms of benchmarks.h, written from their published equations, with the
+ * derivatives along the motion (d/ds at (t + s, q + s v)) differentiated by hand from them. */
 #include "benchmarks.h"
 
 #include <math.h>
@@ -15,6 +16,18 @@ static int fixed_constraint_t(double t, const double *q, double *ct, void *param
                               size_t n_c) {
   (void)t, (void)q, (void)params;
   memset(ct, 0, n_c * sizeof *ct);
+  return 0;
+}
+
+/* The derivative along the motion of a constant mass matrix: 0, written so that the front-end
+ * need not difference a constant */
+static void constant_mass_dot_v(size_t n, double *out) { memset(out, 0, n * sizeof *out); }
+
+/* d/ds of dc/dt = 0: 0 */
+static int fixed_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                  void *params, size_t n_c) {
+  (void)t, (void)q, (void)v, (void)params;
+  memset(out, 0, n_c * sizeof *out);
   return 0;
 }
 
@@ -75,6 +88,29 @@ static int crank_constraint_t(double t, const double *q, double *ct, void *param
   return fixed_constraint_t(t, q, ct, params, 2);
 }
 
+static int crank_mass_dot_v(double t, const double *q, const double *v, double *out,
+                            void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  constant_mass_dot_v(3, out);
+  return 0;
+}
+
+/* the jacobian's entries in theta and phi along (theta', phi'): (a sin theta)' =
+ * a cos theta theta', (sin phi)' = cos phi phi', and so on; the slider's column is constant */
+static int crank_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                              void *params) {
+  const bench_slider_crank *p = params;
+  (void)t;
+  Gdot[0] = p->a * cos(q[0]) * v[0], Gdot[1] = 0.0, Gdot[2] = cos(q[2]) * v[2];
+  Gdot[3] = p->a * sin(q[0]) * v[0], Gdot[4] = 0.0, Gdot[5] = sin(q[2]) * v[2];
+  return 0;
+}
+
+static int crank_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                  void *params) {
+  return fixed_constraint_t_dot(t, q, v, out, params, 2);
+}
+
 static int crank_potential(double t, const double *q, double *V, void *params) {
   const bench_slider_crank *p = params;
   double g[3], l;
@@ -103,7 +139,9 @@ void bench_slider_crank_system(sdae_mbs *sys, bench_slider_crank *p) {
   *sys = (sdae_mbs){.n_q = 3, .n_c = 2, .mass = crank_mass, .force = crank_force,
                     .constraint = crank_constraint, .jacobian = crank_jacobian,
                     .constraint_t = crank_constraint_t, .potential = crank_potential,
-                    .damping = crank_damping, .params = p};
+                    .damping = crank_damping, .params = p, .mass_dot_v = crank_mass_dot_v,
+                    .jacobian_dot = crank_jacobian_dot,
+                    .constraint_t_dot = crank_constraint_t_dot};
 }
 
 void bench_slider_crank_initial(const bench_slider_crank *p, double *q, double *v) {
@@ -121,6 +159,15 @@ static void car_wheel(const bench_car_axis *p, double t, double *b, double *b_t)
   b[0] = sqrt(p->L * p->L - b[1] * b[1]);
   b_t[1] = p->r * p->w * cos(p->w * t);
   b_t[0] = -b[1] * b_t[1] / b[0];
+}
+
+/* the wheel's acceleration: yb'' = -w^2 yb, and xb'' from differentiating xb^2 + yb^2 = L^2
+ * twice, xb xb'' + xb'^2 + yb yb'' + yb'^2 = 0 */
+static void car_wheel_tt(const bench_car_axis *p, double t, double *b_tt) {
+  double b[2], b_t[2];
+  car_wheel(p, t, b, b_t);
+  b_tt[1] = -p->w * p->w * b[1];
+  b_tt[0] = -(b_t[0] * b_t[0] + b[1] * b_tt[1] + b_t[1] * b_t[1]) / b[0];
 }
 
 static double car_k(const bench_car_axis *p) { return p->mass * p->eps * p->eps / 2; }
@@ -180,6 +227,38 @@ static int car_constraint_t(double t, const double *q, double *ct, void *params)
   return 0;
 }
 
+static int car_mass_dot_v(double t, const double *q, const double *v, double *out,
+                          void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  constant_mass_dot_v(4, out);
+  return 0;
+}
+
+/* along (1, v): the first row (b(t), 0) moves with the wheel, b'(t); the second, 2 (dq, -dq)
+ * with dq = q_left - q_right, changes by 2 (dv, -dv) */
+static int car_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                            void *params) {
+  const bench_car_axis *p = params;
+  double b[2], b_t[2], dvx = v[0] - v[2], dvy = v[1] - v[3];
+  (void)q;
+  car_wheel(p, t, b, b_t);
+  Gdot[0] = b_t[0], Gdot[1] = b_t[1], Gdot[2] = 0.0, Gdot[3] = 0.0;
+  Gdot[4] = 2 * dvx, Gdot[5] = 2 * dvy, Gdot[6] = -2 * dvx, Gdot[7] = -2 * dvy;
+  return 0;
+}
+
+/* dc/dt = (b'(t) . q_left, 0) along (1, v): b''(t) . q_left + b'(t) . v_left */
+static int car_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                void *params) {
+  const bench_car_axis *p = params;
+  double b[2], b_t[2], b_tt[2];
+  car_wheel(p, t, b, b_t);
+  car_wheel_tt(p, t, b_tt);
+  out[0] = b_tt[0] * q[0] + b_tt[1] * q[1] + b_t[0] * v[0] + b_t[1] * v[1];
+  out[1] = 0.0;
+  return 0;
+}
+
 bench_car_axis bench_car_axis_default(void) {
   return (bench_car_axis){.eps = 1e-2, .mass = 10.0, .L = 1.0, .L0 = 0.5, .r = 0.1, .w = 10.0,
                           .g = 1.0};
@@ -188,7 +267,9 @@ bench_car_axis bench_car_axis_default(void) {
 void bench_car_axis_system(sdae_mbs *sys, bench_car_axis *p) {
   *sys = (sdae_mbs){.n_q = 4, .n_c = 2, .mass = car_mass, .force = car_force,
                     .constraint = car_constraint, .jacobian = car_jacobian,
-                    .constraint_t = car_constraint_t, .params = p};
+                    .constraint_t = car_constraint_t, .params = p,
+                    .mass_dot_v = car_mass_dot_v, .jacobian_dot = car_jacobian_dot,
+                    .constraint_t_dot = car_constraint_t_dot};
 }
 
 void bench_car_axis_initial(const bench_car_axis *p, double *q, double *v) {
@@ -231,6 +312,30 @@ static int andrews_mass(double t, const double *q, double *M, void *params) {
   M[41] = M[47] = p->m6 * (f6 * f6 - p->u * f6 * siom) + p->i6;
   M[48] = p->m6 * (f6 * f6 - 2 * p->u * f6 * siom + p->u * p->u) +
           p->m7 * (p->ua * p->ua + p->ub * p->ub) + p->i6 + p->i7;
+  return 0;
+}
+
+/* (d/ds M(q + s v)) v: M depends on theta = q[1] (through cos), phi = q[3] and omega = q[5]
+ * (through sin), each in one 2 x 2 block with the off-diagonal entry changing at half the rate
+ * of the second diagonal one (of the first, for theta's block):
+ *   d/ds M_00 = 2 a, d/ds M_01 = a,  a = m2 da rr sin(theta) theta'
+ *   d/ds M_34 = b,   d/ds M_44 = 2 b, b = m4 zt (e - ea) cos(phi) phi'
+ *   d/ds M_56 = w,   d/ds M_66 = 2 w, w = -m6 u (zf - fa) cos(omega) omega'
+ * the Test Set's force carries the same terms (its r2, r4, r6). */
+static int andrews_mass_dot_v(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  const bench_andrews *p = params;
+  double a = p->m2 * p->da * p->rr * sin(q[1]) * v[1];
+  double b = p->m4 * p->zt * (p->e - p->ea) * cos(q[3]) * v[3];
+  double w = -p->m6 * p->u * (p->zf - p->fa) * cos(q[5]) * v[5];
+  (void)t;
+  out[0] = a * (2 * v[0] + v[1]);
+  out[1] = a * v[0];
+  out[2] = 0.0;
+  out[3] = b * v[4];
+  out[4] = b * (v[3] + 2 * v[4]);
+  out[5] = w * v[6];
+  out[6] = w * (v[5] + 2 * v[6]);
   return 0;
 }
 
@@ -301,6 +406,39 @@ static int andrews_jacobian(double t, const double *q, double *G, void *params) 
   return 0;
 }
 
+/* Gdot = sum_k dG/dq_k v_k, entry by entry from andrews_jacobian: every entry is a sum of
+ * sin or cos of one angle or of a sum of two, whose derivative along v is the cos or -sin of it
+ * times that angle's rate (beta' + theta', phi' + delta', omega' + epsilon' for the sums) */
+static int andrews_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                                void *params) {
+  const bench_andrews *p = params;
+  double sbt = sin(q[0] + q[1]), cbt = cos(q[0] + q[1]), wbt = v[0] + v[1];
+  double spd = sin(q[3] + q[4]), cpd = cos(q[3] + q[4]), wpd = v[3] + v[4];
+  double soe = sin(q[5] + q[6]), coe = cos(q[5] + q[6]), woe = v[5] + v[6];
+  /* d/ds of bx_b = -rr sin beta + d sin(beta + theta), bx_t = d sin(beta + theta),
+   * by_b = rr cos beta - d cos(beta + theta), by_t = -d cos(beta + theta) */
+  double bx_b = -p->rr * cos(q[0]) * v[0] + p->d * cbt * wbt, bx_t = p->d * cbt * wbt;
+  double by_b = -p->rr * sin(q[0]) * v[0] + p->d * sbt * wbt, by_t = p->d * sbt * wbt;
+  (void)t;
+  memset(Gdot, 0, 42 * sizeof *Gdot);
+  for (int k = 0; k < 3; k++) {
+    Gdot[14 * k] = bx_b, Gdot[14 * k + 1] = bx_t;
+    Gdot[14 * k + 7] = by_b, Gdot[14 * k + 8] = by_t;
+  }
+  Gdot[2] = p->ss * sin(q[2]) * v[2];
+  Gdot[9] = -p->ss * cos(q[2]) * v[2];
+  Gdot[17] = p->e * spd * wpd, Gdot[18] = p->e * spd * wpd + p->zt * cos(q[4]) * v[4];
+  Gdot[24] = -p->e * cpd * wpd, Gdot[25] = -p->e * cpd * wpd + p->zt * sin(q[4]) * v[4];
+  Gdot[33] = p->zf * coe * woe, Gdot[34] = p->zf * coe * woe + p->u * sin(q[6]) * v[6];
+  Gdot[40] = p->zf * soe * woe, Gdot[41] = p->zf * soe * woe - p->u * cos(q[6]) * v[6];
+  return 0;
+}
+
+static int andrews_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                    void *params) {
+  return fixed_constraint_t_dot(t, q, v, out, params, 6);
+}
+
 static int andrews_constraint_t(double t, const double *q, double *ct, void *params) {
   return fixed_constraint_t(t, q, ct, params, 6);
 }
@@ -317,7 +455,9 @@ void bench_andrews_system(sdae_mbs *sys, bench_andrews *p) {
   *sys = (sdae_mbs){.n_q = 7, .n_c = 6, .mass = andrews_mass, .force = andrews_force,
                     .constraint = andrews_constraint, .jacobian = andrews_jacobian,
                     .constraint_t = andrews_constraint_t, .potential = andrews_potential,
-                    .params = p};
+                    .params = p, .mass_dot_v = andrews_mass_dot_v,
+                    .jacobian_dot = andrews_jacobian_dot,
+                    .constraint_t_dot = andrews_constraint_t_dot};
 }
 
 void bench_andrews_initial(double *q, double *v) {

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The three standard index-3 benchmark mechanisms in the multibody convention of
  * <stabdae/mbs.h> (M(t, q) v' = F(t, q, v) - G^T lambda, c(t, q) = 0), each with its analytic
- * jacobian and dc/dt, and with its potential (and damping) where the forces are a gradient, so
+ * jacobian and dc/dt and their derivatives along the motion (mass_dot_v, jacobian_dot,
+ * constraint_t_dot), and with its potential (and damping) where the forces are a gradient, so
  * that the discrete-gradient maps apply. Every constant is the published one; the sources:
  *
  *   slider crank  SUNDIALS, examples/ida/serial/idaSlCrank_dns.c (R. Serban, after E. J. Haug,

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanisms of mechanisms.h. Every one is point masses under gravity: M is diagonal,
  * F = -dV/dq is constant (plus the damped pendulum's -d v), and the constraints are half
- * squared distances, whose jacobian rows are differences of positions. */
+ * squared distances, whose jacobian rows are differences of positions. Along the motion
+ * (q + s v) M stays constant, (d/ds M) v = 0, and those rows change by the same differences of
+ * the velocities, a fixed pivot's being 0; no constraint depends on t. */
 #include "mechanisms.h"
 
 #include <math.h>
@@ -53,6 +55,16 @@ static void half_sq_row(const double *q, size_t n, size_t p, long r, const doubl
 
 static const double origin[2] = {0.0, 0.0};
 
+/* (d/ds M) v = 0: the point masses do not change along the motion (written, so that the
+ * front-end need not difference a constant) */
+static void constant_mass_dot_v(size_t n, double *out) { memset(out, 0, n * sizeof *out); }
+
+/* d/ds of half_sq_row's row along (q + s v): q_p - R changes at v_p - v_R, with v_R = 0 for a
+ * fixed pivot; the row of the same form in the velocities, every pivot at the origin */
+static void half_sq_row_dot(const double *v, size_t n, size_t p, long r, double *row) {
+  half_sq_row(v, n, p, r, origin, row);
+}
+
 /* ---- pendulum ------------------------------------------------------------------------------ */
 
 int mech_pendulum_mass(double t, const double *q, double *M, void *params) {
@@ -87,6 +99,20 @@ int mech_pendulum_jacobian(double t, const double *q, double *G, void *params) {
   return 0;
 }
 
+int mech_pendulum_mass_dot_v(double t, const double *q, const double *v, double *out,
+                             void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  constant_mass_dot_v(2, out);
+  return 0;
+}
+
+int mech_pendulum_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                               void *params) {
+  (void)t, (void)q, (void)params;
+  half_sq_row_dot(v, 2, 0, -1, Gdot);
+  return 0;
+}
+
 int mech_pendulum_potential(double t, const double *q, double *V, void *params) {
   const mech_pendulum *p = params;
   (void)t;
@@ -105,7 +131,9 @@ void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p) {
   *sys = (sdae_mbs){.n_q = 2, .n_c = 1, .mass = mech_pendulum_mass,
                     .force = mech_pendulum_force, .constraint = mech_pendulum_constraint,
                     .jacobian = mech_pendulum_jacobian, .potential = mech_pendulum_potential,
-                    .damping = p->d != 0.0 ? mech_pendulum_damping : NULL, .params = p};
+                    .damping = p->d != 0.0 ? mech_pendulum_damping : NULL, .params = p,
+                    .mass_dot_v = mech_pendulum_mass_dot_v,
+                    .jacobian_dot = mech_pendulum_jacobian_dot};
 }
 
 void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q,
@@ -164,6 +192,21 @@ static int dpend_jacobian(double t, const double *q, double *G, void *params) {
   return 0;
 }
 
+static int dpend_mass_dot_v(double t, const double *q, const double *v, double *out,
+                            void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  constant_mass_dot_v(4, out);
+  return 0;
+}
+
+static int dpend_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                              void *params) {
+  (void)t, (void)q, (void)params;
+  half_sq_row_dot(v, 4, 0, -1, Gdot);
+  half_sq_row_dot(v, 4, 2, 0, Gdot + 4);
+  return 0;
+}
+
 static int dpend_potential(double t, const double *q, double *V, void *params) {
   const mech_double_pendulum *p = params;
   const double mass[2] = {p->m1, p->m2};
@@ -175,7 +218,8 @@ static int dpend_potential(double t, const double *q, double *V, void *params) {
 void mech_double_pendulum_system(sdae_mbs *sys, mech_double_pendulum *p) {
   *sys = (sdae_mbs){.n_q = 4, .n_c = 2, .mass = dpend_mass, .force = dpend_force,
                     .constraint = dpend_constraint, .jacobian = dpend_jacobian,
-                    .potential = dpend_potential, .params = p};
+                    .potential = dpend_potential, .params = p,
+                    .mass_dot_v = dpend_mass_dot_v, .jacobian_dot = dpend_jacobian_dot};
 }
 
 void mech_double_pendulum_state(const mech_double_pendulum *p, const double *a, const double *w,
@@ -229,6 +273,23 @@ static int fourbar_jacobian(double t, const double *q, double *G, void *params) 
   return 0;
 }
 
+static int fourbar_mass_dot_v(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  constant_mass_dot_v(4, out);
+  return 0;
+}
+
+/* the pivots A and D do not move: the crank's and the rocker's rows change with B', C' alone */
+static int fourbar_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                                void *params) {
+  (void)t, (void)q, (void)params;
+  half_sq_row_dot(v, 4, 0, -1, Gdot);
+  half_sq_row_dot(v, 4, 2, 0, Gdot + 4);
+  half_sq_row_dot(v, 4, 2, -1, Gdot + 8);
+  return 0;
+}
+
 static int fourbar_potential(double t, const double *q, double *V, void *params) {
   const mech_fourbar *p = params;
   const double mass[2] = {p->mB, p->mC};
@@ -240,7 +301,8 @@ static int fourbar_potential(double t, const double *q, double *V, void *params)
 void mech_fourbar_system(sdae_mbs *sys, mech_fourbar *p) {
   *sys = (sdae_mbs){.n_q = 4, .n_c = 3, .mass = fourbar_mass, .force = fourbar_force,
                     .constraint = fourbar_constraint, .jacobian = fourbar_jacobian,
-                    .potential = fourbar_potential, .params = p};
+                    .potential = fourbar_potential, .params = p,
+                    .mass_dot_v = fourbar_mass_dot_v, .jacobian_dot = fourbar_jacobian_dot};
 }
 
 int mech_fourbar_state(const mech_fourbar *p, double theta, double omega, double *q,

@@ -2,8 +2,10 @@
 /* Three mechanisms in the multibody convention of <stabdae/mbs.h> (M v' = F - G^T lambda,
  * c(q) = 0): a pendulum and a double pendulum in Cartesian coordinates, and a four-bar
  * linkage (a closed loop). Point masses, gravity ga along -y, each with its potential so that
- * the discrete-gradient maps conserve the energy. The one definition of these mechanisms: the
- * example programs, the unit suites (tests/) and the tools (IDA, benchmarks) all link it. */
+ * the discrete-gradient maps conserve the energy, and with the exact derivatives along the
+ * motion (mass_dot_v = 0, jacobian_dot the rows' differences in v). The one definition of
+ * these mechanisms: the example programs, the unit suites (tests/) and the tools (IDA,
+ * benchmarks) all link it. */
 #ifndef STABDAE_EXAMPLES_MECHANISMS_H
 #define STABDAE_EXAMPLES_MECHANISMS_H
 
@@ -15,13 +17,18 @@
 typedef struct mech_pendulum {
   double L, m, ga, d; /* d: damping coefficient (0: none) */
 } mech_pendulum;
-/* mass, force, constraint, jacobian and potential set; damping when p->d != 0 */
+/* mass, force, constraint, jacobian, potential and the derivatives along the motion
+ * (mass_dot_v = 0, jacobian_dot = (v_x, v_y)) set; damping when p->d != 0 */
 void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p);
 /* The callbacks one by one (params: a mech_pendulum), for a system built around them. */
 int mech_pendulum_mass(double t, const double *q, double *M, void *params);
 int mech_pendulum_force(double t, const double *q, const double *v, double *F, void *params);
 int mech_pendulum_constraint(double t, const double *q, double *c, void *params);
 int mech_pendulum_jacobian(double t, const double *q, double *G, void *params);
+int mech_pendulum_mass_dot_v(double t, const double *q, const double *v, double *out,
+                             void *params);
+int mech_pendulum_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                               void *params);
 int mech_pendulum_potential(double t, const double *q, double *V, void *params);
 int mech_pendulum_damping(double t, const double *q, double *D, void *params);
 /* (q, v) at the angle theta turning at omega: on the circle, v tangent to it. */

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The benchmark mechanisms of models/benchmarks.c: their callbacks against the mathematics
  * (jacobian and dc/dt by differences of c; the forces against the published ones and against
- * -grad V - D v and the Lagrangian's velocity terms by differences), their consistent starts,
+ * -grad V - D v and the Lagrangian's velocity terms by differences), their derivatives along
+ * the motion and Andrews' Lagrangian force by sdae_mbs_check (and a wrong sign in one of them
+ * caught), their consistent starts,
  * and integrated through <stabdae/mbs.h>: the car axis and Andrews' mechanism against the Test
  * Set's reference solutions at order 2, the slider crank's order and its energy balance. */
 #include <check.h>
@@ -287,6 +289,135 @@ START_TEST(test_initial_states) {
 }
 END_TEST
 
+/* ---- the derivatives along the motion, against sdae_mbs_check's differences ------------------ */
+
+#define ALL_DERIVATIVES ((1u << SDAE_MBS_DERIVATIVES) - 1)
+/* the car axis has no potential (its road moves): its force is not checked */
+#define ALL_BUT_FORCE (ALL_DERIVATIVES & ~(1u << SDAE_MBS_FORCE))
+
+/* every derivative given agrees with the check's fourth-order differences (good to about 1e-9
+ * relative; measured at most 9e-9, the car axis' dc/dt at t = 3, where the check's step in t
+ * grows with |t| while the road keeps its period 2 pi / w = 0.63), far inside tol = 1e-6 that
+ * a wrong term would exceed */
+static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q,
+                                     const double *v, unsigned given) {
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, given);
+  ck_assert_int_eq(r.consistent, 1);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
+}
+
+/* The slider crank from its start moved off it (no angle a multiple of pi/4), every rate
+ * non-zero; its force is -grad V - D v (M constant: no velocity terms) */
+START_TEST(test_derivatives_slider_crank) {
+  benchmarks b;
+  all_benchmarks(&b);
+  double q[NQ], v[NQ];
+  bench_slider_crank_initial(&b.crank, q, v);
+  q[0] += 0.3, q[1] += 0.1, q[2] -= 0.2;
+  v[0] = 1.3, v[1] = -0.7, v[2] = 0.45;
+  assert_derivatives_exact(&b.sys[0], 0.0, q, v, ALL_DERIVATIVES);
+  const double q2[3] = {-1.1, 1.2, 0.4}, v2[3] = {-0.8, 0.35, 1.6};
+  assert_derivatives_exact(&b.sys[0], 0.0, q2, v2, ALL_DERIVATIVES);
+}
+END_TEST
+
+/* The car axis off its start at two times of its interval [0, 3] (the road's phase w t = 3.7
+ * and 21), and at the Test Set's end state at t = 3 */
+START_TEST(test_derivatives_car_axis) {
+  benchmarks b;
+  all_benchmarks(&b);
+  double q[NQ], v[NQ], lambda[NC];
+  bench_car_axis_initial(&b.car, q, v);
+  q[0] += 0.05, q[1] -= 0.03, q[2] += 0.02, q[3] += 0.04;
+  v[1] = 0.2, v[3] = -0.3;
+  assert_derivatives_exact(&b.sys[1], 0.37, q, v, ALL_BUT_FORCE);
+  assert_derivatives_exact(&b.sys[1], 2.1, q, v, ALL_BUT_FORCE);
+  bench_car_axis_reference(q, v, lambda);
+  assert_derivatives_exact(&b.sys[1], 3.0, q, v, ALL_BUT_FORCE);
+}
+END_TEST
+
+/* Andrews off its start with rates of tens per second, and at the Test Set's end state at
+ * t = 0.03 (rates up to 1.4e3, the angles wound up to 16 rad). The force is the Test Set's
+ * f, checked against Lagrange's equations -dV/dq + (1/2) v^T (dM/dq) v - (d/ds M) v: its
+ * velocity terms are exactly the Lagrangian's. */
+START_TEST(test_derivatives_andrews) {
+  benchmarks b;
+  all_benchmarks(&b);
+  double q[NQ], v[NQ], lambda[NC];
+  const double dq[7] = {0.11, -0.23, 0.07, 0.19, -0.13, 0.05, -0.17};
+  const double rates[7] = {13, -21, 4, 9, -7, 11, -5};
+  bench_andrews_initial(q, v);
+  for (int i = 0; i < 7; i++) q[i] += dq[i], v[i] = rates[i];
+  assert_derivatives_exact(&b.sys[2], 0.0, q, v, ALL_DERIVATIVES);
+  bench_andrews_reference(q, v, lambda);
+  assert_derivatives_exact(&b.sys[2], 0.03, q, v, ALL_DERIVATIVES);
+}
+END_TEST
+
+/* A copy of a mechanism with one entry of one derivative along the motion of the wrong sign
+ * (the three share a signature): the sign error a hand derivation makes most easily. */
+typedef int (*along_motion)(double t, const double *q, const double *v, double *out,
+                            void *params);
+static along_motion true_derivative;
+static size_t flipped_entry;
+
+static int flipped_derivative(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  int rc = true_derivative(t, q, v, out, params);
+  out[flipped_entry] = -out[flipped_entry];
+  return rc;
+}
+
+/* the check names the derivative and the entry, and the others stay exact */
+static void assert_flip_found(const sdae_mbs *s, sdae_mbs_derivative d, size_t entry, double t,
+                              const double *q, const double *v) {
+  sdae_mbs wrong = *s;
+  sdae_mbs_check_report r;
+  flipped_entry = entry;
+  if (d == SDAE_MBS_MASS_DOT_V)
+    true_derivative = s->mass_dot_v, wrong.mass_dot_v = flipped_derivative;
+  else if (d == SDAE_MBS_JACOBIAN_DOT)
+    true_derivative = s->jacobian_dot, wrong.jacobian_dot = flipped_derivative;
+  else
+    true_derivative = s->constraint_t_dot, wrong.constraint_t_dot = flipped_derivative;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, d);
+  ck_assert_uint_eq(r.worst_index, entry);
+  for (int k = 0; k < SDAE_MBS_DERIVATIVES; k++)
+    if (k != (int)d) ck_assert_double_lt(r.mismatch[k], 1e-7);
+}
+
+/* one entry each, non-zero at the state (a flipped 0 is no error) */
+START_TEST(test_wrong_sign_found) {
+  benchmarks b;
+  all_benchmarks(&b);
+  double q[NQ], v[NQ];
+  /* the slider crank: entry 5, the second row's phi column, sin(phi) phi' = sin(0.4) 1.6 */
+  const double q_crank[3] = {-1.1, 1.2, 0.4}, v_crank[3] = {-0.8, 0.35, 1.6};
+  assert_flip_found(&b.sys[0], SDAE_MBS_JACOBIAN_DOT, 5, 0.0, q_crank, v_crank);
+  /* the car axis: entry 1 of Gdot, the road's vertical velocity r w cos(w t) = -0.85 at
+   * t = 0.37, and d/ds dc/dt = b''(t) . q_left + b'(t) . v_left, its one non-zero entry */
+  bench_car_axis_initial(&b.car, q, v);
+  q[0] += 0.05, q[1] -= 0.03, q[2] += 0.02, q[3] += 0.04;
+  v[1] = 0.2, v[3] = -0.3;
+  assert_flip_found(&b.sys[1], SDAE_MBS_JACOBIAN_DOT, 1, 0.37, q, v);
+  assert_flip_found(&b.sys[1], SDAE_MBS_CONSTRAINT_T_DOT, 0, 0.37, q, v);
+  /* Andrews: entry 4 of (d/ds M) v, m4 zt (e - ea) cos(phi) phi' (phi' + 2 delta'), and entry
+   * 25 of Gdot, the second loop's y row in delta, -e cos(phi + delta) (phi' + delta') +
+   * zt sin(delta) delta' */
+  const double dq[7] = {0.11, -0.23, 0.07, 0.19, -0.13, 0.05, -0.17};
+  const double rates[7] = {13, -21, 4, 9, -7, 11, -5};
+  bench_andrews_initial(q, v);
+  for (int i = 0; i < 7; i++) q[i] += dq[i], v[i] = rates[i];
+  assert_flip_found(&b.sys[2], SDAE_MBS_MASS_DOT_V, 4, 0.0, q, v);
+  assert_flip_found(&b.sys[2], SDAE_MBS_JACOBIAN_DOT, 25, 0.0, q, v);
+}
+END_TEST
+
 /* ---- integrated through the front-end ------------------------------------------------------ */
 
 typedef struct run_result {
@@ -434,6 +565,14 @@ static Suite *benchmarks_suite(void) {
   tcase_add_test(tc, test_andrews_forces);
   tcase_add_test(tc, test_zero_length_springs);
   tcase_add_test(tc, test_initial_states);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivatives");
+  tcase_add_test(tc, test_derivatives_slider_crank);
+  tcase_add_test(tc, test_derivatives_car_axis);
+  tcase_add_test(tc, test_derivatives_andrews);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivative_errors");
+  tcase_add_test(tc, test_wrong_sign_found);
   suite_add_tcase(s, tc);
   tc = tcase_create("integrated");
   tcase_set_timeout(tc, 60);

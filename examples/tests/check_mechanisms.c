@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanisms of models/mechanisms.c: their callbacks against the mathematics (jacobian =
- * dc/dq and force = -dV/dq by central differences, the mass matrix), their start states on
+ * dc/dq and force = -dV/dq by central differences, the mass matrix), their derivatives along
+ * the motion by sdae_mbs_check (and a wrong sign in one of them caught), their start states on
  * the constraints, Grashof's condition, and integrated through <stabdae/mbs.h>: the pendulum's
  * order against its exact solution, lambda in closed form, the energy kept by the discrete
  * gradient through chart switches, the four-bar's full turns, the double pendulum's chaos. */
@@ -136,6 +137,117 @@ START_TEST(test_grashof) {
     mech_fourbar p = {cases[i].a, cases[i].b, cases[i].e, cases[i].d, 1, 1, 0};
     ck_assert_int_eq(mech_fourbar_crank_rocker(&p), cases[i].crank_rocker);
   }
+}
+END_TEST
+
+/* ---- the derivatives along the motion, against sdae_mbs_check's differences ------------------ */
+
+/* what every one of these mechanisms gives: G, (d/ds M) v, d/ds G, and a potential (so the
+ * force is checked against -dV/dq, the Lagrangian's velocity terms, 0 here, and -D v) */
+static const unsigned point_masses_given =
+    1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V | 1u << SDAE_MBS_JACOBIAN_DOT |
+    1u << SDAE_MBS_FORCE;
+
+/* every derivative given agrees with the check's fourth-order differences, which are good to
+ * about 1e-9 relative (c is quadratic and M constant here: to rounding, measured <= 2.1e-13),
+ * far inside tol = 1e-6 that a wrong term would exceed */
+static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q,
+                                     const double *v, unsigned given) {
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, given);
+  ck_assert_int_eq(r.consistent, 1);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
+}
+
+/* states away from symmetries: no angle a multiple of pi/4, every velocity non-zero, the
+ * pendulum's also off its circle (the check needs no consistent state) */
+START_TEST(test_derivatives_pendulum) {
+  mechanisms m;
+  all_mechanisms(&m);
+  double q[2], v[2];
+  mech_pendulum_state(&m.pend, 0.7, -1.9, q, v);
+  assert_derivatives_exact(&m.sys[0], 0.3, q, v, point_masses_given);
+  const double q_off[2] = {0.93, -0.71}, v_off[2] = {0.37, 1.21};
+  assert_derivatives_exact(&m.sys[0], 0.3, q_off, v_off, point_masses_given);
+  /* with damping the force gains -d v, checked against -D v */
+  mech_pendulum damped = m.pend;
+  sdae_mbs sys;
+  damped.d = 0.4;
+  mech_pendulum_system(&sys, &damped);
+  assert_derivatives_exact(&sys, 0.3, q_off, v_off, point_masses_given);
+}
+END_TEST
+
+START_TEST(test_derivatives_double_pendulum) {
+  mechanisms m;
+  all_mechanisms(&m);
+  const double a[2][2] = {{2.1, -0.6}, {-0.4, 1.3}}, w[2][2] = {{0.8, -1.7}, {-2.2, 0.9}};
+  double q[4], v[4];
+  for (int k = 0; k < 2; k++) {
+    mech_double_pendulum_state(&m.dpend, a[k], w[k], q, v);
+    assert_derivatives_exact(&m.sys[1], 0.0, q, v, point_masses_given);
+  }
+}
+END_TEST
+
+START_TEST(test_derivatives_fourbar) {
+  mechanisms m;
+  all_mechanisms(&m);
+  const double theta[2] = {0.9, -2.2}, omega[2] = {2.3, -4.1};
+  double q[4], v[4];
+  for (int k = 0; k < 2; k++) {
+    ck_assert_int_eq(mech_fourbar_state(&m.fourbar, theta[k], omega[k], q, v), 0);
+    assert_derivatives_exact(&m.sys[2], 0.0, q, v, point_masses_given);
+  }
+}
+END_TEST
+
+/* A copy of a mechanism whose jacobian_dot has one entry of the wrong sign, the error a hand
+ * derivation makes most easily ((d/ds M) v = 0 here has no sign to get wrong). */
+static int (*true_jacobian_dot)(double t, const double *q, const double *v, double *Gdot,
+                                void *params);
+static size_t flipped_entry;
+
+static int flipped_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                                void *params) {
+  int rc = true_jacobian_dot(t, q, v, Gdot, params);
+  Gdot[flipped_entry] = -Gdot[flipped_entry];
+  return rc;
+}
+
+/* the check finds it: inconsistent, jacobian_dot the worst at that entry, the others exact */
+static void assert_flip_found(const sdae_mbs *s, size_t entry, double t, const double *q,
+                              const double *v) {
+  sdae_mbs wrong = *s;
+  sdae_mbs_check_report r;
+  true_jacobian_dot = s->jacobian_dot, flipped_entry = entry;
+  wrong.jacobian_dot = flipped_jacobian_dot;
+  ck_assert_int_eq(sdae_mbs_check(&wrong, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN_DOT);
+  ck_assert_uint_eq(r.worst_index, entry);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
+    if (d != SDAE_MBS_JACOBIAN_DOT) ck_assert_double_lt(r.mismatch[d], 1e-7);
+}
+
+/* one entry each, non-zero at the state (a flipped 0 is no error) */
+START_TEST(test_wrong_sign_found) {
+  mechanisms m;
+  all_mechanisms(&m);
+  double q[4], v[4];
+  /* the pendulum: Gdot = (v_x, v_y), entry 1 is v_y = 1.21 */
+  const double q_off[2] = {0.93, -0.71}, v_off[2] = {0.37, 1.21};
+  assert_flip_found(&m.sys[0], 1, 0.3, q_off, v_off);
+  /* the double pendulum: entry 6, the second arm's row in x2, v_x2 - v_x1 = L2 w2 cos a2 =
+   * 0.8 0.9 cos 1.3 = 0.19 */
+  const double a[2] = {-0.4, 1.3}, w[2] = {-2.2, 0.9};
+  mech_double_pendulum_state(&m.dpend, a, w, q, v);
+  assert_flip_found(&m.sys[1], 6, 0.0, q, v);
+  /* the four-bar: entry 11, the rocker's row in Cy, C's vertical velocity (D is fixed) */
+  ck_assert_int_eq(mech_fourbar_state(&m.fourbar, -2.2, -4.1, q, v), 0);
+  ck_assert_double_gt(fabs(v[3]), 0.1);
+  assert_flip_found(&m.sys[2], 11, 0.0, q, v);
 }
 END_TEST
 
@@ -288,6 +400,14 @@ static Suite *mechanisms_suite(void) {
   tcase_add_test(tc, test_force_mass);
   tcase_add_test(tc, test_start_states);
   tcase_add_test(tc, test_grashof);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivatives");
+  tcase_add_test(tc, test_derivatives_pendulum);
+  tcase_add_test(tc, test_derivatives_double_pendulum);
+  tcase_add_test(tc, test_derivatives_fourbar);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("derivative_errors");
+  tcase_add_test(tc, test_wrong_sign_found);
   suite_add_tcase(s, tc);
   tc = tcase_create("integrated");
   tcase_set_timeout(tc, 60);

@@ -180,7 +180,8 @@ static int run_steps(sdae_stepper *s, problem *P, size_t nsteps, double *ns) {
 
 /* ---- the front-end's mechanisms: the problem library's, their evaluations counted --------- */
 
-enum { EV_MASS, EV_FORCE, EV_CONSTRAINT, EV_JACOBIAN, EV_POTENTIAL, EV_KINDS };
+/* EV_DOT: the derivatives along the motion, mass_dot_v and jacobian_dot */
+enum { EV_MASS, EV_FORCE, EV_CONSTRAINT, EV_JACOBIAN, EV_POTENTIAL, EV_DOT, EV_KINDS };
 
 /* One of the problem library's mechanisms (examples/models/mechanisms.h, the examples' own) in
  * front of callbacks that count their evaluations, for the cost per step, and call its own. */
@@ -224,6 +225,20 @@ static int counted_potential(double t, const double *q, double *V, void *params)
   return k->inner.potential(t, q, V, k->inner.params);
 }
 
+static int counted_mass_dot_v(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  mechanism *k = params;
+  k->evals[EV_DOT]++;
+  return k->inner.mass_dot_v(t, q, v, out, k->inner.params);
+}
+
+static int counted_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                                void *params) {
+  mechanism *k = params;
+  k->evals[EV_DOT]++;
+  return k->inner.jacobian_dot(t, q, v, Gdot, k->inner.params);
+}
+
 /* The mechanism of kind (unit masses and bars, ga 9.81), its start from rest, and n_q; 0 when
  * the start cannot be assembled. */
 static size_t mechanism_init(mechanism *k, model_kind kind, double *q) {
@@ -249,10 +264,15 @@ static size_t mechanism_init(mechanism *k, model_kind kind, double *q) {
   return k->inner.n_q;
 }
 
+/* Every callback through its counter: params is the mechanism k here, so none of the inner
+ * mechanism's callbacks may be passed on as it is (these have no constraint_t nor damping). */
 static void mechanism_sys(sdae_mbs *sys, mechanism *k) {
-  *sys = k->inner;
-  sys->mass = counted_mass, sys->force = counted_force, sys->constraint = counted_constraint;
-  sys->jacobian = counted_jacobian, sys->potential = counted_potential, sys->params = k;
+  *sys = (sdae_mbs){.n_q = k->inner.n_q, .n_c = k->inner.n_c, .mass = counted_mass,
+                    .force = counted_force, .constraint = counted_constraint,
+                    .jacobian = counted_jacobian, .potential = counted_potential,
+                    .mass_dot_v = k->inner.mass_dot_v ? counted_mass_dot_v : NULL,
+                    .jacobian_dot = k->inner.jacobian_dot ? counted_jacobian_dot : NULL,
+                    .params = k};
 }
 
 static int is_mbs(model_kind k) { return k == MBS_PENDULUM || k == MBS_DOUBLE || k == MBS_FOURBAR; }
@@ -469,9 +489,9 @@ static void print_mbs(FILE *f, const result *res, size_t n) {
     if (!is_mbs(r->c->kind) || r->rc != SDAE_OK) continue;
     if (!header++)
       fprintf(f, "\n| front-end | map | ns/step | hand-written pendulum | ratio | target <= 3x | "
-                 "M | F | c | G | V per step | Phi^-1 it/step | Newton it/step | "
+                 "M | F | c | G | V | M', G' per step | Phi^-1 it/step | Newton it/step | "
                  "chart switches |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
-                 "---:|---:|\n");
+                 "---:|---:|---:|\n");
     const result *h = r->c->kind == MBS_PENDULUM
                           ? find(res, n, PENDULUM, r->c->map, r->c->scheme, 1)
                           : NULL;
@@ -481,9 +501,10 @@ static void print_mbs(FILE *f, const result *res, size_t n) {
               verdict(r->ns_step <= 3.0 * h->ns_step));
     else
       fprintf(f, "| | | ");
-    fprintf(f, "%.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %lu |\n",
+    fprintf(f, "%.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %lu |\n",
             r->evals_step[EV_MASS], r->evals_step[EV_FORCE], r->evals_step[EV_CONSTRAINT],
-            r->evals_step[EV_JACOBIAN], r->evals_step[EV_POTENTIAL], r->phi_inv_step,
+            r->evals_step[EV_JACOBIAN], r->evals_step[EV_POTENTIAL], r->evals_step[EV_DOT],
+            r->phi_inv_step,
             r->iters_step, r->switches);
   }
 }

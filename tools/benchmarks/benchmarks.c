@@ -66,6 +66,13 @@ FORWARD(potential, (double t, const double *q, double *V, void *params),
         (t, q, V, k->inner.params))
 FORWARD(damping, (double t, const double *q, double *D, void *params),
         (t, q, D, k->inner.params))
+FORWARD(mass_dot_v, (double t, const double *q, const double *v, double *out, void *params),
+        (t, q, v, out, k->inner.params))
+FORWARD(jacobian_dot, (double t, const double *q, const double *v, double *Gdot, void *params),
+        (t, q, v, Gdot, k->inner.params))
+FORWARD(constraint_t_dot,
+        (double t, const double *q, const double *v, double *out, void *params),
+        (t, q, v, out, k->inner.params))
 #undef FORWARD
 
 /* the same mechanism, every callback it has counted in k->calls */
@@ -80,6 +87,9 @@ static sdae_mbs counting(counted *k) {
                     .constraint_t = s->constraint_t ? counted_constraint_t : NULL,
                     .potential = s->potential ? counted_potential : NULL,
                     .damping = s->damping ? counted_damping : NULL,
+                    .mass_dot_v = s->mass_dot_v ? counted_mass_dot_v : NULL,
+                    .jacobian_dot = s->jacobian_dot ? counted_jacobian_dot : NULL,
+                    .constraint_t_dot = s->constraint_t_dot ? counted_constraint_t_dot : NULL,
                     .params = k};
 }
 
