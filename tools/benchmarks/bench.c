@@ -13,7 +13,12 @@
  * The mechanical front-end (<stabdae/mbs.h>, sdae_mbs_step) is timed on the Cartesian pendulum
  * (beside the hand-written pendulum model, the same map: their ratio), the Cartesian double
  * pendulum and a four-bar, the problem library's mechanisms (examples/models/mechanisms.h), with
- * their callbacks' evaluations counted per step.
+ * their callbacks' evaluations counted per step. Beside each mechanism's maps, in the same run,
+ * at the same T and number of steps: the classical RK4 on its index-1 form from the same
+ * counted callbacks (index1_rk4.h), whose drift off c = 0 nothing holds; the front-end's cost
+ * over it is the price of zero drift. What each buys is measured outside the timing: the error
+ * of the positions at the end against rk8pd on the index-1 ODE at a tight tolerance, and
+ * max abs(c) over the warm-up run (the same steps from the same start).
  *
  * The table goes to stdout and, in full mode, to the Markdown report (default
  * build/report/bench.md) with the machine, the date and the command. --smoke runs every case
@@ -33,7 +38,10 @@
 #include <stabdae/mbs.h>
 #include <stabdae/stabdae.h>
 
+#include <gsl/gsl_errno.h>
+
 #include "chain_model.h"
+#include "index1_rk4.h"
 #include "mechanisms.h"
 #include "oscillator_model.h"
 #include "pendulum_model.h"
@@ -70,14 +78,21 @@ void *realloc(void *p, size_t n) {
 
 /* ---- the cases ------------------------------------------------------------------------------ */
 
-typedef enum model_kind { OSCILLATOR, PENDULUM, CHAIN, MBS_PENDULUM, MBS_DOUBLE, MBS_FOURBAR } model_kind;
+typedef enum model_kind {
+  OSCILLATOR,
+  PENDULUM,
+  CHAIN,
+  MBS_PENDULUM,
+  MBS_DOUBLE,
+  MBS_FOURBAR
+} model_kind;
 
 typedef struct bench_case {
   model_kind kind;
   const char *map; /* the library's name (sdae_map_by_name) */
   sdae_scheme scheme;
-  size_t N;      /* masses (1 for the oscillator and the pendulum) */
-  size_t steps;  /* per repetition, full mode */
+  size_t N;     /* masses (1 for the oscillator and the pendulum) */
+  size_t steps; /* per repetition, full mode */
 } bench_case;
 
 /* One problem: the model, its options, the start and the running state. */
@@ -139,8 +154,7 @@ static int problem_init(problem *P, const bench_case *c) {
     return 0;
   case MBS_PENDULUM: /* measure_mbs's: no model of the normal form */
   case MBS_DOUBLE:
-  case MBS_FOURBAR:
-    break;
+  case MBS_FOURBAR: break;
   }
   return -1;
 }
@@ -180,8 +194,19 @@ static int run_steps(sdae_stepper *s, problem *P, size_t nsteps, double *ns) {
 
 /* ---- the front-end's mechanisms: the problem library's, their evaluations counted --------- */
 
-/* EV_DOT: the derivatives along the motion, mass_dot_v and jacobian_dot */
-enum { EV_MASS, EV_FORCE, EV_CONSTRAINT, EV_JACOBIAN, EV_POTENTIAL, EV_DOT, EV_KINDS };
+enum {
+  EV_MASS,
+  EV_FORCE,
+  EV_CONSTRAINT,
+  EV_JACOBIAN,
+  EV_CONSTRAINT_T,
+  EV_POTENTIAL,
+  EV_DAMPING,
+  EV_MASS_DOT_V,
+  EV_JACOBIAN_DOT,
+  EV_CONSTRAINT_T_DOT,
+  EV_KINDS
+};
 
 /* One of the problem library's mechanisms (examples/models/mechanisms.h, the examples' own) in
  * front of callbacks that count their evaluations, for the cost per step, and call its own. */
@@ -195,49 +220,37 @@ typedef struct mechanism {
   unsigned long evals[EV_KINDS];
 } mechanism;
 
-static int counted_mass(double t, const double *q, double *M, void *params) {
-  mechanism *k = params;
-  k->evals[EV_MASS]++;
-  return k->inner.mass(t, q, M, k->inner.params);
-}
-
-static int counted_force(double t, const double *q, const double *v, double *F, void *params) {
-  mechanism *k = params;
-  k->evals[EV_FORCE]++;
-  return k->inner.force(t, q, v, F, k->inner.params);
-}
-
-static int counted_constraint(double t, const double *q, double *c, void *params) {
-  mechanism *k = params;
-  k->evals[EV_CONSTRAINT]++;
-  return k->inner.constraint(t, q, c, k->inner.params);
-}
-
-static int counted_jacobian(double t, const double *q, double *G, void *params) {
-  mechanism *k = params;
-  k->evals[EV_JACOBIAN]++;
-  return k->inner.jacobian(t, q, G, k->inner.params);
-}
-
-static int counted_potential(double t, const double *q, double *V, void *params) {
-  mechanism *k = params;
-  k->evals[EV_POTENTIAL]++;
-  return k->inner.potential(t, q, V, k->inner.params);
-}
-
-static int counted_mass_dot_v(double t, const double *q, const double *v, double *out,
-                              void *params) {
-  mechanism *k = params;
-  k->evals[EV_DOT]++;
-  return k->inner.mass_dot_v(t, q, v, out, k->inner.params);
-}
-
-static int counted_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
-                                void *params) {
-  mechanism *k = params;
-  k->evals[EV_DOT]++;
-  return k->inner.jacobian_dot(t, q, v, Gdot, k->inner.params);
-}
+/* counted_NAME: counts in evals[KIND], then calls the mechanism's own NAME */
+#define COUNTED(name, kind, sig, args)                                                             \
+  static int counted_##name sig {                                                                  \
+    mechanism *k = params;                                                                         \
+    k->evals[kind]++;                                                                              \
+    return k->inner.name args;                                                                     \
+  }
+COUNTED(mass, EV_MASS, (double t, const double *q, double *M, void *params),
+        (t, q, M, k->inner.params))
+COUNTED(force, EV_FORCE, (double t, const double *q, const double *v, double *F, void *params),
+        (t, q, v, F, k->inner.params))
+COUNTED(constraint, EV_CONSTRAINT, (double t, const double *q, double *c, void *params),
+        (t, q, c, k->inner.params))
+COUNTED(jacobian, EV_JACOBIAN, (double t, const double *q, double *G, void *params),
+        (t, q, G, k->inner.params))
+COUNTED(constraint_t, EV_CONSTRAINT_T, (double t, const double *q, double *ct, void *params),
+        (t, q, ct, k->inner.params))
+COUNTED(potential, EV_POTENTIAL, (double t, const double *q, double *V, void *params),
+        (t, q, V, k->inner.params))
+COUNTED(damping, EV_DAMPING, (double t, const double *q, double *D, void *params),
+        (t, q, D, k->inner.params))
+COUNTED(mass_dot_v, EV_MASS_DOT_V,
+        (double t, const double *q, const double *v, double *out, void *params),
+        (t, q, v, out, k->inner.params))
+COUNTED(jacobian_dot, EV_JACOBIAN_DOT,
+        (double t, const double *q, const double *v, double *Gdot, void *params),
+        (t, q, v, Gdot, k->inner.params))
+COUNTED(constraint_t_dot, EV_CONSTRAINT_T_DOT,
+        (double t, const double *q, const double *v, double *out, void *params),
+        (t, q, v, out, k->inner.params))
+#undef COUNTED
 
 /* The mechanism of kind (unit masses and bars, ga 9.81), its start from rest, and n_q; 0 when
  * the start cannot be assembled. */
@@ -250,61 +263,101 @@ static size_t mechanism_init(mechanism *k, model_kind kind, double *q) {
     mech_pendulum_state(&k->p.pendulum, 0.5, 0.0, q, v);
   } else if (kind == MBS_DOUBLE) { /* rest at angles (1, 1.5) from the downward vertical */
     const double a[2] = {1.0, 1.5}, w[2] = {0.0, 0.0};
-    k->p.doubled =
-        (mech_double_pendulum){.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
+    k->p.doubled = (mech_double_pendulum){.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
     mech_double_pendulum_system(&k->inner, &k->p.doubled);
     mech_double_pendulum_state(&k->p.doubled, a, w, q, v);
   } else { /* a crank-rocker: ground pivots A = (0, 0) and D = (2, 0), crank AB 1, coupler BC 2,
             * rocker CD 1.5; B straight above A, C where the circles about B and D meet above */
-    k->p.fourbar = (mech_fourbar){.a = 1.0, .b = 2.0, .e = 1.5, .d = 2.0, .mB = 1.0, .mC = 1.0,
-                                  .ga = 9.81};
+    k->p.fourbar =
+        (mech_fourbar){.a = 1.0, .b = 2.0, .e = 1.5, .d = 2.0, .mB = 1.0, .mC = 1.0, .ga = 9.81};
     mech_fourbar_system(&k->inner, &k->p.fourbar);
     if (mech_fourbar_state(&k->p.fourbar, asin(1.0), 0.0, q, v) != 0) return 0;
   }
   return k->inner.n_q;
 }
 
-/* Every callback through its counter: params is the mechanism k here, so none of the inner
- * mechanism's callbacks may be passed on as it is (these have no constraint_t nor damping). */
+/* the mechanism with every callback it gives counted; those it leaves out stay NULL, so that
+ * the front-end and the RK4 baseline difference what the mechanism does not give */
 static void mechanism_sys(sdae_mbs *sys, mechanism *k) {
-  *sys = (sdae_mbs){.n_q = k->inner.n_q, .n_c = k->inner.n_c, .mass = counted_mass,
-                    .force = counted_force, .constraint = counted_constraint,
-                    .jacobian = counted_jacobian, .potential = counted_potential,
-                    .mass_dot_v = k->inner.mass_dot_v ? counted_mass_dot_v : NULL,
-                    .jacobian_dot = k->inner.jacobian_dot ? counted_jacobian_dot : NULL,
-                    .params = k};
+  const sdae_mbs *in = &k->inner;
+  *sys = *in;
+  sys->mass = counted_mass, sys->force = counted_force, sys->constraint = counted_constraint;
+  sys->jacobian = in->jacobian ? counted_jacobian : NULL;
+  sys->constraint_t = in->constraint_t ? counted_constraint_t : NULL;
+  sys->potential = in->potential ? counted_potential : NULL;
+  sys->damping = in->damping ? counted_damping : NULL;
+  sys->mass_dot_v = in->mass_dot_v ? counted_mass_dot_v : NULL;
+  sys->jacobian_dot = in->jacobian_dot ? counted_jacobian_dot : NULL;
+  sys->constraint_t_dot = in->constraint_t_dot ? counted_constraint_t_dot : NULL;
+  sys->params = k;
 }
 
 static int is_mbs(model_kind k) { return k == MBS_PENDULUM || k == MBS_DOUBLE || k == MBS_FOURBAR; }
 
-/* nsteps front-end steps from the start (q0, v0 = 0) */
-static int run_mbs_steps(sdae_mbs_stepper *s, const double *q0, size_t n_q, size_t nsteps,
-                         double *ns) {
+/* One step of either stepper of a mechanism, behind one signature so that both are timed by the
+ * same loop (the indirect call costs both the same nanosecond or two). */
+typedef int (*mech_step_fn)(void *stepper, double t, double T, double *q, double *v);
+
+static int frontend_step(void *s, double t, double T, double *q, double *v) {
+  return sdae_mbs_step(s, t, T, q, v);
+}
+
+static int rk4_step(void *w, double t, double T, double *q, double *v) {
+  return index1_rk4_step(w, t, T, q, v);
+}
+
+/* The end of a checked run: q after the last step, max_j abs(c_j) over the start and every
+ * step (by the mechanism's own, uncounted constraint). */
+typedef struct mech_check {
+  double q_end[4], max_c, c_end;
+} mech_check;
+
+/* nsteps steps from the start (q0, v0 = 0); with chk, max abs(c) after every step (outside
+ * the timed runs: the warm-up) */
+static int run_mech_steps(mech_step_fn step, void *s, const mechanism *k, const double *q0,
+                          size_t nsteps, double *ns, mech_check *chk) {
+  size_t n_q = k->inner.n_q;
   double q[4], v[4] = {0.0, 0.0, 0.0, 0.0};
-  int rc = SDAE_OK;
+  int rc = 0;
   memcpy(q, q0, n_q * sizeof(double));
+  if (chk) chk->max_c = mech_max_abs_c(&k->inner, 0.0, q);
   double t0 = now_ns();
   counting = 1;
-  for (size_t i = 0; i < nsteps && rc == SDAE_OK; i++)
-    rc = sdae_mbs_step(s, (double)i * step_T, step_T, q, v);
+  for (size_t i = 0; i < nsteps && rc == 0; i++) {
+    rc = step(s, (double)i * step_T, step_T, q, v);
+    if (chk && rc == 0)
+      chk->max_c = fmax(chk->max_c, mech_max_abs_c(&k->inner, (double)(i + 1) * step_T, q));
+  }
   counting = 0;
   *ns = now_ns() - t0;
+  if (chk) {
+    memcpy(chk->q_end, q, n_q * sizeof(double));
+    chk->c_end = mech_max_abs_c(&k->inner, (double)nsteps * step_T, q);
+  }
   return rc;
 }
 
 typedef struct result {
   const bench_case *c;
   size_t steps;
-  double ns_step;      /* median over the repetitions */
-  double iters_step;   /* Newton iterations per step */
+  double ns_step;    /* median over the repetitions */
+  double iters_step; /* Newton iterations per step */
   long allocs;
   int rc;
-  /* the front-end: callback evaluations, Phi^-1 iterations per step, chart switches */
+  /* the front-end: callback evaluations, Phi^-1 iterations per step, chart switches, and its
+   * warm-up's end and max abs(c) */
   double evals_step[EV_KINDS], phi_inv_step;
   unsigned long switches;
+  mech_check chk;
 } result;
 
 enum { MAX_REPS = 101 };
+
+static double evals_total(const double *evals_step) {
+  double sum = 0.0;
+  for (int e = 0; e < EV_KINDS; e++) sum += evals_step[e];
+  return sum;
+}
 
 static result measure_mbs(const bench_case *c, size_t steps, int reps) {
   result r = {.c = c, .steps = steps, .rc = SDAE_ERR_NOMEM};
@@ -323,10 +376,11 @@ static result measure_mbs(const bench_case *c, size_t steps, int reps) {
   opt.delta = 2.0, opt.epsilon = 1.0, opt.scheme = c->scheme, opt.map = sdae_map_by_name(c->map);
   if ((r.rc = sdae_mbs_stepper_alloc(&s, &sys, &opt)) != SDAE_OK) return r;
   allocations = 0;
-  r.rc = run_mbs_steps(s, q0, n_q, steps, &t[0]); /* warm-up */
+  r.rc = run_mech_steps(frontend_step, s, &k, q0, steps, &t[0], &r.chk); /* warm-up */
   sdae_mbs_stepper_reset_stats(s);
   memset(k.evals, 0, sizeof k.evals);
-  for (int i = 0; i < reps && r.rc == SDAE_OK; i++) r.rc = run_mbs_steps(s, q0, n_q, steps, &t[i]);
+  for (int i = 0; i < reps && r.rc == SDAE_OK; i++)
+    r.rc = run_mech_steps(frontend_step, s, &k, q0, steps, &t[i], NULL);
   r.allocs = allocations;
   if (r.rc == SDAE_OK) {
     const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
@@ -339,6 +393,72 @@ static result measure_mbs(const bench_case *c, size_t steps, int reps) {
   }
   sdae_mbs_stepper_free(s);
   return r;
+}
+
+/* ---- the baseline: RK4 on the index-1 form, and the reference ------------------------------ */
+
+/* The classical RK4 on the index-1 form of one mechanism (index1_rk4.h), timed as the
+ * front-end is, at the same T and number of steps, and the reference both are measured
+ * against: rk8pd on the same index-1 ODE at REF_TOL, once, outside the timing. */
+typedef struct baseline {
+  model_kind kind;
+  size_t n_q, steps;
+  int rc; /* 0, or the failing step's status */
+  long allocs;
+  double ns_step, evals_step[EV_KINDS];
+  mech_check chk;             /* its warm-up's */
+  index1_source gdot, ct_dot; /* how gamma's derivatives were had */
+  int ref_rc;                 /* GSL's status */
+  unsigned long ref_steps;
+  double q_ref[4];
+  double ref_spread; /* max_j abs(q_ref,j less the same by rk8pd at REF_TOL_CHECK) */
+  double ref_exact;  /* the pendulum's: max_j abs(q_ref,j - q_exact,j); NaN for the others */
+} baseline;
+
+/* The reference's tolerance, and a looser one whose distance to it bounds its error: on the
+ * pendulum over 100 s (by its exact solution) rk8pd's error was 1.7e-10 at 1e-13 and 9e-11 at
+ * 1e-14, the two 2.6e-10 apart. */
+#define REF_TOL 1e-14
+#define REF_TOL_CHECK 1e-13
+
+static baseline measure_baseline(model_kind kind, size_t steps, int reps) {
+  baseline b = {.kind = kind, .steps = steps, .rc = -1, .ref_rc = GSL_ENOMEM};
+  mechanism k;
+  sdae_mbs sys;
+  double q0[4], v0[4] = {0.0, 0.0, 0.0, 0.0}, t[MAX_REPS], tf = (double)steps * step_T;
+  index1 *w = NULL;
+  size_t n_q = b.n_q = mechanism_init(&k, kind, q0);
+  if (n_q == 0) return b;
+  mechanism_sys(&sys, &k);
+  if (!(w = index1_alloc(&sys))) return b;
+  b.gdot = index1_gdot_source(w), b.ct_dot = index1_ct_dot_source(w);
+  allocations = 0;
+  b.rc = run_mech_steps(rk4_step, w, &k, q0, steps, &t[0], &b.chk); /* warm-up */
+  memset(k.evals, 0, sizeof k.evals);
+  for (int i = 0; i < reps && b.rc == 0; i++)
+    b.rc = run_mech_steps(rk4_step, w, &k, q0, steps, &t[i], NULL);
+  b.allocs = allocations;
+  if (b.rc == 0) {
+    b.ns_step = median(t, (size_t)reps) / (double)steps;
+    for (int e = 0; e < EV_KINDS; e++)
+      b.evals_step[e] = (double)k.evals[e] / ((double)steps * reps);
+  }
+  /* the reference twice, its callbacks counted no more */
+  double q[4] = {0.0, 0.0, 0.0, 0.0}, v[4], qc[4];
+  memcpy(q, q0, n_q * sizeof *q), memcpy(v, v0, sizeof v);
+  b.ref_rc = index1_reference(w, 0.0, tf, REF_TOL, q, v, &b.ref_steps);
+  memcpy(b.q_ref, q, sizeof q);
+  memcpy(qc, q0, n_q * sizeof *qc), memcpy(v, v0, sizeof v);
+  if (b.ref_rc == GSL_SUCCESS) b.ref_rc = index1_reference(w, 0.0, tf, REF_TOL_CHECK, qc, v, NULL);
+  for (size_t j = 0; j < n_q; j++) b.ref_spread = fmax(b.ref_spread, fabs(qc[j] - q[j]));
+  b.ref_exact = NAN;
+  if (kind == MBS_PENDULUM) { /* the exact swing from rest at 0.5 rad (mechanism_init's) */
+    double th, om, L = k.p.pendulum.L;
+    mech_pendulum_exact(&k.p.pendulum, 0.5, tf, &th, &om);
+    b.ref_exact = fmax(fabs(q[0] - L * sin(th)), fabs(q[1] + L * cos(th)));
+  }
+  index1_free(w);
+  return b;
 }
 
 static result measure(const bench_case *c, size_t steps, int reps) {
@@ -421,13 +541,13 @@ static void cpu_model(char *out, size_t len) {
 static void print_row(FILE *f, const result *r) {
   const bench_case *c = r->c;
   if (r->rc != SDAE_OK) {
-    fprintf(f, "| %s | %zu | %s | %d | %zu | failed: %s | | | | %ld |\n", model_name(c->kind),
-            c->N, c->map, (int)c->scheme, r->steps, sdae_strerror(r->rc), r->allocs);
+    fprintf(f, "| %s | %zu | %s | %d | %zu | failed: %s | | | | %ld |\n", model_name(c->kind), c->N,
+            c->map, (int)c->scheme, r->steps, sdae_strerror(r->rc), r->allocs);
     return;
   }
   fprintf(f, "| %s | %zu | %s | %d | %zu | %.1f | %.3g | %.2f | %.2f | %ld |\n",
-          model_name(c->kind), c->N, c->map, (int)c->scheme, r->steps, r->ns_step,
-          1e9 / r->ns_step, r->ns_step / (double)c->N, r->iters_step, r->allocs);
+          model_name(c->kind), c->N, c->map, (int)c->scheme, r->steps, r->ns_step, 1e9 / r->ns_step,
+          r->ns_step / (double)c->N, r->iters_step, r->allocs);
 }
 
 static void print_table(FILE *f, const result *res, size_t n) {
@@ -463,13 +583,16 @@ static void print_targets(FILE *f, const result *res, size_t n, const drift *dr,
     const result *b = find(res, n, CHAIN, map, SDAE_SCHEME_SEMI_IMPLICIT, 100000);
     if (!a || !b) continue;
     double ra = a->ns_step / 100.0, rb = b->ns_step / 100000.0;
-    fprintf(f, "| chain, %s: ns/(mass step) at N = 1e5 within 1.5x of N = 100 | "
-               "%.2f / %.2f = %.2fx | %s |\n", map, rb, ra, rb / ra, verdict(rb / ra <= 1.5));
+    fprintf(f,
+            "| chain, %s: ns/(mass step) at N = 1e5 within 1.5x of N = 100 | "
+            "%.2f / %.2f = %.2fx | %s |\n",
+            map, rb, ra, rb / ra, verdict(rb / ra <= 1.5));
   }
   for (size_t i = 0; i < ndr; i++)
-    fprintf(f, "| d = 0, on the manifold, %zu steps of T = 0.01, %s: max abs(W - W0)/W0 <= "
-               "1e-12 | %s%.2e | %s |\n", dr[i].steps, dr[i].map,
-            dr[i].rc == SDAE_OK ? "" : "failed, ", dr[i].max_rel,
+    fprintf(f,
+            "| d = 0, on the manifold, %zu steps of T = 0.01, %s: max abs(W - W0)/W0 <= "
+            "1e-12 | %s%.2e | %s |\n",
+            dr[i].steps, dr[i].map, dr[i].rc == SDAE_OK ? "" : "failed, ", dr[i].max_rel,
             verdict(dr[i].rc == SDAE_OK && dr[i].max_rel <= 1e-12));
 #if BENCH_COUNT_ALLOCS
   fprintf(f, "| zero heap allocations per step | %ld in all timed steps | %s |\n", allocs,
@@ -480,32 +603,133 @@ static void print_targets(FILE *f, const result *res, size_t n, const drift *dr,
 #endif
 }
 
-/* The front-end's cases: their cost per step against the hand-written pendulum of the same map
- * (target: at most 3x), and the callback evaluations that make it. */
-static void print_mbs(FILE *f, const result *res, size_t n) {
+static const baseline *find_any_baseline(const baseline *bl, size_t nbl, model_kind kind) {
+  for (size_t i = 0; i < nbl; i++)
+    if (bl[i].kind == kind) return &bl[i];
+  return NULL;
+}
+
+static const baseline *find_baseline(const baseline *bl, size_t nbl, model_kind kind,
+                                     size_t steps) {
+  for (size_t i = 0; i < nbl; i++)
+    if (bl[i].kind == kind && bl[i].steps == steps && bl[i].rc == 0) return &bl[i];
+  return NULL;
+}
+
+/* max_j abs(q_j - q_ref,j): the positions' error at the end */
+static double error_q(const double *q, const baseline *b) {
+  double e = 0.0;
+  for (size_t j = 0; j < b->n_q; j++) e = fmax(e, fabs(q[j] - b->q_ref[j]));
+  return e;
+}
+
+static const char *source_name(index1_source s) {
+  static const char *const names[] = {"given", "differences", "zero (no constraint_t)"};
+  return names[s];
+}
+
+/* The front-end's cases: their cost per step against the classical RK4 on the index-1 form of
+ * the same mechanism at the same T (the price of zero drift) and against the hand-written
+ * pendulum of the same map (target: at most 3x), the callback calls that make them, and what
+ * each buys: the error at the end and the drift off c = 0. */
+static void print_mbs(FILE *f, const result *res, size_t n, const baseline *bl, size_t nbl) {
   int header = 0;
   for (size_t i = 0; i < n; i++) {
     const result *r = &res[i];
     if (!is_mbs(r->c->kind) || r->rc != SDAE_OK) continue;
     if (!header++)
-      fprintf(f, "\n| front-end | map | ns/step | hand-written pendulum | ratio | target <= 3x | "
-                 "M | F | c | G | V | M', G' per step | Phi^-1 it/step | Newton it/step | "
-                 "chart switches |\n|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|"
-                 "---:|---:|---:|\n");
-    const result *h = r->c->kind == MBS_PENDULUM
-                          ? find(res, n, PENDULUM, r->c->map, r->c->scheme, 1)
-                          : NULL;
+      fprintf(f,
+              "\nThe mechanical front-end (sdae_mbs_step) beside the classical RK4 on the "
+              "index-1 form of the same mechanism from the same callbacks, the same T and "
+              "steps: price of zero drift = front-end ns/step / RK4 ns/step. error: max_j "
+              "abs(q_j - q_ref,j) at the end, q_ref by rk8pd on the index-1 ODE at "
+              "tolerance %.0e; max abs(c): over the run (every step of the warm-up run). "
+              "calls: every callback, per step.\n\n"
+              "| front-end | map | ns/step | RK4 index-1 ns/step | price of zero drift | "
+              "calls/step | RK4 calls/step | error | RK4 error | max abs(c) | "
+              "RK4 max abs(c) | hand-written pendulum | ratio | target <= 3x | "
+              "Phi^-1 it/step | Newton it/step | chart switches |\n"
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|"
+              "---:|\n",
+              REF_TOL);
+    const baseline *b = find_baseline(bl, nbl, r->c->kind, r->steps);
+    const result *h =
+        r->c->kind == MBS_PENDULUM ? find(res, n, PENDULUM, r->c->map, r->c->scheme, 1) : NULL;
     fprintf(f, "| %s | %s | %.1f | ", model_name(r->c->kind), r->c->map, r->ns_step);
+    if (b)
+      fprintf(f, "%.1f | %.1fx | %.1f | %.1f | ", b->ns_step, r->ns_step / b->ns_step,
+              evals_total(r->evals_step), evals_total(b->evals_step));
+    else
+      fprintf(f, "| | %.1f | | ", evals_total(r->evals_step));
+    if (b && b->ref_rc == GSL_SUCCESS)
+      fprintf(f, "%.2e | %.2e | ", error_q(r->chk.q_end, b), error_q(b->chk.q_end, b));
+    else
+      fprintf(f, "| | ");
+    fprintf(f, "%.1e | ", r->chk.max_c);
+    if (b)
+      fprintf(f, "%.1e | ", b->chk.max_c);
+    else
+      fprintf(f, "| ");
     if (h)
       fprintf(f, "%.1f | %.2fx | %s | ", h->ns_step, r->ns_step / h->ns_step,
               verdict(r->ns_step <= 3.0 * h->ns_step));
     else
       fprintf(f, "| | | ");
-    fprintf(f, "%.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %lu |\n",
-            r->evals_step[EV_MASS], r->evals_step[EV_FORCE], r->evals_step[EV_CONSTRAINT],
-            r->evals_step[EV_JACOBIAN], r->evals_step[EV_POTENTIAL], r->evals_step[EV_DOT],
-            r->phi_inv_step,
-            r->iters_step, r->switches);
+    fprintf(f, "%.2f | %.2f | %lu |\n", r->phi_inv_step, r->iters_step, r->switches);
+  }
+  if (!header) return;
+  /* the calls by callback, the front-end's maps and the baseline one under the other */
+  fprintf(f, "\nCallback calls per step, by callback (c_t: dc/dt; Mdot v, Gdot, c_t dot: the "
+             "derivatives along the motion, when the mechanism gives them):\n\n"
+             "| mechanism | stepper | M | F | c | G | c_t | V | D | Mdot v | Gdot | c_t dot | "
+             "all |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t i = 0; i < n + nbl; i++) {
+    const double *ev;
+    if (i < n) {
+      if (!is_mbs(res[i].c->kind) || res[i].rc != SDAE_OK) continue;
+      fprintf(f, "| %s | front-end, %s |", model_name(res[i].c->kind), res[i].c->map);
+      ev = res[i].evals_step;
+    } else {
+      if (bl[i - n].rc != 0) continue;
+      fprintf(f, "| %s | RK4 index-1 |", model_name(bl[i - n].kind));
+      ev = bl[i - n].evals_step;
+    }
+    for (int e = 0; e < EV_KINDS; e++) fprintf(f, " %.2f |", ev[e]);
+    fprintf(f, " %.2f |\n", evals_total(ev));
+  }
+  /* the baseline and its reference, mechanism by mechanism */
+  fprintf(f,
+          "\nThe RK4 baseline: 4 stages, each M, F, G, gamma and one solve of the "
+          "(n_q + n_c) KKT system by GSL's LU (its banded routines with the full band, which "
+          "work in the caller's memory); gamma's Gdot and d/ds c_t from the mechanism when it "
+          "gives them, else by the fourth-order central difference along (1, v) the "
+          "front-end uses (4 calls of jacobian or constraint_t). The reference: rk8pd on the "
+          "same index-1 ODE at tolerance %.0e (absolute and relative); its spread: max_j "
+          "abs(q_ref,j - the same at %.0e), a bound on its error; for the pendulum also its "
+          "distance to the exact swing (Jacobi's elliptic functions).\n\n"
+          "| mechanism | steps | T | RK4 ns/step | Gdot | d/ds c_t | RK4 error | "
+          "RK4 max abs(c) | RK4 abs(c) at the end | reference steps | reference spread | "
+          "reference - exact | allocations |\n"
+          "|---|---:|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+          REF_TOL, REF_TOL_CHECK);
+  for (size_t i = 0; i < nbl; i++) {
+    const baseline *b = &bl[i];
+    fprintf(f, "| %s | %zu | %g | ", model_name(b->kind), b->steps, step_T);
+    if (b->rc != 0) {
+      fprintf(f, "failed (status %d) | | | | | | | | | %ld |\n", b->rc, b->allocs);
+      continue;
+    }
+    fprintf(f, "%.1f | %s | %s | ", b->ns_step, source_name(b->gdot), source_name(b->ct_dot));
+    if (b->ref_rc == GSL_SUCCESS)
+      fprintf(f, "%.2e | %.1e | %.1e | %lu | %.1e | ", error_q(b->chk.q_end, b), b->chk.max_c,
+              b->chk.c_end, b->ref_steps, b->ref_spread);
+    else
+      fprintf(f, "reference failed: %s | %.1e | %.1e | | | ", gsl_strerror(b->ref_rc), b->chk.max_c,
+              b->chk.c_end);
+    if (isnan(b->ref_exact))
+      fprintf(f, "| %ld |\n", b->allocs);
+    else
+      fprintf(f, "%.1e | %ld |\n", b->ref_exact, b->allocs);
   }
 }
 
@@ -518,11 +742,13 @@ static void print_header(FILE *f, int argc, char **argv, int reps) {
   fprintf(f, "- machine: %s, %ld cores online\n", cpu, sysconf(_SC_NPROCESSORS_ONLN));
   fprintf(f, "- date: %s\n- command:", date);
   for (int i = 0; i < argc; i++) fprintf(f, " %s", argv[i]);
-  fprintf(f, "\n- method: one warm-up and %d timed repetitions per case, each from the same "
-             "start; median CPU time of the thread (CLOCK_THREAD_CPUTIME_ID) per step, whole "
-             "sdae_step; T = 0.001, "
-             "delta 2, epsilon 1; heap allocations counted by malloc/calloc/realloc "
-             "interposition while steps run\n\n", reps);
+  fprintf(f,
+          "\n- method: one warm-up and %d timed repetitions per case, each from the same "
+          "start; median CPU time of the thread (CLOCK_THREAD_CPUTIME_ID) per step, whole "
+          "sdae_step; T = 0.001, "
+          "delta 2, epsilon 1; heap allocations counted by malloc/calloc/realloc "
+          "interposition while steps run\n\n",
+          reps);
 }
 
 /* ---- main ------------------------------------------------------------------------------------ */
@@ -556,8 +782,8 @@ static size_t select_cases(bench_case *c, size_t n, const char *only) {
   size_t kept = 0;
   for (size_t i = 0; i < n; i++) {
     char label[96];
-    snprintf(label, sizeof label, "%s/%s/%d/%zu", model_name(c[i].kind), c[i].map,
-             (int)c[i].scheme, c[i].N);
+    snprintf(label, sizeof label, "%s/%s/%d/%zu", model_name(c[i].kind), c[i].map, (int)c[i].scheme,
+             c[i].N);
     size_t len = only ? strlen(only) : 0;
     if (!only || (strncmp(label, only, len) == 0 && (label[len] == '\0' || label[len] == '/')))
       c[kept++] = c[i];
@@ -598,7 +824,8 @@ static int parse_args(int argc, char **argv, int *smoke, int *reps, const char *
     } else if (strcmp(opt, "--help") == 0) {
       printf("usage: bench [--smoke] [--reps N (1..101; default 7, smoke 3)] [--report FILE]\n"
              "             [--only MODEL[/MAP[/SCHEME[/N]]] (e.g. oscillator/user/15)]\n"
-             "default report (full mode): %s\n", BENCH_REPORT);
+             "default report (full mode): %s\n",
+             BENCH_REPORT);
       return 0;
     } else {
       return usage_error("unknown argument ", opt);
@@ -619,7 +846,8 @@ static void make_parent(const char *path) {
 }
 
 static int write_report(const char *path, int argc, char **argv, int reps, const result *res,
-                        size_t n, const drift *dr, size_t ndr, long allocs) {
+                        size_t n, const baseline *bl, size_t nbl, const drift *dr, size_t ndr,
+                        long allocs) {
   FILE *f;
   make_parent(path);
   if (!(f = fopen(path, "w"))) {
@@ -629,7 +857,7 @@ static int write_report(const char *path, int argc, char **argv, int reps, const
   print_header(f, argc, argv, reps);
   print_table(f, res, n);
   print_targets(f, res, n, dr, ndr, allocs);
-  print_mbs(f, res, n);
+  print_mbs(f, res, n, bl, nbl);
   return fclose(f) == 0 ? 0 : -1;
 }
 
@@ -644,10 +872,23 @@ int main(int argc, char **argv) {
 
   bench_case cases[48];
   result res[48];
-  size_t n = select_cases(cases, make_cases(cases), only);
+  baseline bl[3]; /* one per mechanism */
+  size_t n = select_cases(cases, make_cases(cases), only), nbl = 0;
   long allocs = 0;
+  gsl_set_error_handler_off(); /* a failed reference is reported, not an abort */
   for (size_t i = 0; i < n; i++) {
     size_t steps = smoke ? (cases[i].steps + 199) / 200 : cases[i].steps;
+    /* a mechanism's baseline before its first front-end case, timed in the same run */
+    if (is_mbs(cases[i].kind) && !find_any_baseline(bl, nbl, cases[i].kind) &&
+        nbl < sizeof bl / sizeof bl[0]) {
+      bl[nbl] = measure_baseline(cases[i].kind, steps, reps);
+      allocs += bl[nbl].allocs;
+      failed |= bl[nbl].rc != 0 || bl[nbl].ref_rc != GSL_SUCCESS;
+      fprintf(stderr, "%s: RK4 index-1 %.1f ns/step (status %d), reference: %s\n",
+              model_name(cases[i].kind), bl[nbl].ns_step, bl[nbl].rc,
+              gsl_strerror(bl[nbl].ref_rc)); /* progress */
+      nbl++;
+    }
     res[i] = measure(&cases[i], steps, reps);
     allocs += res[i].allocs;
     failed |= res[i].rc != SDAE_OK;
@@ -665,8 +906,8 @@ int main(int argc, char **argv) {
   print_header(stdout, argc, argv, reps);
   print_table(stdout, res, n);
   print_targets(stdout, res, n, dr, ndr, allocs);
-  print_mbs(stdout, res, n);
-  if (report && write_report(report, argc, argv, reps, res, n, dr, ndr, allocs)) return 1;
+  print_mbs(stdout, res, n, bl, nbl);
+  if (report && write_report(report, argc, argv, reps, res, n, bl, nbl, dr, ndr, allocs)) return 1;
   if (failed) fprintf(stderr, "bench: a case failed (see the table)\n");
   if (allocs) fprintf(stderr, "bench: %ld heap allocations while stepping\n", allocs);
   return failed || allocs ? 1 : 0;
