@@ -112,7 +112,7 @@ static double mismatch(const double *a, const double *b, size_t n, size_t *where
 
 static void record(sdae_mbs_check_report *r, sdae_mbs_derivative d, double m, size_t where) {
   int first = r->checked == 0;
-  r->checked |= 1u << d;
+  r->checked |= 1U << d;
   r->mismatch[d] = m;
   if (first || m > r->mismatch[r->worst]) r->worst = (int)d, r->worst_index = where;
 }
