@@ -15,8 +15,8 @@
 #include "programs.h"
 
 /* the model has no user map (user_phi) */
-static const char *const map_choices[] = {"euler", "midpoint",  "dgrad",     "dg4",
-                                          "dg6",   "midpoint4", "midpoint6", NULL};
+static const char *const map_choices[] = {"euler",     "midpoint",  "dgrad", "dg4", "dg6",
+                                          "midpoint4", "midpoint6", "rk4",   "rk8", NULL};
 /* keeps 4N doubles of state far inside size_t and memory on any machine that runs this */
 #define CHAIN_MAX_N 100000000u
 

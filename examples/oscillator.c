@@ -16,8 +16,8 @@
 
 /* every map of the library: the model gives q0, q0_jac, H, grad_H, S, hess_H and, as its user
  * map, the paper's Section IV map */
-static const char *const map_choices[] = {"euler", "midpoint",  "dgrad",     "user", "dg4",
-                                          "dg6",   "midpoint4", "midpoint6", NULL};
+static const char *const map_choices[] = {"euler",     "midpoint",  "dgrad", "user", "dg4", "dg6",
+                                          "midpoint4", "midpoint6", "rk4",   "rk8",  NULL};
 static const char *const q_choices[] = {"corrected", "paper", NULL};
 
 typedef struct osc_args {

@@ -14,8 +14,8 @@
 #include "programs.h"
 
 /* the model has no user map (user_phi) */
-static const char *const map_choices[] = {"euler", "midpoint",  "dgrad",     "dg4",
-                                          "dg6",   "midpoint4", "midpoint6", NULL};
+static const char *const map_choices[] = {"euler",     "midpoint",  "dgrad", "dg4", "dg6",
+                                          "midpoint4", "midpoint6", "rk4",   "rk8", NULL};
 
 typedef struct pend_args {
   pend_params p;

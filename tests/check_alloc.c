@@ -133,11 +133,11 @@ START_TEST(counter_sees_allocations) {
 END_TEST
 
 START_TEST(no_allocation_in_step) {
-  const sdae_map_type *maps[7] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
-                                  sdae_map_dg4,   sdae_map_dg6,      sdae_map_midpoint4,
-                                  sdae_map_midpoint6};
+  const sdae_map_type *maps[9] = {sdae_map_euler,     sdae_map_midpoint,  sdae_map_dgrad,
+                                  sdae_map_dg4,       sdae_map_dg6,       sdae_map_midpoint4,
+                                  sdae_map_midpoint6, sdae_map_rk4,       sdae_map_rk8};
   if (malloc_unseen("no malloc in sdae_step")) return;
-  for (int i = 0; i < 7; i++) {
+  for (int i = 0; i < 9; i++) {
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_PAPER), 0);
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_BAUMGARTE), 0);
   }

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Failing callbacks: every callback of the model (q0, Q, Q_apply, q0_jac, H, grad_H, S,
  * S_apply, hess_H, user_phi, user_phi_jac), at every call a step makes of it (the predictor,
- * each Newton residual, inside the Jacobian, in every stage of dg4 and dg6), fails in each of
- * the three ways of the SUNDIALS rule: returns < 0 -> SDAE_ERR_CALLBACK_FATAL, > 0 ->
+ * each Newton residual, inside the Jacobian, in every stage of dg4, dg6, rk4 and rk8), fails
+ * in each of the three ways of the SUNDIALS rule: returns < 0 -> SDAE_ERR_CALLBACK_FATAL, > 0 ->
  * SDAE_ERR_CALLBACK_RECOVERABLE, writes NaN -> SDAE_ERR_NONFINITE; and the step leaves xi and
  * mu bit for bit as they were. Then the overflows of the gains and of xi under scheme 11. */
 #include <math.h>
@@ -151,6 +151,18 @@ START_TEST(midpoint_composed_callbacks_fail_cleanly) {
   every_fault(sdae_map_midpoint4, SDAE_SCHEME_SEMI_IMPLICIT, 0, inj);
   every_fault(sdae_map_midpoint6, SDAE_SCHEME_EXPLICIT, WITH_Q_APPLY | WITH_Q0_JAC, inj);
   expect_covered(inj, (const int[]){Q0, QD, Q_APPLY, Q0_JAC}, 4);
+}
+END_TEST
+
+/* the explicit Runge-Kutta maps: q0 once per stage (4 for rk4, 12 for rk8), each call failing
+ * each way; a failure in the last stage leaves the state as surely as one in the first */
+START_TEST(rk_callbacks_fail_cleanly) {
+  long inj[NCB] = {0};
+  every_fault(sdae_map_rk4, SDAE_SCHEME_SEMI_IMPLICIT, 0, inj);
+  ck_assert_int_eq(inj[Q0], 4 * NMODE);
+  every_fault(sdae_map_rk8, SDAE_SCHEME_EXPLICIT, WITH_Q_APPLY, inj);
+  ck_assert_int_eq(inj[Q0], (4 + 12) * NMODE);
+  expect_covered(inj, (const int[]){Q0, QD, Q_APPLY}, 3);
 }
 END_TEST
 
@@ -335,6 +347,7 @@ int main(void) {
   ADD_CASE(s, euler_callbacks_fail_cleanly);
   ADD_CASE(s, midpoint_callbacks_fail_cleanly);
   ADD_CASE(s, midpoint_composed_callbacks_fail_cleanly);
+  ADD_CASE(s, rk_callbacks_fail_cleanly);
   ADD_CASE(s, dgrad_callbacks_fail_cleanly);
   ADD_CASE(s, composed_callbacks_fail_cleanly);
   ADD_CASE(s, user_callbacks_fail_cleanly);

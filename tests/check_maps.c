@@ -2,6 +2,7 @@
 /* The mu-maps: order on the manifold against the exact solution x = A cn(A t | 1/2) of
  * x'' = -x^3, exact energy conservation of the discrete gradient, its dissipation with
  * S = J - R, and its small-increment branch. */
+#include <float.h>
 #include <math.h>
 
 #include <gsl/gsl_errno.h>
@@ -62,6 +63,116 @@ END_TEST
 START_TEST(order_midpoint6_is_6) {
   sdae_options o = quartic_options(sdae_map_midpoint6, SDAE_SCHEME_SEMI_IMPLICIT);
   expect_order(&o, 6, 0.2);
+}
+END_TEST
+
+/* The classical Runge-Kutta method: order 4 (its order conditions are checked in multiple
+ * precision by tools/stabdae_ref/tests/test_rk_order_conditions.py; here its implementation) */
+START_TEST(order_rk4_is_4) {
+  sdae_options o = quartic_options(sdae_map_rk4, SDAE_SCHEME_SEMI_IMPLICIT);
+  expect_order(&o, 4, 0.05);
+}
+END_TEST
+
+/* DOP853's eighth-order solution on the quartic. Its principal error coefficients are so small
+ * that on this problem the next term, C9 T^9, outweighs C8 T^8 at every step size whose error
+ * double precision resolves: the global error is C8 T^8 (1 + x), x = (C9/C8) T, and the
+ * two-point ratio 256 (1 + x)/(1 + x/2) lies between 256 and 512, reaching 256 only as T -> 0
+ * (the same tableau in 50-digit arithmetic: 297 from T = 0.4, 315 from 0.2, 281 from 0.025,
+ * 260 from 0.00625, where the error is 2e-23). So here the ratio from T = 0.4 (errors 1e-8
+ * and 4e-11, far above rounding) is asserted between 256 and 512, within 10 %: a broken order
+ * condition of order <= 8 gives at most 128. The ratio within 10 % of 256 is measured on the
+ * rotation (check_time.c) and on the pendulum's small swing (check_mbs.c), whose errors are
+ * those of a linear oscillator. */
+START_TEST(order_rk8_is_8) {
+  sdae_options o = quartic_options(sdae_map_rk8, SDAE_SCHEME_SEMI_IMPLICIT);
+  double e1 = quartic_error(&o, 1.0, 2.0, 0.4), e2 = quartic_error(&o, 1.0, 2.0, 0.2);
+  ck_assert_double_gt(e2, 1e-11);
+  ck_assert_msg(e1 / e2 > 0.9 * 256.0 && e1 / e2 < 1.1 * 512.0, "error %g -> %g, ratio %g", e1, e2,
+                e1 / e2);
+}
+END_TEST
+
+/* The harmonic oscillator mu' = J mu, J = [[0, 1], [-1, 0]] (J^2 = -I), with one constraint
+ * coordinate whose column of Q is e1 (unused on the manifold). */
+static int harmonic_q0(double t, const double *mu, double *out, void *params) {
+  (void)t, (void)params;
+  out[0] = mu[1];
+  out[1] = -mu[0];
+  return 0;
+}
+
+static int harmonic_Q(double t, const double *xi, const double *mu, double *out, void *params) {
+  (void)t, (void)xi, (void)mu, (void)params;
+  out[0] = 1.0;
+  out[1] = 0.0;
+  return 0;
+}
+
+static sdae_model harmonic_model(void) {
+  sdae_model m = {.n_xi = 1, .n_mu = 2, .q0 = harmonic_q0, .Q = harmonic_Q};
+  return m;
+}
+
+/* Past its stability limit an explicit map is still the method: no status, the method's
+ * number. RK4 on mu' = J mu multiplies by its stability polynomial R(TJ) = (1 - T^2/2 +
+ * T^4/24) I + (T - T^3/6) J, |R(iT)| <= 1 only up to T = 2 sqrt(2). With T = 3, mu = (1, 0):
+ * mu+ = (1 - 4.5 + 3.375, -(3 - 4.5)) = (-0.125, 1.5), |mu+| = 1.505 > 1. The intermediate
+ * values are exact in binary but for the weights 1/6 and 1/3: 8 ulps allowed. DOP853's
+ * polynomial has |R(iT)| <= 1 up to T = 5.96; at T = 8 one step grows the state (by 37, its
+ * |R(8i)|), still with SDAE_OK. */
+START_TEST(rk_past_stability_limit_is_the_method) {
+  sdae_model m = harmonic_model();
+  sdae_options o = quartic_options(sdae_map_rk4, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *s;
+  double xi[1] = {0.0}, mu[2] = {1.0, 0.0};
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 3.0, xi, mu), SDAE_OK);
+  ck_assert_double_le(fabs(mu[0] + 0.125), 8 * DBL_EPSILON);
+  ck_assert_double_le(fabs(mu[1] - 1.5), 8 * DBL_EPSILON);
+  sdae_stepper_free(s);
+
+  o.map = sdae_map_rk8;
+  mu[0] = 1.0, mu[1] = 0.0;
+  ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_step(s, 0.0, 8.0, xi, mu), SDAE_OK);
+  ck_assert_double_gt(hypot(mu[0], mu[1]), 10.0);
+  sdae_stepper_free(s);
+}
+END_TEST
+
+/* the quartic's q0, recording whether it was ever handed a non-finite state */
+static int finite_args_only = 1;
+
+static int watched_q0(double t, const double *mu, double *out, void *params) {
+  if (!isfinite(mu[0]) || !isfinite(mu[1])) finite_args_only = 0;
+  out[0] = mu[1];
+  out[1] = -((quartic *)params)->k * mu[0] * mu[0] * mu[0];
+  (void)t;
+  return 0;
+}
+
+/* A step whose stages overflow: the cubic force makes each stage about the cube of the last,
+ * so with T = 1e3 (rk8) or 1e100 (rk4) the values pass DBL_MAX within the step. The step
+ * fails with SDAE_ERR_NONFINITE, xi and mu stay as they were bit for bit, and q0 is never
+ * handed an Inf or NaN state. */
+START_TEST(rk_overflow_is_nonfinite) {
+  const sdae_map_type *maps[2] = {sdae_map_rk8, sdae_map_rk4};
+  const double T[2] = {1e3, 1e100};
+  quartic p = {1.0, 0.0, 0, 0};
+  sdae_model m = quartic_model(&p);
+  m.q0 = watched_q0;
+  for (int i = 0; i < 2; i++) {
+    sdae_options o = quartic_options(maps[i], SDAE_SCHEME_SEMI_IMPLICIT);
+    sdae_stepper *s;
+    double xi[2] = {0.0, 0.0}, mu[2] = {1.0, 0.0};
+    finite_args_only = 1;
+    ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
+    ck_assert_int_eq(sdae_step(s, 0.0, T[i], xi, mu), SDAE_ERR_NONFINITE);
+    ck_assert(xi[0] == 0.0 && xi[1] == 0.0 && mu[0] == 1.0 && mu[1] == 0.0);
+    ck_assert(finite_args_only);
+    sdae_stepper_free(s);
+  }
 }
 END_TEST
 
@@ -270,13 +381,14 @@ END_TEST
 
 /* Every map is found by its own name, and declares the order of accuracy its construction gives
  * (euler 1; midpoint and Gonzalez's discrete gradient 2, both symmetric; the triple jump 4;
- * s9odr6a 6, with either base); the order tests above measure the same numbers. */
+ * s9odr6a 6, with either base; the classical Runge-Kutta method 4, DOP853's solution 8); the
+ * order tests above measure the same numbers. */
 START_TEST(maps_by_name_and_order) {
-  const sdae_map_type *maps[8] = {sdae_map_euler, sdae_map_midpoint,  sdae_map_dgrad,
-                                  sdae_map_user,  sdae_map_dg4,       sdae_map_dg6,
-                                  sdae_map_midpoint4, sdae_map_midpoint6};
-  const unsigned order[8] = {1, 2, 2, 0, 4, 6, 4, 6};
-  for (int i = 0; i < 8; i++) {
+  const sdae_map_type *maps[10] = {
+      sdae_map_euler, sdae_map_midpoint,  sdae_map_dgrad,     sdae_map_user, sdae_map_dg4,
+      sdae_map_dg6,   sdae_map_midpoint4, sdae_map_midpoint6, sdae_map_rk4,  sdae_map_rk8};
+  const unsigned order[10] = {1, 2, 2, 0, 4, 6, 4, 6, 4, 8};
+  for (int i = 0; i < 10; i++) {
     ck_assert_ptr_eq(sdae_map_by_name(sdae_map_name(maps[i])), maps[i]);
     ck_assert_uint_eq(sdae_map_order(maps[i]), order[i]);
   }
@@ -396,6 +508,10 @@ int main(void) {
   ADD_CASE(s, order_midpoint4_is_4);
   ADD_CASE(s, order_midpoint6_is_6);
   ADD_CASE(s, order_dg6_is_6);
+  ADD_CASE(s, order_rk4_is_4);
+  ADD_CASE(s, order_rk8_is_8);
+  ADD_CASE(s, rk_past_stability_limit_is_the_method);
+  ADD_CASE(s, rk_overflow_is_nonfinite);
   ADD_CASE(s, order_user_paper_map_is_2);
   ADD_CASE(s, dgrad_conserves_H);
   ADD_CASE(s, dg4_conserves_H);

@@ -112,10 +112,12 @@ static double rotation_error(const sdae_model *m, const sdae_map_type *map, doub
 }
 
 /* The error divides by 2^p when T halves, p = sdae_map_order(map) = the order theory gives
- * (euler 1, midpoint and dgrad 2, dg4 4, dg6 6), within 5 %; T large enough that the error
- * stays far above rounding (asserted: above 1e-11; dg6's is 9e-10 at T = 0.05), small enough
- * to be asymptotic (dg6 at T = 0.2 is still at 60). With the
- * wrong time in a symmetric map the quadrature of a(t) is off by O(T): ratio 2. */
+ * (euler 1, midpoint and dgrad 2, dg4 and rk4 4, dg6 6, rk8 8), within 5 %; T large enough
+ * that the error stays far above rounding (asserted: above 1e-11; dg6's is 9e-10 at T = 0.05,
+ * rk8's 4e-11 at T = 0.125), small enough to be asymptotic (dg6 at T = 0.2 is still at 60).
+ * With the wrong time in a symmetric map the quadrature of a(t) is off by O(T): ratio 2; a
+ * Runge-Kutta stage at a wrong node c_i breaks an order condition of order 2 (sum b_i c_i =
+ * 1/2, with c the node of a(t)) or higher. */
 static void expect_order(const sdae_model *m, const sdae_map_type *map, unsigned order,
                          double T) {
   double e1 = rotation_error(m, map, 0.0, 2.0, T), e2 = rotation_error(m, map, 0.0, 2.0, T / 2);
@@ -165,6 +167,19 @@ END_TEST
 START_TEST(order_midpoint6_time_dependent) {
   sdae_model m = rotation_model(NULL);
   expect_order(&m, sdae_map_midpoint6, 6, 0.1);
+}
+END_TEST
+
+/* the explicit Runge-Kutta maps: their stages at t + c_i T */
+START_TEST(order_rk4_time_dependent) {
+  sdae_model m = rotation_model(NULL);
+  expect_order(&m, sdae_map_rk4, 4, 0.025);
+}
+END_TEST
+
+START_TEST(order_rk8_time_dependent) {
+  sdae_model m = rotation_model(NULL);
+  expect_order(&m, sdae_map_rk8, 8, 0.25);
 }
 END_TEST
 
@@ -282,6 +297,8 @@ int main(void) {
   ADD_CASE(s, order_dg6_time_dependent);
   ADD_CASE(s, order_midpoint4_time_dependent);
   ADD_CASE(s, order_midpoint6_time_dependent);
+  ADD_CASE(s, order_rk4_time_dependent);
+  ADD_CASE(s, order_rk8_time_dependent);
   ADD_CASE(s, gain_uses_step_time_dense_Q);
   ADD_CASE(s, gain_uses_step_time_Q_apply);
   ADD_CASE(s, gains_at_given_time);

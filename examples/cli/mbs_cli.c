@@ -6,8 +6,8 @@
 
 #include "mechanisms.h"
 
-const char *const mbs_map_choices[] = {"euler", "midpoint", "dgrad",     "dg4",
-                                       "dg6",   "midpoint4", "midpoint6", NULL};
+const char *const mbs_map_choices[] = {"euler",     "midpoint",  "dgrad", "dg4", "dg6",
+                                       "midpoint4", "midpoint6", "rk4",   "rk8", NULL};
 
 cli_run mbs_run_defaults(void) {
   return (cli_run){.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0, .scheme = 1,

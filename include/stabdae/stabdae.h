@@ -97,6 +97,10 @@ SDAE_API extern const sdae_map_type *const sdae_map_dg6;
  * "midpoint4" (order 4, 3 stages) and "midpoint6" (order 6, 9 stages) */
 SDAE_API extern const sdae_map_type *const sdae_map_midpoint4;
 SDAE_API extern const sdae_map_type *const sdae_map_midpoint6;
+/* "rk4": the classical Runge-Kutta method on mu' = q0(t, mu), explicit, order 4 (q0 only) */
+SDAE_API extern const sdae_map_type *const sdae_map_rk4;
+/* "rk8": DOP853's eighth-order Runge-Kutta solution, explicit, order 8, 12 stages (q0 only) */
+SDAE_API extern const sdae_map_type *const sdae_map_rk8;
 
 /* The map's name ("(none)" for NULL), and the map of a name (NULL when there is none). */
 SDAE_API const char *sdae_map_name(const sdae_map_type *map);

@@ -50,7 +50,9 @@ enum choice2 {
   DG4 = 1 << 0,     /* the dgrad choice of MAP means dg4 */
   S_APPLY = 1 << 1, /* the model gives S_apply instead of S */
   DG6 = 1 << 2,     /* the dgrad choice of MAP means dg6 (before DG4) */
-  HESSIAN = 1 << 3  /* the model gives hess_H */
+  HESSIAN = 1 << 3, /* the model gives hess_H */
+  RK4 = 1 << 4,     /* the euler choice of MAP means rk4 */
+  RK8 = 1 << 5      /* the euler choice of MAP means rk8 (before RK4) */
 };
 
 typedef struct numbers {
@@ -102,6 +104,8 @@ static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x
   o->map = maps[(c & MAP) >> 1];
   if (o->map == sdae_map_dgrad && (c2 & (DG4 | DG6)))
     o->map = (c2 & DG6) ? sdae_map_dg6 : sdae_map_dg4;
+  if (o->map == sdae_map_euler && (c2 & (RK4 | RK8)))
+    o->map = (c2 & RK8) ? sdae_map_rk8 : sdae_map_rk4;
   o->stabilizer = stabilizers[(c & STABILIZER) >> 3];
   o->delta = x->delta;
   o->epsilon = x->epsilon;

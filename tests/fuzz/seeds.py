@@ -11,7 +11,7 @@ import struct
 EXPLICIT, JACOBIAN, CALLER_BLOCK, Q_APPLY = 1, 1 << 5, 1 << 6, 1 << 7
 EULER, MIDPOINT, DGRAD, USER = (m << 1 for m in range(4))
 PAPER, NONE, BAUMGARTE = (s << 3 for s in range(3))
-DG4, S_APPLY, DG6, HESSIAN = 1, 2, 4, 8  # the third byte
+DG4, S_APPLY, DG6, HESSIAN, RK4, RK8 = 1, 2, 4, 8, 16, 32  # the third byte
 
 
 def seed(choice, more=0, steps=8, max_iter=20, T=0.01, t=0.0, delta=2.0, epsilon=1.0, tol=1e-14,
@@ -29,6 +29,9 @@ SEEDS = {
     "dg6-hessian-block": seed(DGRAD | CALLER_BLOCK, DG6 | HESSIAN, T=0.1, d=0.0),
     "dgrad-hessian-sapply": seed(DGRAD, HESSIAN | S_APPLY, T=0.3),
     "user-baumgarte-block": seed(USER | BAUMGARTE | CALLER_BLOCK, T=0.2),
+    "rk4-qapply-block": seed(EULER | Q_APPLY | CALLER_BLOCK, RK4, T=0.1),
+    # past rk8's stability limit, the stages overflowing (SDAE_ERR_NONFINITE, state kept)
+    "rk8-11-overflow": seed(EULER | EXPLICIT, RK8, T=1e3),
     "none-11-large-step": seed(MIDPOINT | NONE | EXPLICIT | JACOBIAN, T=10.0, k=1e6),
     "nan-state": seed(EULER | PAPER, mu=(math.nan, 0.6)),
     "negative-step": seed(DGRAD | PAPER, T=-1.0),

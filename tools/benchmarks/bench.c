@@ -754,8 +754,9 @@ static void print_header(FILE *f, int argc, char **argv, int reps) {
 /* ---- main ------------------------------------------------------------------------------------ */
 
 static size_t make_cases(bench_case *out) {
-  static const char *const osc_maps[] = {"euler", "midpoint", "dgrad", "user", "dg4", "dg6"};
-  static const char *const pend_maps[] = {"euler", "midpoint", "dgrad", "dg4", "dg6"};
+  static const char *const osc_maps[] = {"euler", "midpoint", "dgrad", "user",
+                                         "dg4",   "dg6",      "rk4",   "rk8"};
+  static const char *const pend_maps[] = {"euler", "midpoint", "dgrad", "dg4", "dg6", "rk4", "rk8"};
   static const size_t chain_N[] = {10, 100, 1000, 10000, 100000};
   size_t n = 0;
   for (int s = 0; s < 2; s++)

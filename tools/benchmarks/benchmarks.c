@@ -109,9 +109,10 @@ typedef struct problem {
   double q0[MAX_Q], v0[MAX_Q], q_ref[MAX_Q], v_ref[MAX_Q];
 } problem;
 
-static const char *const gradient_maps[] = {"midpoint", "midpoint4", "midpoint6", "dgrad",
-                                            "dg4",      "dg6",       NULL};
-static const char *const any_force_maps[] = {"midpoint", "midpoint4", "midpoint6", NULL};
+static const char *const gradient_maps[] = {"midpoint", "midpoint4", "midpoint6", "dgrad", "dg4",
+                                            "dg6",      "rk4",       "rk8",       NULL};
+static const char *const any_force_maps[] = {"midpoint", "midpoint4", "midpoint6",
+                                             "rk4",      "rk8",       NULL};
 
 static void setup_slider_crank(problem *pb) {
   pb->p.slider_crank = bench_slider_crank_default();
@@ -271,7 +272,7 @@ static int sweep_done(const settings *s, int points, double error, double cpu) {
 static void stabdae_sweep(const settings *s, const problem *pb, const char *map) {
   trial tr = {.pb = pb, .map = sdae_map_by_name(map)};
   int points = 0;
-  /* orders 4 and 6 start sqrt(10) and 10 times coarser: already accurate there */
+  /* orders 4, 6 and 8 start sqrt(10), 10 and 10^1.5 times coarser: already accurate there */
   double first = log10(pb->n_first) - (sdae_map_order(tr.map) - 2) / 4.0;
   for (double e = first; e <= log10(pb->n_last) + 1e-9; e += 0.5) {
     double cpu;

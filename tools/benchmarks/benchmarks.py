@@ -43,7 +43,7 @@ REFERENCES = {
 }
 # one colour per setting in every panel
 COLOURS = {"index1": "C1", "ggl": "C0", "midpoint": "C5", "midpoint4": "C6",
-           "midpoint6": "C7", "dgrad": "C4", "dg4": "C2", "dg6": "C3"}
+           "midpoint6": "C7", "dgrad": "C4", "dg4": "C2", "dg6": "C3", "rk4": "C8", "rk8": "C9"}
 FLOAT_KEYS = ("param", "cpu_s", "err_q", "err_v")
 
 

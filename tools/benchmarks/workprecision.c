@@ -189,6 +189,8 @@ static const stab_map maps[] = {
     {&sdae_map_user, 10.0, 1e4}, /* the oscillator's user map: the paper's Section IV map */
     {&sdae_map_dg4, 1.0, 1e3},
     {&sdae_map_dg6, 1.0, 1e3},
+    {&sdae_map_rk4, 1.0, 1e3},
+    {&sdae_map_rk8, 1.0, 1e3},
 };
 
 static const ida_form forms[] = {{"index1", IDAREF_INDEX1}, {"ggl", IDAREF_GGL}};

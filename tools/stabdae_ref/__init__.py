@@ -3,8 +3,9 @@
 
 Schemes 11 and 15 of Di Franco, Scarciotti, Astolfi, "Discretization schemes for constraint
 stabilization in nonlinear differential-algebraic systems", with the maps of the library's
-names euler, midpoint, dgrad (Gonzalez's discrete gradient) and user (the model's user map:
-the oscillator's is the paper's Section IV map), the baselines none and baumgarte, for the
+names euler, midpoint, dgrad (Gonzalez's discrete gradient), user (the model's user map: the
+oscillator's is the paper's Section IV map), rk4 and rk8 (explicit Runge-Kutta, the tableaus
+of tableaus.py), the baselines none and baumgarte, for the
 oscillator, the pendulum and the chain (models.py), in float64 or in mpmath (dps digits, 40 by
 default, Newton to a residual 10^-(dps-10)). Numbers given as input (parameters, T, x0) are
 rounded to doubles first, so both arithmetics solve exactly the problem the C library is given.

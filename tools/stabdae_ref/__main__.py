@@ -57,7 +57,7 @@ def parser():
     p.add_argument("--x0", type=number_list, help="X,Y,Xdot,Ydot (4 N values for the chain)")
     p.add_argument("--alpha", type=number_list, help="Baumgarte gains (default 1,2)")
     p.add_argument("--scheme", type=int, choices=stepper.SCHEMES, default=15)
-    p.add_argument("--map", choices=("euler", "midpoint", "dgrad", "user"),
+    p.add_argument("--map", choices=("euler", "midpoint", "dgrad", "user", "rk4", "rk8"),
                    help="default user for the oscillator, dgrad otherwise")
     p.add_argument("--q", choices=("corrected", "paper"))
     p.add_argument("--stabilizer", choices=stepper.STABILIZERS, default="paper")

@@ -81,7 +81,8 @@ def simulate(model, params=None, x0=None, T=0.001, nsteps=1000, scheme=15, map="
     z0          (xi0, mu0) instead of x0, given directly in the coordinates (numbers or
                 strings; strings are exact in mpmath)
     scheme      11 or 15;  map 'euler' | 'midpoint' | 'dgrad' | 'user' (the oscillator's
-                user map, the paper's Section IV map): the library's names
+                user map, the paper's Section IV map) | 'rk4' | 'rk8' (explicit
+                Runge-Kutta, tableaus.py): the library's names
     stabilizer  'paper' | 'none' | 'baumgarte'
     arithmetic  'float64' or 'mpmath' (dps digits)
     A failed step raises stepper.StepFailure, whose `result` holds the rows computed before.

@@ -8,21 +8,26 @@ Jacobian d phi / d mu+ for Newton:
                                                 ref. 18), symmetric, order 2; H(mu+) = H(mu)
                                                 when S is skew and xi = 0
   user      the model's user map (user_map)     the oscillator's: the paper's Section IV map
+  rk4, rk8  sum_i b_i k_i,                      explicit Runge-Kutta, orders 4 and 8 (the
+            k_i = q0(mu + T sum_j a_ij k_j)     tableaus of tableaus.py); depends on T
 
 Gonzalez: gradbar H(x, y) = grad H(m) + [(H(y) - H(x) - grad H(m).v)/|v|^2] v with
 m = (x + y)/2, v = y - x, and grad H(m) alone when |v|^2 <= eps (1 + |m|^2), eps the
 arithmetic's resolution; it satisfies gradbar H . v = H(y) - H(x).
 """
-from . import vec
+from . import tableaus, vec
 
 
 class Map:
     """phi(mu, mu_next) and its Jacobian in mu_next (None for an explicit map);
-    phi_jac(mu, mu_next) gives both, sharing the work when the map can."""
+    phi_jac(mu, mu_next) gives both, sharing the work when the map can. phi_T(mu, mu_next, T)
+    is the map of a step of size T: phi itself for the maps that do not depend on T, or the
+    map's own (then phi is None)."""
 
-    def __init__(self, name, phi, jac=None, phi_jac=None):
+    def __init__(self, name, phi, jac=None, phi_jac=None, phi_T=None):
         self.name, self.phi, self.jac = name, phi, jac
         self.phi_jac = phi_jac or (lambda mu, mu_next: (phi(mu, mu_next), jac(mu, mu_next)))
+        self.phi_T = phi_T or (lambda mu, mu_next, T: phi(mu, mu_next))
 
     @property
     def explicit(self):
@@ -76,7 +81,35 @@ def discrete_gradient(model):
                lambda mu, mu_next: phi_jac(mu, mu_next)[1], phi_jac)
 
 
-BUILTIN = {"euler": euler, "midpoint": midpoint, "dgrad": discrete_gradient}
+def runge_kutta(name):
+    """The explicit Runge-Kutta map of tableau `name`: phi_T(mu) = sum_i b_i k_i with
+    k_i = q0(mu + T sum_{j<i} a_ij k_j) (the models here are autonomous: the nodes c_i are not
+    needed). The sums run over the nonzero coefficients in the order of j, as in the C
+    library, so that float64 rounds the same way."""
+    def make(model):
+        A, b, _ = tableaus.tableau(name, model.a)
+        zero = model.a.num(0)
+
+        def combination(weights, ks):
+            out = [zero] * model.n_mu
+            for w, k in zip(weights, ks):
+                if w != 0:
+                    out = [o + w * v for o, v in zip(out, k)]
+            return out
+
+        def phi_T(mu, mu_next, T):
+            ks = []
+            for i in range(len(b)):
+                incr = combination(A[i][:i], ks)
+                ks.append(model.q0([m + T * v for m, v in zip(mu, incr)] if i else mu))
+            return combination(b, ks)
+
+        return Map(name, None, phi_T=phi_T)
+    return make
+
+
+BUILTIN = {"euler": euler, "midpoint": midpoint, "dgrad": discrete_gradient,
+           "rk4": runge_kutta("rk4"), "rk8": runge_kutta("rk8")}
 
 
 def make(name, model):

@@ -85,7 +85,7 @@ class Stepper:
     def mu_next(self, mu, Qxi, T):
         """(mu+, Newton iterations) of mu+ = mu + T (phi_T(mu, mu+) + Q xi)."""
         a = self.a
-        guess = vec.add(mu, vec.scale(T, vec.add(self.map.phi(mu, mu), Qxi)))
+        guess = vec.add(mu, vec.scale(T, vec.add(self.map.phi_T(mu, mu, T), Qxi)))
         if self.map.explicit:
             return guess, 0
         y, n = guess, len(mu)

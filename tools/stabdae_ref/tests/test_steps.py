@@ -174,7 +174,7 @@ def test_pendulum_step_outside_the_radius_fails():
 
 
 def test_bad_arguments():
-    for kwargs in ({"scheme": 12}, {"map": "rk4"}, {"stabilizer": "x"}, {"T": -1.0},
+    for kwargs in ({"scheme": 12}, {"map": "rk5"}, {"stabilizer": "x"}, {"T": -1.0},
                    {"nsteps": 0}, {"params": {"L": 2}}, {"params": {"m": 0}}):
         args = dict(model="oscillator", T=1e-3, nsteps=10)
         args.update(kwargs)
