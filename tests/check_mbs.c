@@ -440,6 +440,7 @@ typedef struct dp_watch {
   sdae_mbs_stepper *s;
   double E0, E_prev, worst_drift, worst_switch_jump, worst_c;
   unsigned long switches_prev, switch_steps;
+  unsigned long unordered; /* steps after which the chart's q_D were not ascending */
 } dp_watch;
 
 /* the energy by its definition, not by the library */
@@ -462,6 +463,10 @@ static int dp_observe(size_t step, double t, const double *q, const double *v, v
   w->worst_c = fmax(w->worst_c, fabs(0.5 * (q[0] * q[0] + q[1] * q[1] - w->p->L1 * w->p->L1)));
   w->worst_c = fmax(w->worst_c, fabs(0.5 * (dx * dx + dy * dy - w->p->L2 * w->p->L2)));
   w->E_prev = E, w->switches_prev = sw;
+  if (step > 0) { /* the chart's dependent coordinates, ascending as sdae_mbs_chart promises */
+    size_t dep[2];
+    if (sdae_mbs_chart(w->s, dep) != SDAE_OK || !(dep[0] < dep[1])) w->unordered++;
+  }
   return 0;
 }
 
@@ -477,7 +482,7 @@ START_TEST(double_pendulum_energy_through_switches) {
   mech_double_pendulum_system(&sys, &p);
   sdae_options o = options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);
-  dp_watch w = {&p, s, 0, 0, 0, 0, 0, 0, 0};
+  dp_watch w = {&p, s, 0, 0, 0, 0, 0, 0, 0, 0};
   const double theta[2] = {2.2, 2.7}, omega[2] = {0.0, 0.0};
   double q[4], v[4], E;
   size_t n = 40000, done = 0;
@@ -490,6 +495,7 @@ START_TEST(double_pendulum_energy_through_switches) {
   ck_assert_msg(w.worst_c <= 1e-13, "max |c| %g", w.worst_c);
   ck_assert_uint_ge(sdae_mbs_stepper_stats(s)->chart_switches, 1);
   ck_assert_uint_eq(w.switch_steps, sdae_mbs_stepper_stats(s)->chart_switches);
+  ck_assert_uint_eq(w.unordered, 0);
   ck_assert_msg(w.worst_switch_jump <= 1e-14 * fabs(w.E0), "jump %g at a switch",
                 w.worst_switch_jump);
   ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E), SDAE_OK);
