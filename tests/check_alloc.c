@@ -548,7 +548,7 @@ START_TEST(dae_model_alloc_with_sweep) {
 }
 END_TEST
 
-/* ---- the hook itself (src/alloc.c) ---- */
+/* ---- the hook itself (src/core/alloc.c) ---- */
 
 /* counts its calls and remembers the sizes; blocks from __libc_malloc, so not counted above */
 typedef struct tally {

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The arena of src/arena.c: arrays counted and handed out from one block, each aligned to its
+/* The arena of src/core/arena.c: arrays counted and handed out from one block, each aligned to its
  * type, sizes that overflow size_t reported instead of wrapped; and through the public API, a
  * model too large for size_t gives SDAE_ERR_OVERFLOW. */
 #include <stdalign.h>

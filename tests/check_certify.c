@@ -220,7 +220,7 @@ static int near(const double *p, double a, double b, double c) {
 }
 
 /* z_j = lo_j + (hi_j - lo_j)(1 + sin u_j)/2 on [0, 1] at the start u = asin(2 z - 1) plus the
- * first simplex step 0.2 (src/certify.c's coordinates and SIMPLEX_STEP) */
+ * first simplex step 0.2 (src/analysis/certify.c's coordinates and SIMPLEX_STEP) */
 static double stepped(double z) { return 0.5 * (1.0 + sin(asin(2.0 * z - 1.0) + 0.2)); }
 
 /* first index >= from where a refinement starts at (a, b, c): the start itself, then the

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The composition coefficients of dg4 and dg6 (and midpoint4, midpoint6: the same ones), read
  * from the map tables themselves
- * (src/map.h: gamma, stages, base), against the order conditions of a symmetric composition
+ * (src/maps/map.h: gamma, stages, base), against the order conditions of a symmetric composition
  * Psi_T = Phi_{g_s T} o ... o Phi_{g_1 T} of the symmetric order-2 discrete gradient Phi
  * (Hairer, Lubich, Wanner, Geometric Numerical Integration, II.4 and V.3): consistency
  * sum g = 1, symmetry g_i = g_{s+1-i}, order 4 sum g^3 = 0, order 6 also sum g^5 = 0 and

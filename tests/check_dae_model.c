@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The generic front-end (<stabdae/dae.h>, src/dae_model.c, src/coords.c, src/derive.c).
+/* The generic front-end (<stabdae/dae.h>, src/dae/dae_model.c, src/dae/coords.c, src/model/derive.c).
  * The derived q0 and Q xi against the hand-written normal forms of the examples (the oscillator
  * of Section IV with the corrected Q of erratum 1, the pendulum), with and without the DAE's
  * Phi^-1 and an analytic mu_dot; against closed forms for a time-dependent DAE; the telescoping
@@ -242,7 +242,7 @@ START_TEST(fd_step_scaled) {
 }
 END_TEST
 
-/* ---- the telescoping rule (src/derive.c) on a polynomial rate ----
+/* ---- the telescoping rule (src/model/derive.c) on a polynomial rate ----
  * G(xi, mu) = (xi1 + xi1^2 + xi1 xi2 + 2 xi2 + mu1, 3 xi2^2 - xi1 + mu2 t), n_xi = n_mu = 2. */
 typedef struct poly {
   int calls;

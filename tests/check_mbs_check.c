@@ -2,6 +2,7 @@
 /* sdae_mbs_check on a bead of position-dependent mass m (1 + x^2) on a line through the origin
  * turning at rate w, c = x sin(w t) - y cos(w t), with gravity as a potential: every derivative
  * in closed form, then each one given with a wrong sign, which the check must name. */
+#include <float.h>
 #include <math.h>
 
 #include <stabdae/mbs.h>
@@ -11,6 +12,7 @@
 typedef struct bead {
   double m, w, g;
   int wrong; /* -1: none, else the sdae_mbs_derivative given with a wrong sign */
+  double V0, k3; /* V = V0 + m g y + k3 ((x - 0.6)^3 + (y - 0.8)^3) / 3 */
 } bead;
 
 static double sign(const bead *b, sdae_mbs_derivative d) { return b->wrong == (int)d ? -1 : 1; }
@@ -28,15 +30,17 @@ static int force(double t, const double *q, const double *v, double *F, void *pa
   const bead *b = params;
   double s = sign(b, SDAE_MBS_FORCE), x = q[0], vv = v[0] * v[0] + v[1] * v[1];
   (void)t;
-  F[0] = s * (b->m * x * vv - 2 * b->m * x * v[0] * v[0]);
-  F[1] = -b->m * b->g - 2 * b->m * x * v[0] * v[1];
+  double dx = x - 0.6, dy = q[1] - 0.8;
+  F[0] = s * (b->m * x * vv - 2 * b->m * x * v[0] * v[0] - b->k3 * dx * dx);
+  F[1] = -b->m * b->g - 2 * b->m * x * v[0] * v[1] - b->k3 * dy * dy;
   return 0;
 }
 
 static int potential(double t, const double *q, double *V, void *params) {
   const bead *b = params;
   (void)t;
-  *V = b->m * b->g * q[1];
+  double dx = q[0] - 0.6, dy = q[1] - 0.8;
+  *V = b->V0 + b->m * b->g * q[1] + b->k3 * (dx * dx * dx + dy * dy * dy) / 3;
   return 0;
 }
 
@@ -97,7 +101,7 @@ static const double t0 = 0.7, q0[2] = {0.8, -0.35}, v0[2] = {-1.3, 0.9};
 /* Right derivatives: every one compared, each within the differences' accuracy (about 1e-9
  * relative for these smooth functions), consistent at 1e-6. */
 START_TEST(right_derivatives_are_consistent) {
-  bead b = {2.0, 3.0, 9.81, -1};
+  bead b = {2.0, 3.0, 9.81, -1, 0.0, 0.0};
   sdae_mbs sys = system_of(&b);
   sdae_mbs_check_report r;
   ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
@@ -111,7 +115,7 @@ END_TEST
  * the largest entry), the check is inconsistent and names it, and only it. */
 START_TEST(a_wrong_sign_is_named) {
   for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) {
-    bead b = {2.0, 3.0, 9.81, d};
+    bead b = {2.0, 3.0, 9.81, d, 0.0, 0.0};
     sdae_mbs sys = system_of(&b);
     sdae_mbs_check_report r;
     ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
@@ -129,7 +133,7 @@ END_TEST
 
 /* The entry: jacobian_dot's second entry (row-major index 1) holds the wrong sign. */
 START_TEST(the_wrong_entry_is_named) {
-  bead b = {2.0, 3.0, 9.81, SDAE_MBS_JACOBIAN_DOT};
+  bead b = {2.0, 3.0, 9.81, SDAE_MBS_JACOBIAN_DOT, 0.0, 0.0};
   sdae_mbs sys = system_of(&b);
   sdae_mbs_check_report r;
   ck_assert_int_eq(sdae_mbs_check(&sys, t0, q0, v0, 1e-6, &r), SDAE_OK);
@@ -140,7 +144,7 @@ END_TEST
 
 /* Without the optional callbacks only what is given is compared. */
 START_TEST(only_given_derivatives_are_compared) {
-  bead b = {2.0, 3.0, 9.81, -1};
+  bead b = {2.0, 3.0, 9.81, -1, 0.0, 0.0};
   sdae_mbs sys = system_of(&b);
   sdae_mbs_check_report r;
   sys.potential = NULL, sys.mass_dot_v = NULL, sys.constraint_t_dot = NULL;
@@ -165,7 +169,7 @@ static int nan_out(double t, const double *q, const double *v, double *out, void
 
 /* Bad input: a named status, the report untouched. */
 START_TEST(bad_input_is_a_status) {
-  bead b = {2.0, 3.0, 9.81, -1};
+  bead b = {2.0, 3.0, 9.81, -1, 0.0, 0.0};
   sdae_mbs sys = system_of(&b), bad;
   sdae_mbs_check_report r = {.worst = 77};
   const double qn[2] = {NAN, 0.0};
@@ -186,6 +190,91 @@ START_TEST(bad_input_is_a_status) {
 }
 END_TEST
 
+/* Late times: the step in t does not grow with t (the line turns as fast at t = 1e6 as at 0),
+ * so the check keeps its sharpness there but for the rounding of the phase w t itself, eps t
+ * per value, which the difference of step h = 7.4e-4 turns into eps t / h relative. */
+START_TEST(late_times_are_checked_as_sharply) {
+  const double ts[2] = {1e3, 1e6};
+  for (int i = 0; i < 2; i++) {
+    bead b = {2.0, 3.0, 9.81, -1, 0.0, 0.0};
+    sdae_mbs sys = system_of(&b);
+    sdae_mbs_check_report r;
+    ck_assert_int_eq(sdae_mbs_check(&sys, ts[i], q0, v0, 1e-6, &r), SDAE_OK);
+    for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
+      ck_assert_double_lt(r.mismatch[d], 1e-8 + 4.0 * DBL_EPSILON * ts[i] / 7.4e-4);
+    ck_assert_int_eq(r.consistent, 1);
+  }
+}
+END_TEST
+
+/* At an equilibrium (v = 0, g = 0, the cubic's gradient zero at (0.6, 0.8)) the force is 0 and
+ * its differences are rounding of V0 = 1e4: no mismatch. */
+START_TEST(equilibrium_force_is_consistent) {
+  bead b = {2.0, 3.0, 0.0, -1, 1e4, 5.0};
+  sdae_mbs sys = system_of(&b);
+  sdae_mbs_check_report r;
+  const double qe[2] = {0.6, 0.8}, ve[2] = {0.0, 0.0};
+  ck_assert_int_eq(sdae_mbs_check(&sys, t0, qe, ve, 1e-6, &r), SDAE_OK);
+  ck_assert_double_eq(r.mismatch[SDAE_MBS_FORCE], 0.0);
+  ck_assert_int_eq(r.consistent, 1);
+}
+END_TEST
+
+/* c = (1e7 (x - y), (|q|^2 - 1) / 2): a wrong sign in the small second row of G is found, its
+ * entries far below the first row's. */
+static int flip_small_row;
+static int scaled_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  for (int i = 0; i < 9; i++) M[i] = i % 4 == 0;
+  return 0;
+}
+static int scaled_force(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  F[0] = F[1] = F[2] = 0.0;
+  return 0;
+}
+static int scaled_constraint(double t, const double *q, double *c, void *params) {
+  (void)t, (void)params;
+  c[0] = 1e7 * (q[0] - q[1]);
+  c[1] = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] - 1) / 2;
+  return 0;
+}
+static int scaled_jacobian(double t, const double *q, double *G, void *params) {
+  (void)t, (void)params;
+  G[0] = 1e7, G[1] = -1e7, G[2] = 0.0;
+  G[3] = q[0], G[4] = q[1], G[5] = flip_small_row ? -q[2] : q[2];
+  return 0;
+}
+
+START_TEST(a_small_row_is_not_hidden) {
+  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = scaled_mass, .force = scaled_force,
+                  .constraint = scaled_constraint, .jacobian = scaled_jacobian};
+  const double q[3] = {0.5, 0.5, 0.7}, v[3] = {0.1, 0.1, -0.2};
+  sdae_mbs_check_report r;
+  flip_small_row = 0;
+  ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 1);
+  flip_small_row = 1;
+  ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_int_eq(r.consistent, 0);
+  ck_assert_int_eq(r.worst, SDAE_MBS_JACOBIAN);
+  ck_assert_uint_eq(r.worst_index, 5);
+}
+END_TEST
+
+/* Nothing to compare: worst is -1. */
+START_TEST(nothing_given_nothing_compared) {
+  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = scaled_mass, .force = scaled_force,
+                  .constraint = scaled_constraint};
+  const double q[3] = {0.5, 0.5, 0.7}, v[3] = {0.1, 0.1, -0.2};
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, 0);
+  ck_assert_int_eq(r.worst, -1);
+  ck_assert_int_eq(r.consistent, 1);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_check");
   ADD_CASE(s, right_derivatives_are_consistent);
@@ -193,5 +282,9 @@ int main(void) {
   ADD_CASE(s, the_wrong_entry_is_named);
   ADD_CASE(s, only_given_derivatives_are_compared);
   ADD_CASE(s, bad_input_is_a_status);
+  ADD_CASE(s, late_times_are_checked_as_sharply);
+  ADD_CASE(s, equilibrium_force_is_consistent);
+  ADD_CASE(s, a_small_row_is_not_hidden);
+  ADD_CASE(s, nothing_given_nothing_compared);
   return run_suite(s);
 }

@@ -221,7 +221,7 @@ START_TEST(stale_memory_is_never_read) {
 }
 END_TEST
 
-/* ---- Newton's cost, fixed by its definition (src/newton.c) ----
+/* ---- Newton's cost, fixed by its definition (src/core/newton.c) ----
  * A step of an implicit map costs one evaluation of phi for the predictor mu + T (phi(mu, mu) +
  * Q xi); each Newton iteration one for the residual R(y), plus, when M = I - T dphi/dmu+ is
  * rebuilt, 2 per colour group of columns with finite differences (n groups dense, 2b + 1 for a
@@ -372,7 +372,7 @@ END_TEST
 
 
 /* ---- Newton's definition at its boundaries, through sdae__newton_solve itself ----
- * A map of the test's own (the table of src/map.h) and a workspace for n unknowns. */
+ * A map of the test's own (the table of src/maps/map.h) and a workspace for n unknowns. */
 
 static sdae_model ws_model;
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The Nelder-Mead minimizer of src/simplex.c against its definition: the first simplex u,
+/* The Nelder-Mead minimizer of src/core/simplex.c against its definition: the first simplex u,
  * u + step e_j, the moves p = c + coeff (x_worst - c) with coeff -1 (reflection), -2
  * (expansion), 1/2 (contraction), the shrink of every vertex halfway to the best (Nelder and
  * Mead 1965, with the acceptance rules of Lagarias et al. 1998: an expansion is kept only when

@@ -120,7 +120,7 @@ typedef enum sdae_mbs_derivative {
   SDAE_MBS_JACOBIAN = 0,         /* jacobian against c */
   SDAE_MBS_CONSTRAINT_T = 1,     /* constraint_t against c in t */
   SDAE_MBS_MASS_DOT_V = 2,       /* mass_dot_v against M along (1, v) */
-  SDAE_MBS_JACOBIAN_DOT = 3,     /* jacobian_dot against jacobian (or c) along (1, v) */
+  SDAE_MBS_JACOBIAN_DOT = 3,     /* jacobian_dot against jacobian along (1, v) */
   SDAE_MBS_CONSTRAINT_T_DOT = 4, /* constraint_t_dot against constraint_t along (1, v) */
   SDAE_MBS_FORCE = 5             /* force against -dV/dq, the Lagrangian's velocity terms and
                                   * -D v, where a potential is given */
@@ -129,20 +129,26 @@ typedef enum sdae_mbs_derivative {
 
 typedef struct sdae_mbs_check_report {
   unsigned checked;             /* bit k set: derivative k was given and compared */
-  double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst |given - differences| relative to
-                                          * the largest entry of either (0 when not given) */
-  int worst;                    /* the derivative with the largest mismatch */
+  double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst entry: what |given - differences|
+                                          * exceeds the differences' rounding by, relative to
+                                          * the entry (0 when not given; Inf for a NaN) */
+  int worst;                    /* the derivative with the largest mismatch; -1: none given */
   size_t worst_index;           /* its entry (row-major) where that mismatch is */
   int consistent;               /* every mismatch <= tol */
 } sdae_mbs_check_report;
 
 /* Compares every derivative the mechanism gives with fourth-order central differences of the
  * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
- * wrong sign would show), and reports the worst mismatch and where; *r is written whole. The
- * differences are good to about 1e-9 relative for smooth callbacks: tol = 1e-6 separates a
- * right derivative from a wrong one. SDAE_ERR_NULL, SDAE_ERR_DIM, SDAE_ERR_PARAM (tol not
- * positive, a state not finite), or a callback's status. With its workspace (one block, given
- * back before it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
+ * wrong sign would show), and reports the worst mismatch and where. Entry by entry, so a row
+ * of large entries hides no wrong small one; the differences' rounding is allowed for, so a
+ * derivative that vanishes at the state (a force at equilibrium) is no false alarm. Smooth
+ * callbacks agree to about 1e-9: tol = 1e-6 separates a right derivative from a wrong one.
+ * On SDAE_OK *r is written whole; otherwise it is untouched and the status says why:
+ * SDAE_ERR_NULL (sys, q, v, r, a required callback, or jacobian_dot without jacobian,
+ * constraint_t_dot without constraint_t), SDAE_ERR_DIM, SDAE_ERR_PARAM (tol not positive, a
+ * state not finite), SDAE_ERR_NOMEM, SDAE_ERR_OVERFLOW, or a callback's failure
+ * (SDAE_ERR_CALLBACK_*, SDAE_ERR_NONFINITE). With its workspace (one block, given back before
+ * it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
 SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v,
                             double tol, sdae_mbs_check_report *r);
 SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q,

@@ -80,7 +80,7 @@ typedef enum sdae_stabilizer {
   SDAE_STAB_BAUMGARTE = 2 /* as none, last = -sum_j alpha_j xi_j */
 } sdae_stabilizer;
 
-/* A map phi_T(mu, mu+) for the constrained motion: a static table of functions (src/map.h), one
+/* A map phi_T(mu, mu+) for the constrained motion: a static table of functions (src/maps/map.h), one
  * file per map. Each needs of the model what its comment says. */
 typedef struct sdae_map_type sdae_map_type;
 

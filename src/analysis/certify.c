@@ -2,7 +2,7 @@
 /* Step-size certificates. Theorem 3: scheme 11 drives xi to 0 from a compact box B when
  * T < 2 / max_i sup_B (-k_i) (eq. 14); Theorem 5 keeps the equilibrium's stability for
  * T <= (sqrt(5) - 1)/4 T_bar (scheme 15) and T <= T_bar/2 (scheme 11). The sup is found by a
- * grid over the box and a Nelder-Mead refinement (src/simplex.c) from the best grid points, in
+ * grid over the box and a Nelder-Mead refinement (src/core/simplex.c) from the best grid points, in
  * coordinates z_j = lo_j + (hi_j - lo_j)(1 + sin u_j)/2 that keep every probe inside B. All the
  * search's memory is one block from the stepper's allocator. */
 #include <math.h>

@@ -6,9 +6,10 @@
  *
  * along a line (t + s dt, q + s dq) through the state: e_j for a column of G or a gradient, (1, 0)
  * for dc/dt, (1, v) for the derivatives along the motion. With a potential, the force is checked
- * against Lagrange's equations for T = v^T M v / 2 (DESIGN.md, mechanisms from sympy):
+ * against Lagrange's equations d/dt (M v) - dT/dq + dV/dq = -D v for T = v^T M v / 2:
  *
  *   F = -dV/dq + (1/2) (v^T (dM/dq_k) v)_k - (d/ds M(q + s v)) v - D v. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -23,17 +24,25 @@
 /* what is evaluated along a line */
 typedef enum quantity { C, CT, G, MV, V, KINETIC } quantity;
 
+/* A difference carries the rounding of the values it combines, about eps max|value| / h times
+ * the stencil's weights and the callbacks' own few ulps; NOISE bounds that factor, so that a
+ * derivative that vanishes at the state (a force at equilibrium) is not judged by rounding. */
+#define NOISE 1e3
+
 typedef struct checker {
   const sdae_mbs *sys;
   size_t n_q, n_c;
-  const double *v;  /* the state's velocity: M v, v^T M v / 2 */
-  double *qs, *Mq;  /* n_q, n_q x n_q: the point on the line, M there */
-  double *at, *fd;  /* n_c x n_q or n_q each: a value on the line, the difference */
-  double *given;    /* the same size: the derivative the mechanism gives */
-  double *F, *Dv;   /* n_q each: the force's terms */
+  const double *v;         /* the state's velocity: M v, v^T M v / 2 */
+  double *qs, *Mq;         /* n_q, n_q x n_q: the point on the line, M there */
+  double *at;              /* width: a value on the line */
+  double *fd, *nz, *given; /* width each: the difference, its noise, the derivative given */
+  double *col, *col_nz;    /* n_q each: one column (or gradient) and its noise */
+  double *e;               /* n_q: a direction */
 } checker;
 
-static size_t width(const checker *k) { return k->n_c * k->n_q > k->n_q ? k->n_c * k->n_q : k->n_q; }
+static size_t width(const checker *k) {
+  return k->n_c * k->n_q > k->n_q ? k->n_c * k->n_q : k->n_q;
+}
 
 static size_t size_of(const checker *k, quantity what) {
   switch (what) {
@@ -77,124 +86,160 @@ static int evaluate(checker *k, quantity what, double t, const double *q, double
   }
 }
 
-/* d/ds of the quantity at (t + s dt, q + s dq), s = 0, into out; h ~ FD_STEP times the scale
- * of the line's variables, made exactly representable in the largest of them */
+/* The step along (dt, dq): FD_STEP over the speed of what moves, absolute (an angle wound up
+ * to 16 rad or a time of 1e3 changes no faster than at 0), but never below 2^20 ulps of the
+ * largest moving variable, which beyond about 4e9 makes it relative; then exact in t, or in
+ * the one coordinate that moves. */
+static double line_step(const checker *k, double t, const double *q, double dt,
+                        const double *dq) {
+  double big = dt != 0.0 ? fabs(t) : 0.0, speed = fabs(dt), h;
+  size_t moving = 0, count = 0;
+  for (size_t j = 0; j < k->n_q; j++)
+    if (dq[j] != 0.0) {
+      big = fmax(big, fabs(q[j])), speed = fmax(speed, fabs(dq[j]));
+      moving = j, count++;
+    }
+  h = FD_STEP * fmax(1.0, 0x1p20 * DBL_EPSILON * big / FD_STEP) / speed;
+  if (dt != 0.0) return (t + h) - t;
+  return count == 1 && dq[moving] == 1.0 ? (q[moving] + h) - q[moving] : h;
+}
+
+/* d/ds of the quantity at (t + s dt, q + s dq), s = 0, into out, and the rounding it carries
+ * into noise */
 static int derivative(checker *k, quantity what, double t, const double *q, double dt,
-                      const double *dq, double *out) {
+                      const double *dq, double *out, double *noise) {
   static const double offset[4] = {1.0, -1.0, 2.0, -2.0}, weight[4] = {8.0, -8.0, -1.0, 1.0};
   size_t n = size_of(k, what);
-  double scale = dt != 0.0 ? fmax(1.0, fabs(t)) : 1.0, speed = fabs(dt), h;
-  for (size_t j = 0; j < k->n_q; j++)
-    if (dq[j] != 0.0) scale = fmax(scale, fabs(q[j])), speed = fmax(speed, fabs(dq[j]));
-  h = FD_STEP * scale / speed;
-  h = (scale + h) - scale;
+  double h = line_step(k, t, q, dt, dq);
   memset(out, 0, n * sizeof *out);
+  memset(noise, 0, n * sizeof *noise);
   for (int o = 0; o < 4; o++) {
     int rc;
     for (size_t j = 0; j < k->n_q; j++) k->qs[j] = q[j] + offset[o] * h * dq[j];
     if ((rc = evaluate(k, what, t + offset[o] * h * dt, k->qs, k->at)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) out[i] += weight[o] * k->at[i];
+    for (size_t i = 0; i < n; i++) {
+      out[i] += weight[o] * k->at[i];
+      noise[i] = fmax(noise[i], fabs(k->at[i]));
+    }
   }
-  for (size_t i = 0; i < n; i++) out[i] /= 12.0 * h;
+  for (size_t i = 0; i < n; i++) out[i] /= 12.0 * h, noise[i] *= NOISE * DBL_EPSILON / h;
   return SDAE_OK;
 }
 
-/* the worst |a - b| relative to the largest entry of either, and where */
-static double mismatch(const double *a, const double *b, size_t n, size_t *where) {
-  double scale = 0.0, worst = 0.0;
+/* The worst mismatch of a (given) and b (differences), entry by entry: what |a - b| exceeds the
+ * noise by, relative to the entry's size. Besides the differences' noise, each entry allows the
+ * rounding of a closed form of its row's size (rows of `cols` entries: a matrix's rows, or one
+ * row for a vector), so that a row of large entries hides no wrong small row. NaN is
+ * INFINITY. */
+static double mismatch(const double *a, const double *b, const double *noise, size_t n,
+                       size_t cols, size_t *where) {
+  double worst = 0.0;
   *where = 0;
-  for (size_t i = 0; i < n; i++) scale = fmax(scale, fmax(fabs(a[i]), fabs(b[i])));
-  if (scale == 0.0) return 0.0;
-  for (size_t i = 0; i < n; i++)
-    if (fabs(a[i] - b[i]) / scale > worst) worst = fabs(a[i] - b[i]) / scale, *where = i;
+  for (size_t r = 0; r < n; r += cols) {
+    double row = 0.0;
+    for (size_t i = r; i < r + cols; i++) row = fmax(row, fmax(fabs(a[i]), fabs(b[i])));
+    for (size_t i = r; i < r + cols; i++) {
+      double floor = noise[i] + 64.0 * DBL_EPSILON * row, d = fabs(a[i] - b[i]) - floor, m;
+      m = d > 0.0 ? d / fmax(fmax(fabs(a[i]), fabs(b[i])), floor) : 0.0;
+      if (!(m <= DBL_MAX)) m = INFINITY; /* a NaN or Inf anywhere */
+      if (m > worst || (m == INFINITY && worst < INFINITY)) worst = m, *where = i;
+    }
+  }
   return worst;
 }
 
 static void record(sdae_mbs_check_report *r, sdae_mbs_derivative d, double m, size_t where) {
-  int first = r->checked == 0;
   r->checked |= 1U << d;
   r->mismatch[d] = m;
-  if (first || m > r->mismatch[r->worst]) r->worst = (int)d, r->worst_index = where;
+  if (r->worst < 0 || m > r->mismatch[r->worst]) r->worst = (int)d, r->worst_index = where;
 }
 
 /* G column by column, against c */
 static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
   size_t n_q = k->n_q, n_c = k->n_c, where;
-  double *e = k->Dv, m; /* the unit direction, in a free array */
+  double m;
   int rc = evaluate(k, G, t, q, k->given);
   if (rc != SDAE_OK) return rc;
-  memset(e, 0, n_q * sizeof *e);
+  memset(k->e, 0, n_q * sizeof *k->e);
   for (size_t j = 0; j < n_q; j++) {
-    e[j] = 1.0;
-    rc = derivative(k, C, t, q, 0.0, e, k->F);
-    e[j] = 0.0;
+    k->e[j] = 1.0;
+    rc = derivative(k, C, t, q, 0.0, k->e, k->col, k->col_nz);
+    k->e[j] = 0.0;
     if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < n_c; i++) k->fd[i * n_q + j] = k->F[i];
+    for (size_t i = 0; i < n_c; i++)
+      k->fd[i * n_q + j] = k->col[i], k->nz[i * n_q + j] = k->col_nz[i];
   }
-  m = mismatch(k->given, k->fd, n_c * n_q, &where);
+  m = mismatch(k->given, k->fd, k->nz, n_c * n_q, n_q, &where);
   record(r, SDAE_MBS_JACOBIAN, m, where);
   return SDAE_OK;
 }
 
-/* a derivative given by the callback `given` (its values already in k->given) against the
- * difference of a quantity along (dt, dq) */
+/* a derivative given (its values already in k->given) against the difference of a quantity
+ * along (dt, dq) */
 static int compare(checker *k, sdae_mbs_derivative d, quantity what, double t, const double *q,
                    double dt, const double *dq, sdae_mbs_check_report *r) {
-  size_t where;
-  int rc = derivative(k, what, t, q, dt, dq, k->fd);
+  size_t where, n = size_of(k, what);
+  int rc = derivative(k, what, t, q, dt, dq, k->fd, k->nz);
   if (rc == SDAE_OK) {
-    double m = mismatch(k->given, k->fd, size_of(k, what), &where);
+    double m = mismatch(k->given, k->fd, k->nz, n, what == G ? k->n_q : n, &where);
     record(r, d, m, where);
   }
   return rc;
 }
 
-/* the force against Lagrange's equations: every term by differences */
+/* the force (into k->given) against Lagrange's equations, every term by differences (into
+ * k->fd, their noises added in k->nz) */
 static int check_force(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
   const sdae_mbs *s = k->sys;
   size_t n = k->n_q, where;
-  double *e = k->Dv, dV, dT, worst;
-  int rc = sdae__callback_checked(s->force(t, q, k->v, k->F, s->params), k->F, n);
-  if (rc != SDAE_OK || (rc = derivative(k, MV, t, q, 1.0, k->v, k->given)) != SDAE_OK) return rc;
-  memset(e, 0, n * sizeof *e);
-  for (size_t j = 0; j < n; j++) { /* given = the Lagrangian's force, k->given holds Mdot v */
-    e[j] = 1.0;
-    if ((rc = derivative(k, V, t, q, 0.0, e, &dV)) == SDAE_OK)
-      rc = derivative(k, KINETIC, t, q, 0.0, e, &dT);
-    e[j] = 0.0;
+  double dV, dT, nV, nT, m;
+  int rc = sdae__callback_checked(s->force(t, q, k->v, k->given, s->params), k->given, n);
+  if (rc != SDAE_OK || (rc = derivative(k, MV, t, q, 1.0, k->v, k->col, k->col_nz)) != SDAE_OK)
+    return rc;
+  memset(k->e, 0, n * sizeof *k->e);
+  for (size_t j = 0; j < n; j++) { /* k->col holds Mdot v */
+    k->e[j] = 1.0;
+    if ((rc = derivative(k, V, t, q, 0.0, k->e, &dV, &nV)) == SDAE_OK)
+      rc = derivative(k, KINETIC, t, q, 0.0, k->e, &dT, &nT);
+    k->e[j] = 0.0;
     if (rc != SDAE_OK) return rc;
-    k->fd[j] = -dV + dT - k->given[j];
+    k->fd[j] = -dV + dT - k->col[j];
+    k->nz[j] = nV + nT + k->col_nz[j];
   }
   if (s->damping) {
-    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) != SDAE_OK)
+    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) !=
+        SDAE_OK)
       return rc;
     for (size_t i = 0; i < n; i++)
       for (size_t j = 0; j < n; j++) k->fd[i] -= k->Mq[i * n + j] * k->v[j];
   }
-  worst = mismatch(k->F, k->fd, n, &where);
-  record(r, SDAE_MBS_FORCE, worst, where);
+  m = mismatch(k->given, k->fd, k->nz, n, n, &where);
+  record(r, SDAE_MBS_FORCE, m, where);
   return SDAE_OK;
+}
+
+/* the derivative a callback gives along (1, v), into k->given, checked finite */
+static int along(checker *k, int (*cb)(double, const double *, const double *, double *, void *),
+                 double t, const double *q, size_t n) {
+  return sdae__callback_checked(cb(t, q, k->v, k->given, k->sys->params), k->given, n);
 }
 
 static int run(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
   const sdae_mbs *s = k->sys;
+  size_t n_q = k->n_q, n_c = k->n_c;
   int rc = SDAE_OK;
-  double *zero = k->Dv; /* the direction (1, 0) of dc/dt */
-  memset(zero, 0, k->n_q * sizeof *zero);
+  double *zero = k->e; /* the direction (1, 0) of dc/dt */
   if (s->jacobian) rc = check_jacobian(k, t, q, r);
+  memset(zero, 0, n_q * sizeof *zero);
   if (rc == SDAE_OK && s->constraint_t && (rc = evaluate(k, CT, t, q, k->given)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_CONSTRAINT_T, C, t, q, 1.0, zero, r);
-  if (rc == SDAE_OK && s->mass_dot_v &&
-      (rc = sdae__callback_checked(s->mass_dot_v(t, q, k->v, k->given, s->params), k->given,
-                                   k->n_q)) == SDAE_OK)
+  if (rc == SDAE_OK && s->mass_dot_v && (rc = along(k, s->mass_dot_v, t, q, n_q)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_MASS_DOT_V, MV, t, q, 1.0, k->v, r);
   if (rc == SDAE_OK && s->jacobian_dot &&
-      (rc = sdae__callback_checked(s->jacobian_dot(t, q, k->v, k->given, s->params), k->given,
-                                   k->n_c * k->n_q)) == SDAE_OK)
+      (rc = along(k, s->jacobian_dot, t, q, n_c * n_q)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_JACOBIAN_DOT, G, t, q, 1.0, k->v, r);
   if (rc == SDAE_OK && s->constraint_t_dot &&
-      (rc = sdae__callback_checked(s->constraint_t_dot(t, q, k->v, k->given, s->params),
-                                   k->given, k->n_c)) == SDAE_OK)
+      (rc = along(k, s->constraint_t_dot, t, q, n_c)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_CONSTRAINT_T_DOT, CT, t, q, 1.0, k->v, r);
   if (rc == SDAE_OK && s->potential) rc = check_force(k, t, q, r);
   return rc;
@@ -206,9 +251,11 @@ static void carve(checker *k, sdae_arena *a) {
   k->Mq = sdae__take(a, n_q, n_q);
   k->at = sdae__take(a, width(k), 1);
   k->fd = sdae__take(a, width(k), 1);
+  k->nz = sdae__take(a, width(k), 1);
   k->given = sdae__take(a, width(k), 1);
-  k->F = sdae__take(a, n_q, 1);
-  k->Dv = sdae__take(a, n_q, 1);
+  k->col = sdae__take(a, n_q, 1);
+  k->col_nz = sdae__take(a, n_q, 1);
+  k->e = sdae__take(a, n_q, 1);
 }
 
 static int valid(const sdae_mbs *sys, double t, const double *q, const double *v, double tol) {
@@ -227,7 +274,7 @@ int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const do
                         double tol, const sdae_allocator *a, sdae_mbs_check_report *r) {
   checker k = {0};
   sdae_arena count = {0}, take = {0};
-  sdae_mbs_check_report rep = {0};
+  sdae_mbs_check_report rep = {.worst = -1};
   size_t bytes;
   int rc;
   if (!r) return SDAE_ERR_NULL;
@@ -242,7 +289,7 @@ int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const do
   if (rc != SDAE_OK) return rc;
   rep.consistent = 1;
   for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
-    if (rep.mismatch[d] > tol) rep.consistent = 0;
+    if (!(rep.mismatch[d] <= tol)) rep.consistent = 0;
   *r = rep;
   return SDAE_OK;
 }

@@ -7,7 +7,7 @@
 
 #include <stabdae/alloc.h>
 
-/* size bytes (size > 0), or NULL; a NULL allocator, or one without alloc, is malloc */
+/* size bytes (size > 0), or NULL; a NULL allocator, or one without alloc or free, is malloc */
 void *sdae__alloc(const sdae_allocator *a, size_t size);
 /* gives back what sdae__alloc returned with the same allocator and size; NULL is fine */
 void sdae__free(const sdae_allocator *a, void *ptr, size_t size);

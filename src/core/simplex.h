@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A compact Nelder-Mead minimizer working in memory the caller hands it. */
-#ifndef STABDAE_SRC_SIMPLEX_H
-#define STABDAE_SRC_SIMPLEX_H
+#ifndef STABDAE_SRC_CORE_SIMPLEX_H
+#define STABDAE_SRC_CORE_SIMPLEX_H
 
 #include <stddef.h>
 
@@ -19,4 +19,4 @@ size_t sdae__simplex_work(size_t n);
 int sdae__simplex_minimize(sdae__simplex_fn f, void *data, size_t n, double *u, double step,
                            double size_tol, int max_iter, double *work);
 
-#endif /* STABDAE_SRC_SIMPLEX_H */
+#endif /* STABDAE_SRC_CORE_SIMPLEX_H */

@@ -53,11 +53,8 @@ static int apply_S(const sdae_model *m, double tm, const parts *P, int load, con
                    double *out) {
   size_t n = m->n_mu;
   int rc;
-  if (m->S_apply) {
-    rc = sdae__status_of_callback(m->S_apply(tm, P->mid, g, out, m->params));
-    if (rc != SDAE_OK) return rc;
-    return sdae__all_finite(out, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
-  }
+  if (m->S_apply)
+    return sdae__callback_checked(m->S_apply(tm, P->mid, g, out, m->params), out, n);
   if (load && (rc = sdae__call_checked(m->S, m, tm, P->mid, P->S, n * n)) != SDAE_OK)
     return rc;
   for (size_t r = 0; r < n; r++) {

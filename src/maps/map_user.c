@@ -6,22 +6,16 @@
 
 static int user_needs(const sdae_model *m) { return m->user_phi ? SDAE_OK : SDAE_ERR_MAP; }
 
-static int checked(int rc, const double *out, size_t n) {
-  rc = sdae__status_of_callback(rc);
-  if (rc != SDAE_OK) return rc;
-  return sdae__all_finite(out, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
-}
-
 static int user_phi(sdae_map_ctx *c, double t, double T, const double *mu,
                     const double *mu_next, double *out) {
   const sdae_model *m = c->model;
-  return checked(m->user_phi(t, T, mu, mu_next, out, m->params), out, m->n_mu);
+  return sdae__callback_checked(m->user_phi(t, T, mu, mu_next, out, m->params), out, m->n_mu);
 }
 
 static int user_jac(sdae_map_ctx *c, double t, double T, const double *mu,
                     const double *mu_next, double *out) {
   const sdae_model *m = c->model;
-  return checked(m->user_phi_jac(t, T, mu, mu_next, out, m->params), out, m->n_mu * m->n_mu);
+  return sdae__callback_checked(m->user_phi_jac(t, T, mu, mu_next, out, m->params), out, m->n_mu * m->n_mu);
 }
 
 static int user_jac_given(const sdae_model *m) { return m->user_phi_jac != NULL; }

@@ -46,7 +46,7 @@ ASSIGN = {"=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>=", "++
 
 @dataclass
 class Mutant:
-    file: str         # path relative to the repository, e.g. src/lu.c
+    file: str         # path relative to the repository, e.g. src/core/lu.c
     op: str
     key: str          # sha1 of the stripped original line, 8 hex digits
     occurrence: int   # index among the file's mutants of the same (line, op)
