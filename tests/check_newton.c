@@ -686,6 +686,28 @@ static int circle_jacobian(void *ctx, const double *y, double *J) {
   return SDAE_OK;
 }
 
+/* a residual that is NaN: not converged but SDAE_ERR_NONFINITE, y untouched */
+static int nan_residual(void *ctx, const double *y, double *R) {
+  (void)ctx, (void)y;
+  R[0] = R[1] = NAN;
+  return SDAE_OK;
+}
+
+START_TEST(nan_residual_is_nonfinite) {
+  sdae_newton nw;
+  sdae_arena count = {0}, a = {0};
+  sdae_newton_system sys = {nan_residual, NULL, NULL};
+  double y[2] = {2.0, 1.0};
+  sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &count);
+  a.base = calloc(count.used, 1);
+  sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &a);
+  ck_assert_int_eq(sdae__newton_solve(&nw, &sys, y), SDAE_ERR_NONFINITE);
+  ck_assert_double_eq(y[0], 2.0);
+  ck_assert_double_eq(y[1], 1.0);
+  free(a.base);
+}
+END_TEST
+
 START_TEST(plain_residual_system) {
   for (int with_jac = 0; with_jac < 2; with_jac++) {
     sdae_newton nw;
@@ -711,6 +733,7 @@ END_TEST
 int main(void) {
   Suite *s = suite_create("newton");
   ADD_CASE(s, plain_residual_system);
+  ADD_CASE(s, nan_residual_is_nonfinite);
   ADD_CASE(s, quadratic_convergence_analytic);
   ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);

@@ -3,8 +3,7 @@
  *
  *   R(y) = y - x - h (phi(x, y) + shift),   dR/dy = I - h dphi/dy
  *
- * (maps/map_solve.c), the generic front-end Phi(x) = z. dR/dy is the system's own Jacobian when
- * it has one and Newton is dense, central differences of R otherwise: columns 2b + 1 apart do
+ * (maps/map_solve.c). dR/dy is the system's own Jacobian when it has one and Newton is dense, central differences of R otherwise: columns 2b + 1 apart do
  * not share a row of a band-b matrix, so each colour group of columns costs two residuals.
  * dR/dy is factored by LU (lu.c): written out for small dense systems, GSL's banded LU
  * otherwise (dense is the band n - 1).
@@ -50,11 +49,13 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
 
-/* R(y) into nw->R, and ||R||_inf into residual_last */
+/* R(y) into nw->R, and ||R||_inf into residual_last; a NaN or Inf in R is SDAE_ERR_NONFINITE
+ * (max_abs would pass over a NaN, and R = 0 would then read as converged) */
 static int residual(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
   double norm = 0.0;
   int rc = sys->residual(sys->ctx, y, nw->R);
   if (rc != SDAE_OK) return rc;
+  if (!sdae__all_finite(nw->R, nw->n)) return SDAE_ERR_NONFINITE;
   for (size_t i = 0; i < nw->n; i++) norm = max_abs(norm, nw->R[i]);
   nw->residual_last = norm;
   return SDAE_OK;
