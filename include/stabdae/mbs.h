@@ -41,7 +41,9 @@ typedef struct sdae_mbs {
   void *params;
   /* optional, all three: the derivatives along the motion, at s = 0; each one given replaces a
    * fourth-order difference stencil in every evaluation of the mu-dynamics and of lambda
-   * (NULL keeps the stencil). sdae_mbs_check compares them with differences. */
+   * (NULL keeps the stencil): with all of them, jacobian and constraint_t, no difference runs.
+   * jacobian_dot without jacobian, or constraint_t_dot without constraint_t, is SDAE_ERR_NULL.
+   * sdae_mbs_check compares them with differences. */
   /* n_q values: (d/ds M(t + s, q + s v)) v */
   int (*mass_dot_v)(double t, const double *q, const double *v, double *out, void *params);
   /* n_c x n_q, row-major: d/ds G(t + s, q + s v); with it, jacobian is needed too */
@@ -61,7 +63,11 @@ typedef struct sdae_mbs {
 
 /* Newton's least tolerance in the front-end: its mu-dynamics come from fourth-order
  * differences, good to about 1e-13 (1e-10 without jacobian, see there), and an implicit map's
- * Newton cannot settle below that noise. A smaller newton_tol is raised to these. */
+ * Newton cannot settle below that noise. A smaller newton_tol is raised to these. With
+ * jacobian_dot and mass_dot_v given the mu-dynamics are exact to rounding, yet the floor stays:
+ * at 1e-14 the discrete gradient's Newton failed to converge (the four-bar at T = 1e-3,
+ * Andrews' mechanism), its difference quotient dividing the rounding of H by the step's
+ * increment, and 1e-13 only added iterations, the energy kept as well at 1e-12. */
 #define SDAE_MBS_NEWTON_TOL 1e-12
 #define SDAE_MBS_FD_NEWTON_TOL 1e-9
 

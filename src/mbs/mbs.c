@@ -15,6 +15,9 @@
 static int validate(const sdae_mbs *sys, const sdae_options *o) {
   if (!sys || !o) return SDAE_ERR_NULL;
   if (!sys->mass || !sys->force || !sys->constraint) return SDAE_ERR_NULL;
+  /* a derivative of a callback left out: what it derives from is differenced, and it with it */
+  if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
+    return SDAE_ERR_NULL;
   if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
   return SDAE_OK;
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanism's callbacks, every status and value checked, and the derivatives it may leave
- * out (G = dc/dq, dc/dt, and the derivatives along the motion) by the fourth-order central
- * difference
+ * out (G = dc/dq, dc/dt, and the derivatives along the motion: each one given is called instead)
+ * by the fourth-order central difference
  *
  *   f'(0) ~ [8 (f(s) - f(-s)) - (f(2s) - f(-2s))] / (12 s),   error ~ s^4 f^(5) / 30 + eps f / s,
  *
@@ -33,9 +33,11 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   e->along_G = sdae__take(a, n_c, n_q);
   e->along_M = sdae__take(a, n_q, n_q);
   e->along_ct = sdae__take(a, n_c, 1);
+  e->along_Gdot = sdae__take(a, n_c, n_q);
+  e->along_ctdot = sdae__take(a, n_c, 1);
   e->t_Gdot = sdae__take(a, n_c, n_q);
   e->t_Mdv = sdae__take(a, n_q, 1);
-  e->t_gdot = sdae__take(a, n_c, 1);
+  e->t_ctdot = sdae__take(a, n_c, 1);
 }
 
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v) {
@@ -123,50 +125,59 @@ static double inf_norm(const double *x, size_t n) {
   return m;
 }
 
-/* the sums of the stencil at offset k at (t + k ht, q + k hq v): G, M v and G v + dc/dt there */
+/* What the stencil differences along (1, v): G (into Gdot), M v (into Mdv) and dc/dt (into
+ * ctdot), each NULL when it is given or not wanted. */
+typedef struct along_parts {
+  double *Gdot, *Mdv, *ctdot;
+} along_parts;
+
+/* the sums of the stencil at offset k at (t + k ht, q + k hq v): G, M v and dc/dt there */
 static int along_point(sdae_mbs_eval *e, double t, const double *q, const double *v, double ht,
-                       double hq, int k, double *Gdot, double *Mdv, double *gdot) {
+                       double hq, int k, const along_parts *p) {
   size_t n_q = e->n_q, n_c = e->n_c;
   double w = weight[k], ts = t + offset[k] * ht;
   int rc;
   for (size_t j = 0; j < n_q; j++) e->along_q[j] = q[j] + offset[k] * hq * v[j];
-  if ((rc = sdae__mbs_jacobian(e, ts, e->along_q, e->along_G)) != SDAE_OK) return rc;
-  if (Gdot)
-    for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] += w * e->along_G[i];
-  if (Mdv) {
+  if (p->Gdot) {
+    if ((rc = sdae__mbs_jacobian(e, ts, e->along_q, e->along_G)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n_c * n_q; i++) p->Gdot[i] += w * e->along_G[i];
+  }
+  if (p->Mdv) {
     if ((rc = sdae__mbs_mass(e, ts, e->along_q, e->along_M)) != SDAE_OK) return rc;
     for (size_t i = 0; i < n_q; i++)
-      for (size_t j = 0; j < n_q; j++) Mdv[i] += w * e->along_M[i * n_q + j] * v[j];
+      for (size_t j = 0; j < n_q; j++) p->Mdv[i] += w * e->along_M[i * n_q + j] * v[j];
   }
-  if (gdot) {
+  if (p->ctdot) {
     if ((rc = sdae__mbs_constraint_t(e, ts, e->along_q, e->along_ct)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n_c; i++) {
-      double g = e->along_ct[i];
-      for (size_t j = 0; j < n_q; j++) g += e->along_G[i * n_q + j] * v[j];
-      gdot[i] += w * g;
-    }
+    for (size_t i = 0; i < n_c; i++) p->ctdot[i] += w * e->along_ct[i];
   }
   return SDAE_OK;
 }
 
-/* the fourth-order difference in s of G, M v and G v + dc/dt at (t + s ht / h, q + s hq v / h),
- * step h: the derivative along (ht, hq v) / h */
+static void zero(double *x, size_t n) {
+  if (x) memset(x, 0, n * sizeof *x);
+}
+
+static void scale(double *x, size_t n, double a) {
+  if (x)
+    for (size_t i = 0; i < n; i++) x[i] *= a;
+}
+
+/* the fourth-order difference in s of the parts at (t + s ht / h, q + s hq v / h), step h: the
+ * derivative along (ht, hq v) / h */
 static int stencil(sdae_mbs_eval *e, double t, const double *q, const double *v, double ht,
-                   double hq, double h, double *Gdot, double *Mdv, double *gdot) {
+                   double hq, double h, const along_parts *p) {
   size_t n_q = e->n_q, n_c = e->n_c;
-  if (Gdot) memset(Gdot, 0, n_c * n_q * sizeof *Gdot);
-  if (Mdv) memset(Mdv, 0, n_q * sizeof *Mdv);
-  if (gdot) memset(gdot, 0, n_c * sizeof *gdot);
+  zero(p->Gdot, n_c * n_q);
+  zero(p->Mdv, n_q);
+  zero(p->ctdot, n_c);
   for (int k = 0; k < 4; k++) {
-    int rc = along_point(e, t, q, v, ht, hq, k, Gdot, Mdv, gdot);
+    int rc = along_point(e, t, q, v, ht, hq, k, p);
     if (rc != SDAE_OK) return rc;
   }
-  if (Gdot)
-    for (size_t i = 0; i < n_c * n_q; i++) Gdot[i] /= 12.0 * h;
-  if (Mdv)
-    for (size_t i = 0; i < n_q; i++) Mdv[i] /= 12.0 * h;
-  if (gdot)
-    for (size_t i = 0; i < n_c; i++) gdot[i] /= 12.0 * h;
+  scale(p->Gdot, n_c * n_q, 1.0 / (12.0 * h));
+  scale(p->Mdv, n_q, 1.0 / (12.0 * h));
+  scale(p->ctdot, n_c, 1.0 / (12.0 * h));
   return SDAE_OK;
 }
 
@@ -179,21 +190,52 @@ static void add(double *x, const double *y, size_t n) {
  * time scale, exact in t + s. Where t is so large that its doubles are too sparse for such an
  * s (t + s rounds to more than half the step away from it), the derivative is taken in two
  * parts, d/ds at (t, q + s v) and d/ds at (t + s, q) with a step in t relative to |t|. */
-int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
-                    double *Mdv, double *gdot) {
+static int differenced(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                       const along_parts *p) {
   size_t n_q = e->n_q, n_c = e->n_c;
   double nq = inf_norm(q, n_q), h0 = FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q));
   double h = exact_step(t, h0), ht;
+  along_parts in_t = {p->Gdot ? e->t_Gdot : NULL, p->Mdv ? e->t_Mdv : NULL,
+                      p->ctdot ? e->t_ctdot : NULL};
   int rc;
-  if (fabs(h - h0) <= 0.5 * h0) return stencil(e, t, q, v, h, h, h, Gdot, Mdv, gdot);
-  if ((rc = stencil(e, t, q, v, 0.0, h0, h0, Gdot, Mdv, gdot)) != SDAE_OK) return rc;
+  if (fabs(h - h0) <= 0.5 * h0) return stencil(e, t, q, v, h, h, h, p);
+  if ((rc = stencil(e, t, q, v, 0.0, h0, h0, p)) != SDAE_OK) return rc;
   ht = t_step(t);
-  if ((rc = stencil(e, t, q, v, ht, 0.0, ht, Gdot ? e->t_Gdot : NULL, Mdv ? e->t_Mdv : NULL,
-                    gdot ? e->t_gdot : NULL)) != SDAE_OK)
+  if ((rc = stencil(e, t, q, v, ht, 0.0, ht, &in_t)) != SDAE_OK) return rc;
+  add(p->Gdot, e->t_Gdot, n_c * n_q);
+  add(p->Mdv, e->t_Mdv, n_q);
+  add(p->ctdot, e->t_ctdot, n_c);
+  return SDAE_OK;
+}
+
+/* Each derivative the mechanism gives replaces its stencil (DESIGN, the price of zero drift);
+ * gamma = Gdot v + d/ds dc/dt, Gdot into scratch when only gamma is wanted. */
+int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
+                    double *Mdv, double *gdot) {
+  const sdae_mbs *s = &e->sys;
+  size_t n_q = e->n_q, n_c = e->n_c;
+  double *Gd = Gdot ? Gdot : e->along_Gdot, *ctd = e->along_ctdot;
+  int want_G = Gdot || gdot, fd_G = want_G && !s->jacobian_dot, fd_M = Mdv && !s->mass_dot_v;
+  int fd_ct = gdot && !s->constraint_t_dot, rc;
+  along_parts fd = {fd_G ? Gd : NULL, fd_M ? Mdv : NULL, fd_ct ? ctd : NULL};
+  if ((fd_G || fd_M || fd_ct) && (rc = differenced(e, t, q, v, &fd)) != SDAE_OK) return rc;
+  if (want_G && s->jacobian_dot &&
+      (rc = sdae__callback_checked(s->jacobian_dot(t, q, v, Gd, s->params), Gd, n_c * n_q)) !=
+          SDAE_OK)
     return rc;
-  add(Gdot, e->t_Gdot, n_c * n_q);
-  add(Mdv, e->t_Mdv, n_q);
-  add(gdot, e->t_gdot, n_c);
+  if (Mdv && s->mass_dot_v &&
+      (rc = sdae__callback_checked(s->mass_dot_v(t, q, v, Mdv, s->params), Mdv, n_q)) != SDAE_OK)
+    return rc;
+  if (!gdot) return SDAE_OK;
+  if (s->constraint_t_dot &&
+      (rc = sdae__callback_checked(s->constraint_t_dot(t, q, v, ctd, s->params), ctd, n_c)) !=
+          SDAE_OK)
+    return rc;
+  for (size_t i = 0; i < n_c; i++) { /* gamma = Gdot v + d/ds dc/dt (DESIGN, multipliers) */
+    double g = ctd[i];
+    for (size_t j = 0; j < n_q; j++) g += Gd[i * n_q + j] * v[j];
+    gdot[i] = g;
+  }
   return SDAE_OK;
 }
 

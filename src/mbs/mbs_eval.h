@@ -17,7 +17,8 @@ typedef struct sdae_mbs_eval {
   double *ct_c;             /* dc/dt by differences: c at a moved t */
   double *along_q;          /* the derivatives along (1, v): q moved along v, and there */
   double *along_G, *along_M, *along_ct; /* G, M and dc/dt */
-  double *t_Gdot, *t_Mdv, *t_gdot;      /* their parts along t alone, at late times */
+  double *along_Gdot, *along_ctdot;     /* gamma's Gdot and d/ds dc/dt */
+  double *t_Gdot, *t_Mdv, *t_ctdot;     /* the stencils' parts along t alone, at late times */
 } sdae_mbs_eval;
 
 /* the mechanism (copied) and its sizes; the arrays come from sdae__mbs_eval_carve */
@@ -36,7 +37,8 @@ int sdae__mbs_potential(sdae_mbs_eval *e, double t, const double *q, double *V);
 int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D);
 
 /* derivatives along (1, v) in (t, q), v held fixed: Gdot = d/ds G (n_c x n_q), Mdv = (d/ds M) v
- * and gdot = d/ds (G v + dc/dt); each may be NULL (not wanted) */
+ * and gdot = d/ds (G v + dc/dt); each may be NULL (not wanted). The mechanism's jacobian_dot,
+ * mass_dot_v and constraint_t_dot when given, a difference stencil for each one left out. */
 int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
                     double *Mdv, double *gdot);
 
