@@ -753,6 +753,9 @@ static void print_header(FILE *f, int argc, char **argv, int reps) {
 
 /* ---- main ------------------------------------------------------------------------------------ */
 
+/* 16 oscillator, 7 pendulum, 10 chain and 15 front-end cases, with room */
+enum { MAX_CASES = 64 };
+
 static size_t make_cases(bench_case *out) {
   static const char *const osc_maps[] = {"euler", "midpoint", "dgrad", "user",
                                          "dg4",   "dg6",      "rk4",   "rk8"};
@@ -769,10 +772,11 @@ static size_t make_cases(bench_case *out) {
     for (size_t i = 0; i < 5; i++) /* about 2e6 mass-steps per repetition */
       out[n++] = (bench_case){CHAIN, m ? "dgrad" : "euler", SDAE_SCHEME_SEMI_IMPLICIT, chain_N[i],
                               chain_N[i] < 100000 ? 2000000 / chain_N[i] : 20};
-  for (size_t m = 0; m < 3; m++) { /* the front-end, the hand-written pendulum's maps */
-    out[n++] = (bench_case){MBS_PENDULUM, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 1, 100000};
-    out[n++] = (bench_case){MBS_DOUBLE, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
-    out[n++] = (bench_case){MBS_FOURBAR, pend_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
+  static const char *const mbs_maps[] = {"euler", "midpoint", "dgrad", "rk4", "rk8"};
+  for (size_t m = 0; m < sizeof mbs_maps / sizeof mbs_maps[0]; m++) { /* the front-end */
+    out[n++] = (bench_case){MBS_PENDULUM, mbs_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 1, 100000};
+    out[n++] = (bench_case){MBS_DOUBLE, mbs_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
+    out[n++] = (bench_case){MBS_FOURBAR, mbs_maps[m], SDAE_SCHEME_SEMI_IMPLICIT, 2, 50000};
   }
   return n;
 }
@@ -871,8 +875,8 @@ int main(int argc, char **argv) {
   if (!report && !smoke) report = BENCH_REPORT;
   if (reps == 0) reps = smoke ? 3 : 7;
 
-  bench_case cases[48];
-  result res[48];
+  bench_case cases[MAX_CASES];
+  result res[MAX_CASES];
   baseline bl[3]; /* one per mechanism */
   size_t n = select_cases(cases, make_cases(cases), only), nbl = 0;
   long allocs = 0;
