@@ -184,10 +184,13 @@ END_TEST
 
 /* One euler step on the pendulum, every derivative given: 1 + n_xi = 3 evaluations of the
  * mu-dynamics (q0 and the two columns of Q), each one force, one mass_dot_v and one
- * jacobian_dot and no stencil; each of their Phi^-1 and the one at t + T one mass and one
- * dc/dt, constraint once per Newton iteration and once for xi at the start. Without the
- * derivatives along the motion, mass and jacobian at the stencil's four points per
- * evaluation. */
+ * jacobian_dot and no stencil. Their Phi^-1 and the one at t + T solve for 4 configurations
+ * (the velocity column shares the configuration of xi = 0, but the base has moved to the
+ * c-column's in between), each by the chord iteration with the factors of the last one (one
+ * constraint per iteration, no jacobian while it converges), then one jacobian, one
+ * constraint_t and one mass where it converged; the start: constraint, jacobian and
+ * constraint_t for xi, mass for mu. Without the derivatives along the motion, jacobian and
+ * mass at the stencil's four points per evaluation. */
 START_TEST(step_calls_given_derivatives) {
   mech_pendulum p = PENDULUM;
   counted k = {.in = pendulum_all(&p)};
@@ -205,8 +208,9 @@ START_TEST(step_calls_given_derivatives) {
   ck_assert_uint_eq(k.calls[C_CTDOT], 0);
   ck_assert_uint_eq(k.calls[C_MASS], 4 + 1);
   ck_assert_uint_eq(k.calls[C_CT], 4 + 1);
+  ck_assert_uint_eq(k.calls[C_G], 4 + 1);
   ck_assert_uint_eq(k.calls[C_C], iters + 1);
-  ck_assert_uint_eq(k.calls[C_G], iters + 4 + 1);
+  ck_assert_uint_le(iters, 4 * 3); /* one to three corrections per configuration */
   sdae_mbs_stepper_free(s);
 
   k.in.mass_dot_v = NULL, k.in.jacobian_dot = NULL;
@@ -214,9 +218,8 @@ START_TEST(step_calls_given_derivatives) {
   s = stepper(&sys, &o);
   mech_pendulum_state(&p, 0.5, 0.3, q, v);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
-  iters = sdae_mbs_stepper_stats(s)->phi_inv_iters;
   ck_assert_uint_eq(k.calls[C_MASS], 4 + 1 + 3 * 4);
-  ck_assert_uint_eq(k.calls[C_G], iters + 4 + 1 + 3 * 4);
+  ck_assert_uint_eq(k.calls[C_G], 4 + 1 + 3 * 4);
   sdae_mbs_stepper_free(s);
 }
 END_TEST

@@ -25,11 +25,17 @@ typedef struct sdae_mbs_coords {
   int valid;                /* the point is Phi^-1(key_t, key) */
   double key_t;
   double *key;              /* 2 n_q: (xi, mu) */
-  double *q_base;           /* n_q: where Phi^-1's Newton starts (the step's q) */
+  /* the base: the configuration Phi^-1 converged at last (first the step's start), where the
+   * chart was factored; the next solve is predicted from it */
+  double *base_q;           /* n_q */
+  double *base_c, *base_ct; /* n_c each: c (xi's c-part) and dc/dt there */
+  double base_t;
+  int base_here;            /* the point's q, G, dc/dt, M and reduced mass are the base's */
   /* scratch, one array a role */
   double *M_spd;            /* n_q x n_q: M at the step's start, factored to test it is SPD */
   double *Mv;               /* n_q: M v at the point */
   double *res, *dq_D;       /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
+  double *dq_I;             /* n_f: q_I's move from the base */
   double *Y;                /* n_q: a column of M W */
   double *rhs, *z_D;        /* n_c each: G_D z_D = xi's velocity part - dc/dt */
   double *Mz;               /* n_q: M z */
