@@ -96,14 +96,18 @@ int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
   return sdae__callback_checked(e->sys.jacobian(t, q, G, e->sys.params), G, e->n_c * e->n_q);
 }
 
-/* A difference step in t, relative to max(1, |t|) as the steps in q are to max(1, |q_j|): an
- * absolute one vanishes in t + h once the spacing of the doubles near t exceeds it (0.125 at
- * t = 1e15). */
+/* A difference step in t relative to max(1, |t|): where t is so large that its doubles are too
+ * sparse for the absolute step (t + h rounds to more than half the step away, beyond about
+ * 1e12; h would vanish at 1e15, where the spacing is 0.125). */
 static double t_step(double t) { return exact_step(t, FD_STEP * fmax(1.0, fabs(t))); }
 
-/* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal */
+/* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal. The step
+ * is absolute while t can hold it: a driver's time scale (a road's period) does not grow with t,
+ * so a step relative to t would lose its accuracy on the way (1 relative at t = 1e3 for a
+ * period of 2). */
 static int constraint_t_fd(sdae_mbs_eval *e, double t, const double *q, double *ct) {
-  double h = t_step(t), *c = e->ct_c;
+  double h = exact_step(t, FD_STEP), *c = e->ct_c;
+  if (!(fabs(h - FD_STEP) <= 0.5 * FD_STEP)) h = t_step(t);
   memset(ct, 0, e->n_c * sizeof *ct);
   for (int k = 0; k < 4; k++) {
     int rc = sdae__mbs_constraint(e, t + offset[k] * h, q, c);
