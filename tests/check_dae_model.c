@@ -337,6 +337,35 @@ START_TEST(tiny_threshold) {
 }
 END_TEST
 
+/* Floors (the mechanical front-end's): xi1 = 1e-3 at its floor 1e-3 is rounding: no column
+ * (qn2 = 0, the gain -epsilon), no term; xi2 above its own has its column from xi^(1) = 0,
+ * (G(0, xi2) - G(0))/xi2 = (2, 3 xi2), and Q xi = G(0, xi2) - G(0) = (2 xi2, 3 xi2^2): two
+ * rates. Every xi_i at its floor: no rate at all, Q xi = 0. Without floors, as before. */
+START_TEST(floors_skip_columns) {
+  poly_derive pd;
+  double xi[2] = {1e-3, -0.2}, mu[2] = {0.5, -1.5}, Qxi[2], qn2[2], floor[2] = {1e-3, 0.1};
+  poly_init(&pd);
+  pd.d.floor = floor;
+  ck_assert_int_eq(sdae__derive_Q_apply(&pd.d, 2.0, xi, mu, Qxi, qn2), SDAE_OK);
+  ck_assert_int_eq(pd.p.calls, 2);
+  ck_assert_double_eq(qn2[0], 0.0);
+  expect_near(qn2[1], 4.0 + 0.36, 1e-14);
+  expect_near(Qxi[0], 2 * -0.2, 1e-15);
+  expect_near(Qxi[1], 3 * 0.04, 1e-15);
+  floor[1] = 0.2;
+  sdae__derive_forget(&pd.d);
+  Qxi[0] = Qxi[1] = qn2[0] = qn2[1] = 7.0;
+  ck_assert_int_eq(sdae__derive_Q_apply(&pd.d, 2.0, xi, mu, Qxi, qn2), SDAE_OK);
+  ck_assert_int_eq(pd.p.calls, 2);
+  ck_assert(Qxi[0] == 0.0 && Qxi[1] == 0.0 && qn2[0] == 0.0 && qn2[1] == 0.0);
+  pd.d.floor = NULL;
+  ck_assert_int_eq(sdae__derive_Q_apply(&pd.d, 2.0, xi, mu, Qxi, qn2), SDAE_OK);
+  ck_assert_int_eq(pd.p.calls, 2 + 3);
+  expect_near(Qxi[0], G1(1e-3, -0.2), 1e-15);
+  expect_near(qn2[0], 1.001 * 1.001 + 1.0, 1e-12); /* a quotient over xi1 = 1e-3 */
+}
+END_TEST
+
 /* G(0, mu) is kept for the same (t, mu): q0 then Q costs 1 + n_xi rates; a new t or a new last
  * component of mu, or a forget, evaluates it again */
 START_TEST(G0_cache) {
@@ -821,6 +850,7 @@ int main(void) {
   ADD_CASE(s, tiny_first_column);
   ADD_CASE(s, tiny_negative_column);
   ADD_CASE(s, tiny_threshold);
+  ADD_CASE(s, floors_skip_columns);
   ADD_CASE(s, G0_cache);
   ADD_CASE(s, G0_failure_not_kept);
   ADD_CASE(s, callback_codes);

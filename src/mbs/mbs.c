@@ -163,6 +163,7 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
       (rc = sdae__mbs_chart_choose(&s->chart, s->coords.G, force_best)) != SDAE_OK ||
       (rc = sdae__mbs_coords_begin(&s->coords, t, q, v, s->mu)) != SDAE_OK)
     return rc;
+  sdae__mbs_coords_floors(&s->coords, q, v, s->nf.floor);
   forget(s);
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
   return sdae__mbs_phi_inv(&s->coords, t + T, s->xi, s->mu);

@@ -60,6 +60,11 @@ int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const do
  * unless SPD), mu (2 n_f) in the chart, and q as Phi^-1's start */
 int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const double *v,
                            double *mu);
+/* the floors of xi (2 n_c) at the step's start (t, q, v), after sdae__mbs_coords_xi: per
+ * constraint, a few eps times the size of the terms of c_j and of G_j v + dc_j/dt, below which
+ * they are rounding (derive.c skips their columns) */
+void sdae__mbs_coords_floors(const sdae_mbs_coords *co, const double *q, const double *v,
+                             double *floor);
 /* the point's q, v = Phi^-1(t, xi, mu), with G, M and the chart's W there */
 int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
 /* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */

@@ -121,6 +121,8 @@ void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
   m->D = sdae__take(a, m->n_q, m->n_q);
   m->R = sdae__take(a, m->n_f, m->n_f);
   m->row = sdae__take(a, m->n_f, 1);
+  m->floor = sdae__take(a, 2 * m->n_c, 1);
+  m->derive.floor = m->floor;
 }
 
 void sdae__mbs_model_forget(sdae_mbs_model *m) { sdae__derive_forget(&m->derive); }

@@ -23,6 +23,7 @@ typedef struct sdae_mbs_model {
   double *zero;          /* 2 n_c zeros: xi on the manifold, where H and R are taken */
   double *D, *R;         /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
   double *row;           /* n_f: grad H's first half while q0's is still read */
+  double *floor;         /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
 /* the normal form of the mechanism behind eval, in coords' chart; the arrays come from

@@ -6,7 +6,13 @@
  * A tiny |xi_i| (below sqrt(eps), at rounding on the manifold) would divide rounding noise by
  * itself: its column is then the difference quotient over sqrt(eps) from xi^(i-1) (a derivative
  * good to about sqrt(eps), all the gains need), and xi^(i) is taken as xi^(i-1). The product
- * Q xi is then off by at most about sqrt(eps) |xi_i| |d2G|, below rounding. */
+ * Q xi is then off by at most about sqrt(eps) |xi_i| |d2G|, below rounding.
+ *
+ * A front-end that knows the rounding of each xi_i (the mechanical one: |c_j| against the size
+ * of c's terms) sets floors: a |xi_i| at or below its floor is rounding, and its column is not
+ * evaluated at all. Its term q_i xi_i is a rounding-level term and is dropped, its gain is the
+ * paper's with q_i taken as 0, k_i = -epsilon, under which xi_i still contracts (by
+ * 1 / (1 + T epsilon) per step with scheme 15); xi^(i) is xi^(i-1) as for a tiny xi_i. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -26,6 +32,7 @@ void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn 
   d->q = sdae__take(a, n_mu, 1);
   d->key_mu = sdae__take(a, n_mu, 1);
   d->have_G0 = 0;
+  d->floor = NULL;
 }
 
 void sdae__derive_forget(sdae_derive *d) { d->have_G0 = 0; }
@@ -75,18 +82,32 @@ static int column(sdae_derive *d, double t, const double *xi, const double *mu, 
   return SDAE_OK;
 }
 
+/* xi_i is rounding by the front-end's floor: its column is not wanted */
+static int at_floor(const sdae_derive *d, const double *xi, size_t i) {
+  return d->floor && fabs(xi[i]) <= d->floor[i];
+}
+
 int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu,
                          double *Qxi, double *qnorm2) {
-  int rc = G_at_zero(d, t, mu);
-  if (rc != SDAE_OK) return rc;
-  memcpy(d->Gb, d->G0, d->n_mu * sizeof *d->Gb);
-  memset(d->xi_b, 0, d->n_xi * sizeof *d->xi_b);
+  size_t first = 0;
+  int rc;
+  while (first < d->n_xi && at_floor(d, xi, first)) first++;
+  if (first < d->n_xi) { /* G(0, mu), the telescoping sum's start, when a column is wanted */
+    if ((rc = G_at_zero(d, t, mu)) != SDAE_OK) return rc;
+    memcpy(d->Gb, d->G0, d->n_mu * sizeof *d->Gb);
+    memset(d->xi_b, 0, d->n_xi * sizeof *d->xi_b);
+  }
   memset(Qxi, 0, d->n_mu * sizeof *Qxi);
   for (size_t i = 0; i < d->n_xi; i++) {
+    if (at_floor(d, xi, i)) { /* q_i taken as 0: the paper's gain is -epsilon */
+      qnorm2[i] = 0.0;
+      continue;
+    }
     if ((rc = column(d, t, xi, mu, i, qnorm2)) != SDAE_OK) return rc;
     if (d->xi_b[i] == 0.0) /* a tiny xi_i: its term q_i xi_i, outside the telescoping sum */
       for (size_t r = 0; r < d->n_mu; r++) Qxi[r] += d->q[r] * xi[i];
   }
-  for (size_t r = 0; r < d->n_mu; r++) Qxi[r] += d->Gb[r] - d->G0[r];
+  if (first < d->n_xi)
+    for (size_t r = 0; r < d->n_mu; r++) Qxi[r] += d->Gb[r] - d->G0[r];
   return SDAE_OK;
 }

@@ -25,6 +25,10 @@ typedef struct sdae_derive {
   double *key_mu;       /* n_mu: the (t, mu) where G0 was evaluated */
   double key_t;
   int have_G0;
+  /* optional (NULL: every column evaluated): n_xi floors set by the front-end; a |xi_i| at or
+   * below floor_i is rounding, its column not evaluated (q_i taken as 0, the term q_i xi_i
+   * dropped: the gain k_i = -epsilon) */
+  const double *floor;
 } sdae_derive;
 
 /* its arrays (counted, or handed out), wired to the rate G */
@@ -34,7 +38,8 @@ void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn 
 void sdae__derive_forget(sdae_derive *d);
 /* q0(t, mu) = G(t, 0, mu) */
 int sdae__derive_q0(sdae_derive *d, double t, const double *mu, double *out);
-/* Q(t, xi, mu) xi and the squared column norms ||q_i||^2, as the model's Q_apply */
+/* Q(t, xi, mu) xi and the squared column norms ||q_i||^2, as the model's Q_apply; no evaluation
+ * at all when every xi_i is at its floor */
 int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu,
                          double *Qxi, double *qnorm2);
 
