@@ -279,6 +279,33 @@ START_TEST(step_calls_from_the_last_end) {
 }
 END_TEST
 
+/* The discrete gradient's Newton evaluates phi(mu, mu+) at one mu and many mu+: H(mu) is
+ * evaluated once per step and kept (map_dgrad.c), H(mu+) once per evaluation but the
+ * predictor's (mu+ = mu, no correction term). The pendulum's H calls its potential once. */
+START_TEST(dgrad_keeps_H_at_the_start) {
+  mech_pendulum p = PENDULUM;
+  counted k;
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_dgrad);
+  sdae_mbs_stepper *s;
+  double q[2], v[2];
+  mech_pendulum_system(&k.in, &p);
+  sys = counting(&k);
+  s = stepper(&sys, &o);
+  mech_pendulum_state(&p, 0.5, 0.3, q, v);
+  for (int n = 0; n < 3; n++) {
+    unsigned long phi;
+    memset(k.calls, 0, sizeof k.calls);
+    sdae_mbs_stepper_reset_stats(s);
+    ck_assert_int_eq(sdae_mbs_step(s, 1e-3 * n, 1e-3, q, v), SDAE_OK);
+    phi = sdae_mbs_stepper_stats(s)->step.phi_evals;
+    ck_assert_uint_ge(phi, 4);
+    ck_assert_uint_eq(k.calls[C_V], 1 + (phi - 1));
+  }
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* ---- what the floors of xi keep: the paper's decay off the manifold, no drift on it ---- */
 
 /* The pendulum's normal form in the chart q_I = x, q_D = y < 0, in closed form: Phi^-1 is
@@ -403,6 +430,7 @@ int main(void) {
   ADD_CASE(s, step_calls_off_the_manifold);
   ADD_CASE(s, step_calls_on_the_manifold);
   ADD_CASE(s, step_calls_from_the_last_end);
+  ADD_CASE(s, dgrad_keeps_H_at_the_start);
   ADD_CASE(s, off_manifold_decay_is_the_papers);
   ADD_CASE(s, on_manifold_no_drift);
   return run_suite(s);
