@@ -32,6 +32,9 @@ struct sdae_map_type {
   int (*needs)(const sdae_model *m);
   /* optional (NULL: none): doubles of scratch the map needs */
   size_t (*scratch)(const sdae_model *m, const sdae_options *o);
+  /* optional (NULL: nothing kept): called at the start of every step, forgets what the map
+   * keeps of the model's values within a step (the model may change between steps) */
+  void (*begin)(sdae_map_ctx *c);
   /* phi_T(mu, mu+): n_mu values into out, which is the caller's */
   sdae_map_fn phi;
   /* optional: d phi_T / d mu+ (n_mu x n_mu), used by a dense Newton when jac_given (or, without

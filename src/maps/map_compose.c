@@ -46,6 +46,16 @@ static size_t midpoint_scratch(const sdae_model *m, const sdae_options *o) {
   return stage_scratch(&sdae__midpoint_type, m, o);
 }
 
+/* a new step: the base map forgets what it kept, in its part of the scratch */
+static void compose_begin(sdae_map_ctx *c, const sdae_map_type *base) {
+  sdae_map_ctx stage = *c;
+  if (!base->begin) return;
+  stage.work = c->work + 2 * c->model->n_mu;
+  base->begin(&stage);
+}
+
+static void dg_begin(sdae_map_ctx *c) { compose_begin(c, &sdae__dgrad_type); }
+
 /* Psi_T(mu) by the map's stages, each y = Psi_h(x): Newton on y = x + h phi(x, y) from the
  * predictor x + h phi(x, x); phi_T = (Psi_T(mu) - mu) / T. The stages see the context with
  * the base map's part of the scratch. */
@@ -104,6 +114,7 @@ static const sdae_map_type dg4_type = {
     .implicit = 0,
     .needs = dg_needs,
     .scratch = dg_scratch,
+    .begin = dg_begin,
     .phi = dg4_phi,
     .base = &sdae__dgrad_type,
     .gamma = triple_jump,
@@ -116,6 +127,7 @@ static const sdae_map_type dg6_type = {
     .implicit = 0,
     .needs = dg_needs,
     .scratch = dg_scratch,
+    .begin = dg_begin,
     .phi = dg6_phi,
     .base = &sdae__dgrad_type,
     .gamma = s9odr6a,

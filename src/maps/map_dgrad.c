@@ -7,6 +7,7 @@
  * so that gradbar H . v = H(mu+) - H(mu) exactly: H(mu+) - H(mu) = T gradbar^T S gradbar,
  * zero when S is skew and <= 0 when S = J - R with R >= 0. */
 #include <float.h>
+#include <string.h>
 
 #include "map.h"
 #include "model/model.h"
@@ -19,11 +20,12 @@ static int dgrad_needs(const sdae_model *m) {
 static int dgrad_jac_given(const sdae_model *m) { return m->hess_H != NULL; }
 
 /* The scratch: the midpoint, grad H there, the increment, the correction c and |v|^2 (0 in
- * the small-increment branch), a dense S unless S_apply is given; with hess_H the Hessian
+ * the small-increment branch), H at the step's mu kept, a dense S unless S_apply is given; with hess_H the Hessian
  * (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for the Jacobian
  * at the same point. */
 typedef struct parts {
   double *mid, *grad, *v, *inc, *S, *D, *w, *col;
+  double *kept; /* H(t_m, mu) kept within a step: 1 (0: none), t_m, H, then mu */
 } parts;
 
 /* a banded Newton uses finite differences whatever the model gives (and must not be charged n^2
@@ -31,7 +33,7 @@ typedef struct parts {
 static size_t dgrad_scratch(const sdae_model *m, const sdae_options *o) {
   size_t n = m->n_mu;
   int jac = dgrad_jac_given(m) && !sdae__banded(m, o);
-  return 3 * n + 2 + (m->S_apply ? 0 : n * n) + (jac ? n * n + 2 * n : 0);
+  return 3 * n + 2 + (3 + n) + (m->S_apply ? 0 : n * n) + (jac ? n * n + 2 * n : 0);
 }
 
 static parts layout(sdae_map_ctx *c) {
@@ -41,7 +43,8 @@ static parts layout(sdae_map_ctx *c) {
   P.grad = P.mid + n;
   P.v = P.grad + n;
   P.inc = P.v + n;
-  P.S = P.inc + 2;
+  P.kept = P.inc + 2;
+  P.S = P.kept + 3 + n;
   P.D = P.S + (c->model->S_apply ? 0 : n * n);
   P.w = P.D + n * n;
   P.col = P.w + n;
@@ -65,6 +68,27 @@ static int apply_S(const sdae_model *m, double tm, const parts *P, int load, con
   return SDAE_OK;
 }
 
+/* H(tm, mu) into *H, kept for the next call at the same tm and mu within the step: a step's
+ * Newton evaluates phi at one mu and many mu+ (a front-end's H may cost a Phi^-1) */
+static int H_start(const sdae_model *m, double tm, const double *mu, const parts *P,
+                   double *H) {
+  size_t n = m->n_mu;
+  double *kept = P->kept;
+  int rc;
+  if (kept[0] != 0.0 && kept[1] == tm && memcmp(kept + 3, mu, n * sizeof *mu) == 0) {
+    *H = kept[2];
+    return SDAE_OK;
+  }
+  kept[0] = 0.0;
+  if ((rc = sdae__call_checked(m->H, m, tm, mu, H, 1)) != SDAE_OK) return rc;
+  kept[0] = 1.0, kept[1] = tm, kept[2] = *H;
+  memcpy(kept + 3, mu, n * sizeof *mu);
+  return SDAE_OK;
+}
+
+/* a new step: nothing kept */
+static void dgrad_begin(sdae_map_ctx *c) { layout(c).kept[0] = 0.0; }
+
 /* The correction c along v into P->inc, with |v|^2. c = 0 (and |v|^2 is kept as 0) when |v| is
  * so small that the difference quotient is all rounding: below |v|^2 = eps (1 + |m|^2) the
  * dropped term is O(|v|^3) H''', far below rounding. */
@@ -80,7 +104,7 @@ static int correction(const sdae_model *m, double tm, const double *mu, const do
     gv += P->grad[i] * P->v[i];
   }
   if (v2 <= DBL_EPSILON * (1.0 + m2)) return SDAE_OK;
-  rc = sdae__call_checked(m->H, m, tm, mu, &H0, 1);
+  rc = H_start(m, tm, mu, P, &H0);
   if (rc == SDAE_OK) rc = sdae__call_checked(m->H, m, tm, mu_next, &H1, 1);
   if (rc != SDAE_OK) return rc;
   P->inc[0] = (H1 - H0 - gv) / v2;
@@ -158,6 +182,7 @@ const sdae_map_type sdae__dgrad_type = {
     .uses_H = 1,
     .needs = dgrad_needs,
     .scratch = dgrad_scratch,
+    .begin = dgrad_begin,
     .phi = dgrad_phi,
     .jac = dgrad_jac,
     .jac_given = dgrad_jac_given,

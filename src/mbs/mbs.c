@@ -153,7 +153,15 @@ static int normal_step(sdae_mbs_stepper *s, double t, double T) {
   return rc;
 }
 
-/* (q, v) -> xi, the chart (the best one with force_best), mu -> one step -> Phi^-1 at t + T */
+/* every xi_i at its floor: the state is on the manifold to rounding */
+static int at_floors(const sdae_mbs_stepper *s) {
+  for (size_t i = 0; i < 2 * s->n_c; i++)
+    if (!(fabs(s->xi[i]) <= s->nf.floor[i])) return 0;
+  return 1;
+}
+
+/* (q, v) -> xi, the chart (the best one with force_best), mu -> one step -> Phi^-1 at t + T;
+ * on the manifold the state is the first evaluation's Phi^-1(t, 0, mu) */
 static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v,
                     int force_best) {
   int rc;
@@ -165,6 +173,8 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
     return rc;
   sdae__mbs_coords_floors(&s->coords, q, v, s->nf.floor);
   forget(s);
+  if (at_floors(s) && (rc = sdae__mbs_coords_seed(&s->coords, t, q, v, s->mu)) != SDAE_OK)
+    return rc;
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
   return sdae__mbs_phi_inv(&s->coords, t + T, s->xi, s->mu);
 }

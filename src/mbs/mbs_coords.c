@@ -77,10 +77,25 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
 
 void sdae__mbs_coords_forget(sdae_mbs_coords *co) { co->valid = 0; }
 
+/* (t, q, v) is the point Phi^-1 left (the last step's end): t within rounding of its time
+ * (t0 + (i + 1) T and t0 + i T + T differ by an ulp), q and v the same doubles */
+static int at_point(const sdae_mbs_coords *co, double t, const double *q, const double *v) {
+  double dt = fabs(t - co->key_t), size = fmax(fabs(t), fabs(co->key_t));
+  return co->valid && (dt == 0.0 || dt <= 4.0 * DBL_EPSILON * size) &&
+         memcmp(q, co->q, co->n_q * sizeof *q) == 0 && memcmp(v, co->v, co->n_q * sizeof *v) == 0;
+}
+
 int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const double *v,
                         double *xi) {
-  co->valid = 0; /* the point's c, G and dc/dt are about to be another configuration's */
-  return sdae__mbs_xi_of(co->eval, t, q, v, co->c, co->G, co->ct, xi);
+  int rc;
+  co->at_start = at_point(co, t, q, v);
+  co->valid = 0; /* the point becomes the step's start */
+  if (!co->at_start) return sdae__mbs_xi_of(co->eval, t, q, v, co->c, co->G, co->ct, xi);
+  /* DESIGN, the price of zero drift: the last step's end, G, dc/dt and M there kept; c is
+   * evaluated where Phi^-1 converged (its iteration evaluated it one correction before) */
+  if ((rc = sdae__mbs_constraint(co->eval, t, q, co->c)) != SDAE_OK) return rc;
+  sdae__mbs_xi_compose(co->eval, v, co->c, co->G, co->ct, xi);
+  return SDAE_OK;
 }
 
 /* xi_i at rounding: at most XI_ROUNDING times the size of its terms, the rounding that
@@ -124,7 +139,7 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
   const sdae_mbs_atlas *ch = co->chart;
   int rc;
   co->valid = 0; /* the point's M is about to be the start's */
-  if ((rc = sdae__mbs_mass(co->eval, t, q, co->M)) != SDAE_OK) return rc;
+  if (!co->at_start && (rc = sdae__mbs_mass(co->eval, t, q, co->M)) != SDAE_OK) return rc;
   memcpy(co->M_spd, co->M, co->n_q * co->n_q * sizeof *co->M);
   if ((rc = sdae__cholesky_factor(co->M_spd, co->n_q)) != SDAE_OK) return rc;
   mat_vec(co->M, co->n_q, v, co->Mv);
@@ -295,6 +310,21 @@ static int configuration(sdae_mbs_coords *co, double t, const double *xi, const 
   for (size_t j = 0; j < co->n_c; j++) co->base_c[j] = xi[2 * j];
   memcpy(co->base_ct, co->ct, co->n_c * sizeof *co->ct);
   co->base_t = t;
+  co->base_here = 1;
+  return SDAE_OK;
+}
+
+int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
+                          const double *mu) {
+  int rc;
+  memcpy(co->q, q, co->n_q * sizeof *q);
+  memcpy(co->v, v, co->n_q * sizeof *v);
+  if ((rc = reduced_mass(co)) != SDAE_OK) return rc; /* in the chart just chosen */
+  memset(co->key, 0, 2 * co->n_c * sizeof *co->key);
+  memcpy(co->key + 2 * co->n_c, mu, 2 * co->n_f * sizeof *mu);
+  co->key_t = t;
+  co->valid = 1;
+  memset(co->base_c, 0, co->n_c * sizeof *co->base_c); /* the configuration of xi's c-part 0 */
   co->base_here = 1;
   return SDAE_OK;
 }

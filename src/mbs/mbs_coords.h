@@ -23,6 +23,7 @@ typedef struct sdae_mbs_coords {
   double *M;                /* n_q x n_q */
   double *Mr;               /* n_f x n_f: the reduced mass W^T M W, factored (Phi^-1) */
   int valid;                /* the point is Phi^-1(key_t, key) */
+  int at_start;             /* the step started at the point (its G, dc/dt and M kept) */
   double key_t;
   double *key;              /* 2 n_q: (xi, mu) */
   /* the base: the configuration Phi^-1 converged at last (first the step's start), where the
@@ -53,7 +54,9 @@ void sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, sdae_mbs_at
                            unsigned newton_max_iter);
 void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a);
 
-/* xi (2 n_c) of (t, q, v), the same in every chart; leaves c, G and dc/dt at q in the point */
+/* xi (2 n_c) of (t, q, v), the same in every chart; leaves c, G and dc/dt at q in the point.
+ * At the point Phi^-1 left (the last step's end, t within rounding) G and dc/dt are kept: c
+ * alone is evaluated, and _begin keeps M. */
 int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const double *v,
                         double *xi);
 /* a step's start at (t, q, v), the chart factored at q: M at q into the point (SDAE_ERR_MASS
@@ -65,6 +68,11 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
  * they are rounding (derive.c skips their columns) */
 void sdae__mbs_coords_floors(const sdae_mbs_coords *co, const double *q, const double *v,
                              double *floor);
+/* the step's start (t, q, v) taken as Phi^-1(t, 0, mu) (mu its coordinates), once every xi_i
+ * is at its floor: the two differ by rounding (DESIGN, the price of zero drift); G, dc/dt and M
+ * at q from sdae__mbs_coords_xi and _begin, the reduced mass formed in the current chart */
+int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
+                          const double *mu);
 /* the point's q, v = Phi^-1(t, xi, mu), with G, M and the chart's W there */
 int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
 /* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */

@@ -243,6 +243,16 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
   return SDAE_OK;
 }
 
+void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c,
+                          const double *G, const double *ct, double *xi) {
+  for (size_t j = 0; j < e->n_c; j++) {
+    double cdot = ct[j];
+    for (size_t i = 0; i < e->n_q; i++) cdot += G[j * e->n_q + i] * v[i];
+    xi[2 * j] = c[j];
+    xi[2 * j + 1] = cdot;
+  }
+}
+
 int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v, double *c,
                     double *G, double *ct, double *xi) {
   int rc;
@@ -250,12 +260,7 @@ int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v
       (rc = sdae__mbs_jacobian(e, t, q, G)) != SDAE_OK ||
       (rc = sdae__mbs_constraint_t(e, t, q, ct)) != SDAE_OK)
     return rc;
-  for (size_t j = 0; j < e->n_c; j++) {
-    double cdot = ct[j];
-    for (size_t i = 0; i < e->n_q; i++) cdot += G[j * e->n_q + i] * v[i];
-    xi[2 * j] = c[j];
-    xi[2 * j + 1] = cdot;
-  }
+  sdae__mbs_xi_compose(e, v, c, G, ct, xi);
   return SDAE_OK;
 }
 

@@ -42,6 +42,9 @@ int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D);
 int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
                     double *Mdv, double *gdot);
 
+/* xi (2 n_c) from c, G and dc/dt at q: per constraint (c_j, G_j v + dc_j/dt) */
+void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c,
+                          const double *G, const double *ct, double *xi);
 /* xi (2 n_c) of (t, q, v): per constraint (c_j, G_j v + dc_j/dt), the same in every chart; c,
  * G and dc/dt at q left in c, G, ct */
 int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v, double *c,

@@ -168,7 +168,9 @@ static int call_status(const sdae_stepper *s, double t, const double *xi, const 
 
 static int step(sdae_stepper *s, double t, double T, const double *xi, const double *mu) {
   const sdae_model *m = &s->model;
-  int rc = sdae__eval_Q(m, s->Q, t, xi, mu, s->Qxi, s->qnorm2);
+  int rc;
+  if (s->opt.map->begin) s->opt.map->begin(&s->map);
+  rc = sdae__eval_Q(m, s->Q, t, xi, mu, s->Qxi, s->qnorm2);
   if (rc == SDAE_OK) rc = s->stabilizer->xi_update(&s->stab, T, xi, s->xi_new);
   if (rc == SDAE_OK) rc = mu_update(s, t, T, mu);
   if (rc != SDAE_OK) return rc;
