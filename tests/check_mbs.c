@@ -651,6 +651,32 @@ START_TEST(integrate_matches_steps) {
 }
 END_TEST
 
+/* A step past the kept chart's fold: the chart q_D = y, kept by hysteresis at theta = 0.85,
+ * cannot hold x > L; from theta = 0.85 at omega = 8 a step of T = 0.1 carries x past L, so its
+ * Phi^-1 fails and the step is taken once more in the best chart, q_D = x. It counts as one
+ * step with one switch. */
+START_TEST(step_past_a_kept_charts_fold_is_retried) {
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
+  sdae_options o = options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_mbs_stepper *s = stepper(&sys, &o);
+  const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
+  size_t dep[1];
+  double q[2], v[2];
+  mech_pendulum_state(&p, 0.7, 0.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  mech_pendulum_state(&p, 0.85, 8.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.1, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+  ck_assert_uint_eq(dep[0], 0);
+  ck_assert_uint_eq(st->chart_switches, 1);
+  ck_assert_uint_eq(st->step.steps, 2);
+  ck_assert_double_le(fabs(q[0] * q[0] + q[1] * q[1] - 1.0), 1e-14);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs");
   ADD_CASE(s, pendulum_order_euler);
@@ -672,6 +698,7 @@ int main(void) {
   ADD_CASE(s, pendulum_lambda_tension);
   ADD_CASE(s, pendulum_xi_and_energy);
   ADD_CASE(s, pendulum_chart_hysteresis);
+  ADD_CASE(s, step_past_a_kept_charts_fold_is_retried);
   ADD_CASE(s, double_pendulum_energy_through_switches);
   ADD_CASE(s, decay_scheme15);
   ADD_CASE(s, decay_scheme11);

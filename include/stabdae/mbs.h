@@ -73,6 +73,9 @@ typedef struct sdae_mbs {
 
 typedef struct sdae_mbs_stepper sdae_mbs_stepper;
 
+/* The work of the steps taken (a step retried in the best chart counts its retry alone; a
+ * failed step counts nothing). sdae_mbs_stepper_reset_stats zeroes the counters, not the
+ * current chart's measure. */
 typedef struct sdae_mbs_stats {
   sdae_stats step;               /* the normal form's stepper: steps, Newton, phi evaluations */
   unsigned long chart_switches;  /* charts replaced at step boundaries (the first one is not) */

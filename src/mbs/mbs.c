@@ -190,8 +190,13 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
   phi_inv_iters = s->coords.phi_inv_iters;
   sdae__mbs_chart_save(&s->chart);
   rc = try_step(s, t, T, q, v, 0);
-  if (rc == SDAE_ERR_PHI_INV && s->chart.kept) /* the chart kept by hysteresis folds within */
-    rc = try_step(s, t, T, q, v, 1);           /* the step: once more in the best one */
+  if (rc == SDAE_ERR_PHI_INV && s->chart.kept) {
+    /* the chart kept by hysteresis folds within the step: once more in the best one, counted
+     * as the one step it is (the first try's work is not kept, as a failed step's is not) */
+    s->coords.phi_inv_iters = phi_inv_iters;
+    sdae__stepper_restore_stats(s->inner, &inner);
+    rc = try_step(s, t, T, q, v, 1);
+  }
   if (rc == SDAE_OK) {
     memcpy(q, s->coords.q, s->n_q * sizeof *q);
     memcpy(v, s->coords.v, s->n_q * sizeof *v);
@@ -240,8 +245,7 @@ const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s) {
 
 void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   if (!s) return;
-  s->chart.switches = 0;
-  s->chart.measure = 0.0;
+  s->chart.switches = 0; /* the counters; the chart's measure is the current chart's */
   s->coords.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
   gather_stats(s);
