@@ -1,13 +1,14 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The coordinates of a mechanism in a chart (DESIGN.md, the mechanical front-end):
+/* The coordinates of a mechanism in a chart (docs/front-ends.md, the mechanical front-end):
  *
  *   xi = per constraint (c_j, G_j v + dc_j/dt),   mu = (q_I, W^T M v),
  *
  * L_g mu = 0 because G W = 0, and on the manifold (q_I, W^T M v) are canonical. Phi^-1 solves
  * c(t, q) = xi's c-part for q_D by a chord iteration from the last point's linearization, then
  * [G; W^T M] v = [xi's velocity part - dc/dt; W^T M v] by the reduced mass W^T M W. The
- * mu-dynamics are (q_I', d/dt(W^T M v)) = (v_I, W^T (F + (dM/dt) v) - (dW/dt)^T M v), lambda
- * dropping out as W^T G^T = 0, with (dW/dt)^T M v = (G_D^-1 (dG/dt) W)^T (M v)_D. */
+ * mu-dynamics are (q_I', d/dt(W^T M v)) = (v_I, W^T (F + (dM/dt) v) + (dW/dt)^T M v), lambda
+ * dropping out as W^T G^T = 0, with dW/dt = P [-G_D^-1 (dG/dt) W; 0], so that
+ * (dW/dt)^T M v = -(G_D^-1 (dG/dt) W)^T (M v)_D. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -91,7 +92,7 @@ int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const do
   co->at_start = at_point(co, t, q, v);
   co->valid = 0; /* the point becomes the step's start */
   if (!co->at_start) return sdae__mbs_xi_of(co->eval, t, q, v, co->c, co->G, co->ct, xi);
-  /* DESIGN, the price of zero drift: the last step's end, G, dc/dt and M there kept; c is
+  /* docs/front-ends.md, the cost of a step: the last step's end, G, dc/dt and M there kept; c is
    * evaluated where Phi^-1 converged (its iteration evaluated it one correction before) */
   if ((rc = sdae__mbs_constraint(co->eval, t, q, co->c)) != SDAE_OK) return rc;
   sdae__mbs_xi_compose(co->eval, v, co->c, co->G, co->ct, xi);
@@ -154,7 +155,7 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
   return SDAE_OK;
 }
 
-/* The linearization of the chart at the base (DESIGN, the price of zero drift): q_I from mu,
+/* The linearization of the chart at the base (docs/front-ends.md, the cost of a step): q_I from mu,
  * and G_D dq_D = dxi_c - G_I dq_I - dc/dt dt, i.e. q = q_b + W_b dq_I + P_D G_D^-1 (dxi_c -
  * ct_b dt) with the factors of the base (or kept since). */
 static void predict(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
@@ -200,7 +201,7 @@ static int correct(sdae_mbs_coords *co, double t, const double *xi, double *del,
   return sdae__all_finite(co->q, co->n_q) ? SDAE_OK : SDAE_ERR_PHI_INV;
 }
 
-/* q_D from c(t, q) = xi's c-part (DESIGN, the price of zero drift): predicted by the chart's
+/* q_D from c(t, q) = xi's c-part (docs/front-ends.md, the cost of a step): predicted by the chart's
  * linearization at the base, then the chord iteration with G_D's factors kept from there,
  * stopped by SUNDIALS' rate test on the corrections del_m since the factors were made, the
  * rate estimated as CVODE does, rate = max(RATE_MEMORY rate, del_m / del_m-1). The test needs
@@ -235,7 +236,7 @@ static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double
   return SDAE_ERR_PHI_INV;
 }
 
-/* the reduced mass W^T M W (n_f x n_f) into co->Mr, factored: symmetric by construction (DESIGN,
+/* the reduced mass W^T M W (n_f x n_f) into co->Mr, factored: symmetric by construction (docs/front-ends.md,
  * the price of zero drift), Y = M W column by column, then the upper triangle of W^T Y, mirrored.
  * Formed entry by entry, its two triangles would round differently by up to eps times M's
  * largest entries, which W^T M W need not have (a heavy direction across the constraints):
@@ -343,7 +344,7 @@ int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const dou
   return SDAE_OK;
 }
 
-/* co->dW = X^T (M v)_D with X = G_D^-1 (dG/dt) W: the term (dW/dt)^T M v */
+/* co->dW = X^T (M v)_D with X = G_D^-1 (dG/dt) W: minus the term (dW/dt)^T M v */
 static void dW_term(sdae_mbs_coords *co) {
   const sdae_mbs_atlas *ch = co->chart;
   size_t n_q = co->n_q, n_c = co->n_c, n_f = co->n_f;

@@ -44,7 +44,7 @@ typedef struct sdae_mbs_coords {
   double *F, *Gdot, *Mdv;   /* the mu-dynamics: F + (dM/dt) v (n_q), dG/dt (n_c x n_q),
                                (dM/dt) v (n_q) */
   double *GdW, *X;          /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
-  double *dW;               /* n_f: (dW/dt)^T M v */
+  double *dW;               /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
   /* counter */
   unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
 } sdae_mbs_coords;
@@ -69,7 +69,7 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
 void sdae__mbs_coords_floors(const sdae_mbs_coords *co, const double *q, const double *v,
                              double *floor);
 /* the step's start (t, q, v) taken as Phi^-1(t, 0, mu) (mu its coordinates), once every xi_i
- * is at its floor: the two differ by rounding (DESIGN, the price of zero drift); G, dc/dt and M
+ * is at its floor: the two differ by rounding (docs/front-ends.md, the cost of a step); G, dc/dt and M
  * at q from sdae__mbs_coords_xi and _begin, the reduced mass formed in the current chart */
 int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
                           const double *mu);

@@ -212,7 +212,7 @@ static int differenced(sdae_mbs_eval *e, double t, const double *q, const double
   return SDAE_OK;
 }
 
-/* Each derivative the mechanism gives replaces its stencil (DESIGN, the price of zero drift);
+/* Each derivative the mechanism gives replaces its stencil (docs/front-ends.md, the cost of a step);
  * gamma = Gdot v + d/ds dc/dt, Gdot into scratch when only gamma is wanted. */
 int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
                     double *Mdv, double *gdot) {
@@ -235,7 +235,7 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
       (rc = sdae__callback_checked(s->constraint_t_dot(t, q, v, ctd, s->params), ctd, n_c)) !=
           SDAE_OK)
     return rc;
-  for (size_t i = 0; i < n_c; i++) { /* gamma = Gdot v + d/ds dc/dt (DESIGN, multipliers) */
+  for (size_t i = 0; i < n_c; i++) { /* gamma = Gdot v + d/ds dc/dt (docs/front-ends.md, lambda) */
     double g = ctd[i];
     for (size_t j = 0; j < n_q; j++) g += Gd[i * n_q + j] * v[j];
     gdot[i] = g;

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The quantities at a state: xi, the energy, the multipliers and the current chart. Each query
+/* The quantities at a state: xi, the energy and the multipliers. Each query
  * computes into its own scratch and hands out its result only when it is finite: a finite state
  * may still overflow (G v, v^T M v, the multipliers' gamma ~ |v|^2). A query leaves the step's
  * arrays, its chart and its statistics alone. */

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The quantities at a state (mbs_query.c, behind sdae_mbs_xi, sdae_mbs_energy and
- * sdae_mbs_lambda of mbs.c): each computes into its own scratch, never the step's, and hands out its result
+ * sdae_mbs_lambda of mbs.c): each computes into its own scratch (and the stencils' of mbs_eval, which keep
+ * nothing between calls), never the step's arrays, and hands out its result
  * only when it is finite. */
 #ifndef STABDAE_SRC_MBS_MBS_QUERY_H
 #define STABDAE_SRC_MBS_MBS_QUERY_H
