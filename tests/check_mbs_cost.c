@@ -306,6 +306,44 @@ START_TEST(dgrad_keeps_H_at_the_start) {
 }
 END_TEST
 
+/* The implicit map's Newton matrix, by differences (2 n_mu evaluations of the mu-dynamics, a
+ * Phi^-1 each), is kept across steps (sdae__newton_solve_kept): built at the first step, at
+ * every chart switch (mu is then other coordinates) and after 20 steps at most. Over 2000
+ * midpoint steps of the pendulum swinging through 1.2 rad: a step builds one (its evaluations
+ * beyond the predictor and one per iteration are 2 n_mu = 4 per matrix; Newton with a fresh
+ * matrix builds another while its update exceeds 1e-5) at each switch, and about one in 21
+ * steps besides; the others evaluate no difference. */
+START_TEST(newton_matrix_kept_across_steps) {
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_midpoint);
+  sdae_mbs_stepper *s;
+  double q[2], v[2];
+  unsigned long built = 0, switched = 0;
+  const unsigned long steps = 2000;
+  mech_pendulum_system(&sys, &p);
+  s = stepper(&sys, &o);
+  mech_pendulum_state(&p, 1.2, 0.0, q, v);
+  for (unsigned long n = 0; n < steps; n++) {
+    const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
+    unsigned long phi = st->step.phi_evals, it = st->step.newton_iters_total;
+    unsigned long sw = st->chart_switches, extra;
+    ck_assert_int_eq(sdae_mbs_step(s, 1e-3 * (double)n, 1e-3, q, v), SDAE_OK);
+    extra = st->step.phi_evals - phi - (st->step.newton_iters_total - it) - 1;
+    ck_assert_msg(extra % 4 == 0, "step %lu: %lu evaluations for differences", n, extra);
+    built += extra > 0;
+    if (st->chart_switches != sw) {
+      switched++;
+      ck_assert_uint_ge(extra, 4);
+    }
+  }
+  ck_assert_uint_ge(switched, 2);
+  ck_assert_uint_le(built, switched + steps / 20 + 1);
+  ck_assert_uint_ge(built, steps / 21);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* ---- what the floors of xi keep: the paper's decay off the manifold, no drift on it ---- */
 
 /* The pendulum's normal form in the chart q_I = x, q_D = y < 0, in closed form: Phi^-1 is
@@ -431,6 +469,7 @@ int main(void) {
   ADD_CASE(s, step_calls_on_the_manifold);
   ADD_CASE(s, step_calls_from_the_last_end);
   ADD_CASE(s, dgrad_keeps_H_at_the_start);
+  ADD_CASE(s, newton_matrix_kept_across_steps);
   ADD_CASE(s, off_manifold_decay_is_the_papers);
   ADD_CASE(s, on_manifold_no_drift);
   return run_suite(s);

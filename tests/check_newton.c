@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Newton on R(mu+) = mu+ - mu - T (phi_T + Q xi): quadratic convergence with the analytic
  * Jacobian, the same root with finite differences, and the singular and capped cases. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -730,10 +731,69 @@ START_TEST(plain_residual_system) {
 }
 END_TEST
 
+/* ---- the matrix kept across solves (sdae__newton_solve_kept, CVODE's rules) ---- */
+
+/* phi = -y^3 componentwise: y + h y^3 = x, a matrix I + 3 h diag(y^2) that changes with y */
+static int cube_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                    double *out) {
+  (void)t, (void)T, (void)mu;
+  for (size_t i = 0; i < c->model->n_mu; i++) out[i] = -mu_next[i] * mu_next[i] * mu_next[i];
+  return SDAE_OK;
+}
+static const sdae_map_type cube_map = {.name = "cube", .implicit = 1, .phi = cube_phi};
+
+/* one solve of y + h y^3 = (x0, x0 / 2) from the last root (a stepper's predictor is as
+ * near) with the kept matrix allowed: converged to rounding; the number of evaluations of phi
+ * beyond one per iteration (2 n = 4 for a matrix by differences, 0 for the kept one) */
+static double cube_y[2] = {1.0, 0.5};
+static unsigned long cube_solve(sdae_newton *nw, double h, double x0) {
+  sdae_map_ctx c = {&ws_model, NULL, nw, 0};
+  double x[2] = {x0, 0.5 * x0}, *y = cube_y;
+  unsigned iters = nw->iters;
+  ck_assert_int_eq(sdae__map_solve(&cube_map, &c, 0.0, h, x, NULL, y), SDAE_OK);
+  for (int i = 0; i < 2; i++)
+    ck_assert_double_le(fabs(y[i] + h * y[i] * y[i] * y[i] - x[i]), 4.0 * DBL_EPSILON);
+  return c.phi_evals - (nw->iters - iters);
+}
+
+/* Built by differences at the first solve, then kept for 20 solves, each a chord without
+ * differences; the 21st after it rebuilds. A coefficient 25 % off keeps it, 50 % off rebuilds;
+ * so do a forget and a far jump (the chord's rate slow: rebuilt at the iterate, within the
+ * same solve). Not asked for (keep = 0), it is rebuilt at every solve. */
+START_TEST(kept_matrix_rules) {
+  sdae_newton nw;
+  void *mem = newton_ws(&nw, 2, 0, 1e-14);
+  double x0 = 1.0;
+  nw.keep = 1;
+  ck_assert_uint_ge(cube_solve(&nw, 0.25, x0), 4);
+  ck_assert_uint_eq(nw.refreshes, 1);
+  for (int k = 0; k < 20; k++) {
+    ck_assert_uint_eq(cube_solve(&nw, 0.25, x0 += 1e-3), 0);
+    ck_assert_uint_eq(nw.refreshes, 1);
+  }
+  ck_assert_uint_ge(cube_solve(&nw, 0.25, x0 += 1e-3), 4);
+  ck_assert_uint_eq(nw.refreshes, 2); /* 20 solves old */
+  ck_assert_uint_eq(cube_solve(&nw, 0.3125, x0 += 1e-3), 0);
+  ck_assert_uint_eq(nw.refreshes, 2); /* 25 % */
+  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 += 1e-3), 4);
+  ck_assert_uint_eq(nw.refreshes, 3); /* 50 % */
+  sdae__newton_forget(&nw);
+  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 += 1e-3), 4);
+  ck_assert_uint_eq(nw.refreshes, 4);
+  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 + 2.0), 4); /* y^2 from 0.67 to 2.5 */
+  ck_assert_uint_eq(nw.refreshes, 5);
+  nw.keep = 0;
+  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0), 4);
+  ck_assert_uint_eq(nw.refreshes, 5);
+  free(mem);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("newton");
   ADD_CASE(s, plain_residual_system);
   ADD_CASE(s, nan_residual_is_nonfinite);
+  ADD_CASE(s, kept_matrix_rules);
   ADD_CASE(s, quadratic_convergence_analytic);
   ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);

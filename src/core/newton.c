@@ -44,7 +44,13 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
   nw->J = band == n - 1 ? sdae__take(a, n, n) : NULL; /* dense: analytic Jacobians */
   nw->LU = sdae__take(a, n, sdae__lu_band_cols(band, band));
   nw->piv = sdae__take_pivots(a, n);
+  nw->keep = nw->kept = 0;
+  nw->kept_coeff = 0.0;
+  nw->kept_age = 0;
+  nw->refreshes = 0;
 }
+
+void sdae__newton_forget(sdae_newton *nw) { nw->kept = 0; }
 
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
@@ -167,4 +173,99 @@ int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y
   nw->iters += it;
   if (rc != SDAE_OK) return rc;
   return done ? SDAE_OK : SDAE_ERR_NEWTON;
+}
+
+/* ---- a matrix kept across solves (CVODE's rules: its DGMAX, MSBP and rate test) ---- */
+
+/* the matrix is rebuilt once coeff differs from its own by more than this (CVODE's DGMAX) */
+static const double keep_coeff_change = 0.3;
+/* and after this many solves (CVODE's MSBP: 20 steps) */
+#define NEWTON_KEEP_SOLVES 20
+/* a chord whose estimated rate exceeds this rebuilds the matrix at the iterate */
+static const double keep_rate_slow = 0.25;
+/* the rate estimate keeps this fraction of the last one (CVODE's CRDOWN) */
+static const double keep_rate_memory = 0.3;
+/* converged with a kept matrix: the update at rounding of y (two ulps of 1 + ||y||), or what
+ * the rate predicts is left below a thousandth of an ulp (the discrete gradient's H keeps the
+ * sum of what is left, step after step) */
+static const double keep_moved = 2.0 * DBL_EPSILON;
+static const double keep_left = 1e-3 * DBL_EPSILON;
+
+static int keep_serves(const sdae_newton *nw, double coeff) {
+  return nw->kept && nw->kept_age < NEWTON_KEEP_SOLVES &&
+         fabs(coeff - nw->kept_coeff) <= keep_coeff_change * fabs(nw->kept_coeff);
+}
+
+/* one chord iteration with the kept factors from y: *dy_norm the update, *scale 1 + ||y|| */
+static int chord(sdae_newton *nw, const sdae_newton_system *sys, double *y, double *dy_norm,
+                 double *scale, int *zero) {
+  size_t n = nw->n;
+  double y_norm = 0.0;
+  int rc = residual(nw, sys, y);
+  *dy_norm = 0.0;
+  *zero = rc == SDAE_OK && nw->residual_last == 0.0;
+  if (rc != SDAE_OK || *zero) return rc;
+  newton_solve(nw);
+  for (size_t i = 0; i < n; i++) {
+    y[i] -= nw->dy[i];
+    *dy_norm = max_abs(*dy_norm, nw->dy[i]);
+    y_norm = max_abs(y_norm, y[i]);
+  }
+  *scale = 1.0 + y_norm;
+  return sdae__all_finite(y, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
+
+/* the chord iteration with the kept matrix, counting in *used; *slow when it no longer
+ * serves (its rate), y then the last iterate, for the fresh Newton to go on from */
+static int chord_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y,
+                       unsigned *used, int *slow) {
+  double prev = 0.0, rate = 0.0;
+  *slow = 0;
+  for (unsigned k = 0; *used < nw->max_iter; k++) {
+    double dy, scale;
+    int zero, rc;
+    (*used)++;
+    rc = chord(nw, sys, y, &dy, &scale, &zero);
+    if (rc != SDAE_OK || zero) return rc;
+    if (k > 0) rate = fmax(keep_rate_memory * rate, dy / prev);
+    if (dy <= nw->tol * scale &&
+        (dy <= keep_moved * scale ||
+         (k >= 2 && rate < 1.0 && rate / (1.0 - rate) * dy <= keep_left * scale)))
+      return SDAE_OK;
+    if (k > 0 && rate > keep_rate_slow) {
+      *slow = 1;
+      return SDAE_OK;
+    }
+    prev = dy;
+  }
+  return SDAE_ERR_NEWTON;
+}
+
+int sdae__newton_solve_kept(sdae_newton *nw, const sdae_newton_system *sys, double coeff,
+                            double *y) {
+  unsigned used = 0;
+  int rc = SDAE_OK, slow = 1, refresh = 1, done = 0;
+  if (keep_serves(nw, coeff)) {
+    nw->kept_age++;
+    rc = chord_solve(nw, sys, y, &used, &slow);
+    if (rc == SDAE_ERR_NEWTON) /* no convergence with the kept matrix: a fresh one, a new cap */
+      rc = SDAE_OK, slow = 1, nw->iters += used, used = 0;
+    if (rc != SDAE_OK) nw->kept = 0; /* a failed solve: the next one builds its own */
+    if (rc != SDAE_OK || !slow) {
+      nw->iters += used;
+      return rc;
+    }
+  }
+  /* the matrix at the iterate, then Newton as sdae__newton_solve, within the same cap */
+  nw->kept = 0;
+  nw->refreshes++;
+  while (!done && rc == SDAE_OK && used < nw->max_iter) {
+    used++;
+    rc = iterate(nw, sys, &refresh, y, &done);
+  }
+  nw->iters += used;
+  if (rc != SDAE_OK) return rc;
+  if (!done) return SDAE_ERR_NEWTON;
+  nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
+  return SDAE_OK;
 }

@@ -27,6 +27,12 @@ typedef struct sdae_newton {
   unsigned *piv;        /* n */
   unsigned iters;       /* iterations, counted here alone; the owner reads and clears them */
   double residual_last; /* ||R||_inf at the last iterate evaluated */
+  /* the matrix kept across solves by sdae__newton_solve_kept (when the owner sets keep):
+   * factored, for the coefficient kept_coeff, solves since it was built */
+  int keep, kept;
+  double kept_coeff;
+  unsigned kept_age;
+  unsigned long refreshes; /* matrices built by sdae__newton_solve_kept */
 } sdae_newton;
 
 /* its workspace for n unknowns and a Jacobian of bandwidth band (n - 1: dense), counted or
@@ -37,5 +43,17 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
  * converge, the residual's or Jacobian's status when they fail, SDAE_ERR_SINGULAR,
  * SDAE_ERR_NONFINITE */
 int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y);
+/* The same, for a system whose matrix dR/dy is built by differences (sys->jacobian unused) and
+ * has the form I - coeff J: the factored matrix of an earlier solve is used while it serves
+ * (DESIGN, the price of zero drift; CVODE's rules), rebuilt at the iterate when the estimated
+ * rate of convergence is slow, when coeff differs from the one it was built for by more than
+ * 30 %, after NEWTON_KEEP_SOLVES solves, after a failed solve and after sdae__newton_forget.
+ * With a kept matrix the iteration is a chord: it stops when the update is below tol
+ * (1 + ||y||) and at rounding of y, or when the rate predicts what is left far below rounding,
+ * so that what the chord leaves (of one sign solve after solve) does not accumulate. */
+int sdae__newton_solve_kept(sdae_newton *nw, const sdae_newton_system *sys, double coeff,
+                            double *y);
+/* the kept matrix is no longer the system's (the owner changed it: a chart switch) */
+void sdae__newton_forget(sdae_newton *nw);
 
 #endif /* STABDAE_SRC_CORE_NEWTON_H */

@@ -81,6 +81,7 @@ static sdae_mbs_stepper *build(void *mem, const sdae_mbs *sys, const sdae_option
   inner_mem = s->inner;
   /* measured with the same model and options: cannot fail */
   sdae_stepper_init(&s->inner, inner_mem, inner, &s->nf.model, &s->opt);
+  sdae__stepper_keep_newton(s->inner); /* each residual a Phi^-1: the matrix is kept */
   return s;
 }
 
@@ -153,6 +154,13 @@ static int normal_step(sdae_mbs_stepper *s, double t, double T) {
   return rc;
 }
 
+/* a new chart: mu is other coordinates, the Newton matrix kept by the normal form's stepper
+ * (a function of mu) is not theirs */
+static int chart_news(sdae_mbs_stepper *s, unsigned long switches) {
+  if (s->chart.switches != switches) sdae__stepper_newton_forget(s->inner);
+  return SDAE_OK;
+}
+
 /* every xi_i at its floor: the state is on the manifold to rounding */
 static int at_floors(const sdae_mbs_stepper *s) {
   for (size_t i = 0; i < 2 * s->n_c; i++)
@@ -164,11 +172,13 @@ static int at_floors(const sdae_mbs_stepper *s) {
  * on the manifold the state is the first evaluation's Phi^-1(t, 0, mu) */
 static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v,
                     int force_best) {
+  unsigned long switches = s->chart.switches;
   int rc;
   s->nf.status = SDAE_OK;
   if ((rc = sdae__mbs_coords_xi(&s->coords, t, q, v, s->xi)) != SDAE_OK ||
       (rc = energy_map_ok(s)) != SDAE_OK ||
       (rc = sdae__mbs_chart_choose(&s->chart, s->coords.G, force_best)) != SDAE_OK ||
+      (rc = chart_news(s, switches)) != SDAE_OK ||
       (rc = sdae__mbs_coords_begin(&s->coords, t, q, v, s->mu)) != SDAE_OK)
     return rc;
   sdae__mbs_coords_floors(&s->coords, q, v, s->nf.floor);
@@ -205,6 +215,7 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
     s->coords.phi_inv_iters = phi_inv_iters;
     sdae__stepper_restore_stats(s->inner, &inner);
     forget(s);
+    sdae__stepper_newton_forget(s->inner); /* nothing of the failed step's kept */
   }
   gather_stats(s);
   return rc;

@@ -215,3 +215,11 @@ const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s) {
 }
 
 void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats) { s->stats = *stats; }
+
+void sdae__stepper_keep_newton(sdae_stepper *s) {
+  if (sdae__map_uses_newton(s->opt.map)) s->newton.keep = 1;
+}
+
+void sdae__stepper_newton_forget(sdae_stepper *s) {
+  if (sdae__map_uses_newton(s->opt.map)) sdae__newton_forget(&s->newton);
+}
