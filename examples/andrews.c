@@ -28,8 +28,7 @@ static const char summary[] =
     "T 1e-5 (rates up to 1.4e3 rad/s), map dgrad (the energy conserved).\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
   *a = (args){.run = mbs_run_defaults()};
   bench_andrews_default(&a->p);
@@ -39,8 +38,7 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"mom", CLI_REAL, &a->p.mom, NULL, 0, "the motor's driving torque"},
       {"c0", CLI_NONNEG, &a->p.c0, NULL, 0, "the spring's stiffness"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }

@@ -29,8 +29,7 @@ static const char summary[] =
     "E (kinetic),switches. Defaults: tf 3, T 0.001 (the springs' period is 0.14), map midpoint\n"
     "(no potential: the road moves; dgrad, dg4, dg6 are refused). Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
   *a = (args){.p = bench_car_axis_default(), .run = mbs_run_defaults()};
   a->run.tf = 3.0;
@@ -44,12 +43,11 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"w", CLI_REAL, &a->p.w, NULL, 0, "the bump's frequency"},
       {"g", CLI_REAL, &a->p.g, NULL, 0, "gravitational acceleration"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   if (!(a->p.r < a->p.L))
-    return cli_fail(err, errlen, "--r: %g must be below --L, %g (the wheel at distance L)",
-                    a->p.r, a->p.L);
+    return cli_fail(err, errlen, "--r: %g must be below --L, %g (the wheel at distance L)", a->p.r,
+                    a->p.L);
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 

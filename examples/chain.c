@@ -40,13 +40,17 @@ static const char summary[] =
     "[-0.1,0.1]) or from --x0, and writes CSV: t,max_abs_Y,max_abs_Ydot,E,newton_iters.\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int chain_parse_args(int argc, char *const *argv, void *args, char *err,
-                            size_t errlen) {
+static int chain_parse_args(int argc, char *const *argv, void *args, char *err, size_t errlen) {
   chain_args *a = args;
   *a = (chain_args){.p = {10, 2.0, 1.0, 0.03, 1.0, 9.81, NULL},
                     .seed = 1,
-                    .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
-                          .scheme = 1, .map = sdae_map_euler, .every = 1}};
+                    .run = {.delta = 2.0,
+                            .eps = 1.0,
+                            .T = 0.001,
+                            .tf = 10.0,
+                            .scheme = 1,
+                            .map = sdae_map_euler,
+                            .every = 1}};
   const cli_flag model_flags[8] = {
       {"N", CLI_COUNT, &a->p.N, NULL, 0, "number of masses"},
       {"k", CLI_REAL, &a->p.k, NULL, 0, "anchor spring constant (force -k X_i^3)"},
@@ -73,8 +77,8 @@ static int chain_parse_args(int argc, char *const *argv, void *args, char *err,
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
-static int chain_row(cli_row_out *o, double t, const double *xi, const double *mu,
-                     void *vctx, const char **why) {
+static int chain_row(cli_row_out *o, double t, const double *xi, const double *mu, void *vctx,
+                     const char **why) {
   const chain_row_ctx *ctx = vctx;
   double maxY = 0.0, maxYd = 0.0;
   (void)why;
@@ -107,8 +111,8 @@ static int run(chain_args *a, double *x, double *xi, double *mu, cli_sink *sink)
   opt.bandwidth = CHAIN_BANDWIDTH;
   chain_to_coords(&a->p, x, xi, mu);
   chain_row_ctx ctx = {&a->p, x};
-  const cli_program prog = {"chain", "t,max_abs_Y,max_abs_Ydot,E,newton_iters", &model, &opt,
-                            xi, mu, chain_row, &ctx};
+  const cli_program prog = {
+      "chain", "t,max_abs_Y,max_abs_Ydot,E,newton_iters", &model, &opt, xi, mu, chain_row, &ctx};
   return cli_execute_to(&prog, &a->run, sink);
 }
 
@@ -130,8 +134,8 @@ static int chain_run(void *args, cli_sink *sink) {
   return rc;
 }
 
-const cli_def chain_def = {"chain", summary, CLI_LAYOUT(chain_args), chain_parse_args, chain_run,
-                           NULL};
+const cli_def chain_def = {"chain",          summary,   CLI_LAYOUT(chain_args),
+                           chain_parse_args, chain_run, NULL};
 
 #ifndef CLI_NO_MAIN
 int main(int argc, char **argv) { return cli_main(&chain_def, argc, argv); }

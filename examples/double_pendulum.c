@@ -31,10 +31,11 @@ static const char summary[] =
     "t,q1,q2,q3,q4,v1,v2,v3,v4,lambda1,lambda2,max_abs_c,E,switches.\n"
     "Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
-  *a = (args){.p = {1.0, 1.0, 1.0, 1.0, 9.81}, .theta0 = {2.0, 2.5}, .omega0 = {0.0, 0.0},
+  *a = (args){.p = {1.0, 1.0, 1.0, 1.0, 9.81},
+              .theta0 = {2.0, 2.5},
+              .omega0 = {0.0, 0.0},
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"L1", CLI_POSITIVE, &a->p.L1, NULL, 0, "inner rod length"},
@@ -45,8 +46,7 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"theta0", CLI_VECTOR, a->theta0, NULL, 2, "start angles a1,a2 from the downward vertical"},
       {"omega0", CLI_VECTOR, a->omega0, NULL, 2, "start angular rates w1,w2"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
@@ -61,7 +61,8 @@ static int run(void *vargs, cli_sink *sink) {
   return mbs_execute_to(&prog, &a->run, sink);
 }
 
-const cli_def double_pendulum_def = {"double_pendulum", summary, CLI_LAYOUT(args), parse_args, run, NULL};
+const cli_def double_pendulum_def = {"double_pendulum", summary, CLI_LAYOUT(args),
+                                     parse_args,        run,     NULL};
 
 #ifndef CLI_NO_MAIN
 int main(int argc, char **argv) { return cli_main(&double_pendulum_def, argc, argv); }

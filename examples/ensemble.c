@@ -56,8 +56,8 @@ static size_t own_flags(ens_args *a, const char *const *names, cli_flag *fl) {
 }
 
 /* argv split into the runner's flags (own) and the model's (shared, after argv[0]) */
-static void split_argv(int argc, char **argv, const cli_flag *fl, size_t nfl, char **own,
-                       int *nown, char **shared, int *nshared) {
+static void split_argv(int argc, char **argv, const cli_flag *fl, size_t nfl, char **own, int *nown,
+                       char **shared, int *nshared) {
   *nown = *nshared = 1;
   own[0] = shared[0] = argv[0];
   for (int i = 1; i < argc; i++) {
@@ -92,10 +92,18 @@ static int parse_at(ens_job *job, char *err, size_t errlen) {
 /* the runner's settings, then the model's shared flags parsed alone */
 static int setup(const ens_args *a, ens_job *job, void *args, char *err, size_t errlen) {
   char msg[CLI_ERR_LEN];
-  *job = (ens_job){.def = ens_models[a->model], .members_path = a->members, .out = a->out,
-                   .at_text = a->at, .resume = a->resume, .quiet = a->quiet,
-                   .certify = a->certify, .chunk = a->chunk, .pieces = a->pieces,
-                   .progress = a->progress, .nshared = job->nshared, .shared = job->shared};
+  *job = (ens_job){.def = ens_models[a->model],
+                   .members_path = a->members,
+                   .out = a->out,
+                   .at_text = a->at,
+                   .resume = a->resume,
+                   .quiet = a->quiet,
+                   .certify = a->certify,
+                   .chunk = a->chunk,
+                   .pieces = a->pieces,
+                   .progress = a->progress,
+                   .nshared = job->nshared,
+                   .shared = job->shared};
   if (a->chunk > CHUNK_LIMIT) return cli_fail(err, errlen, "--chunk: at most %d", CHUNK_LIMIT);
   if (a->pieces > PIECES_LIMIT)
     return cli_fail(err, errlen, "--pieces: at most %d (MPI's least bound on tags)", PIECES_LIMIT);
@@ -122,8 +130,7 @@ static int prepare(ens_job *job, void *args, char **header, char *err, size_t er
       ens_members_check(job, args, err, errlen) != CLI_OK)
     return CLI_BAD;
   if (!(*header = ens_header(job, args)))
-    return cli_fail(err, errlen, "%s refuses the shared flags (or out of memory)",
-                    job->def->name);
+    return cli_fail(err, errlen, "%s refuses the shared flags (or out of memory)", job->def->name);
   return CLI_OK;
 }
 
@@ -136,8 +143,10 @@ static int sweep(ens_job *job, void *args, int rank) {
   if (rc == CLI_OK && rank == 0 && !(out = ens_output_open(job, header, &first))) rc = CLI_BAD;
   /* rank 0 alone opens the output: the others learn whether it could */
   MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (rc == CLI_OK) rc = ens_schedule(job, args, out, first);
-  else rc = CLI_EXIT_USAGE;
+  if (rc == CLI_OK)
+    rc = ens_schedule(job, args, out, first);
+  else
+    rc = CLI_EXIT_USAGE;
   if (out && fclose(out)) rc = CLI_EXIT_FAILED;
   free(header);
   ens_members_free(&job->members);
@@ -164,8 +173,10 @@ static int run(int argc, char **argv, int rank) {
   if (rc == CLI_OK && !(args = malloc(ens_models[a.model]->layout.size)))
     rc = cli_fail(err, sizeof err, "out of memory");
   if (rc == CLI_OK) rc = setup(&a, &job, args, err, sizeof err);
-  if (rank == 0) rc = cli_parse_or_exit(rc, ENS_PROG, summary, fl, nfl, err);
-  else rc = rc == CLI_OK ? -1 : rc == CLI_HELP ? CLI_EXIT_OK : CLI_EXIT_USAGE; /* rank 0 says */
+  if (rank == 0)
+    rc = cli_parse_or_exit(rc, ENS_PROG, summary, fl, nfl, err);
+  else
+    rc = rc == CLI_OK ? -1 : rc == CLI_HELP ? CLI_EXIT_OK : CLI_EXIT_USAGE; /* rank 0 says */
   if (rc < 0) rc = a.certify ? ens_certify(&job, args) : sweep(&job, args, rank);
   free(args);
   free(own);

@@ -33,10 +33,11 @@ static const char summary[] =
     "writes CSV: t,q1..q4 (Bx,By,Cx,Cy),v1..v4,lambda1..lambda3,max_abs_c,E,switches.\n"
     "The geometry must be a Grashof crank-rocker. Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
-  *a = (args){.p = {1.0, 4.0, 3.0, 4.5, 1.0, 1.0, 9.81}, .theta0 = 0.0, .omega0 = 5.0,
+  *a = (args){.p = {1.0, 4.0, 3.0, 4.5, 1.0, 1.0, 9.81},
+              .theta0 = 0.0,
+              .omega0 = 5.0,
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"a", CLI_POSITIVE, &a->p.a, NULL, 0, "crank length |AB|"},
@@ -49,12 +50,12 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"theta0", CLI_REAL, &a->theta0, NULL, 0, "start crank angle"},
       {"omega0", CLI_REAL, &a->omega0, NULL, 0, "start crank speed"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   if (!mech_fourbar_crank_rocker(&a->p))
-    return cli_fail(err, errlen, "--a --b --e --d: %g, %g, %g, %g is not a Grashof crank-rocker "
-                                 "(the crank must be the shortest link and s + l <= p + q)",
+    return cli_fail(err, errlen,
+                    "--a --b --e --d: %g, %g, %g, %g is not a Grashof crank-rocker "
+                    "(the crank must be the shortest link and s + l <= p + q)",
                     a->p.a, a->p.b, a->p.e, a->p.d);
   /* a crank-rocker closes at every angle but at its change points (s + l = p + q) */
   if (mech_fourbar_state(&a->p, a->theta0, a->omega0, a->q, a->v))

@@ -41,8 +41,13 @@ static int potential(double t, const double *q, double *V, void *p) { /* F = -dV
 }
 
 int main(void) {
-  sdae_mbs sys = {.n_q = 4, .n_c = 3, .mass = mass, .force = force, .constraint = constraint,
-                  .jacobian = jacobian, .potential = potential};
+  sdae_mbs sys = {.n_q = 4,
+                  .n_c = 3,
+                  .mass = mass,
+                  .force = force,
+                  .constraint = constraint,
+                  .jacobian = jacobian,
+                  .potential = potential};
   sdae_options opt;
   sdae_mbs_stepper *s = NULL;
   /* the crank at angle 0 turning at 5 rad/s; C closes the loop, its velocity keeps G v = 0 */
@@ -59,8 +64,7 @@ int main(void) {
     angle += remainder(atan2(q[1], q[0]) - before, 4 * acos(0)); /* continued past +-pi */
     constraint(0, q, c, NULL);
     if (i % 500 == 0)
-      printf("%5.2f  %11.6f  %.1e\n", i * T, angle,
-             fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2]))));
+      printf("%5.2f  %11.6f  %.1e\n", i * T, angle, fmax(fabs(c[0]), fmax(fabs(c[1]), fabs(c[2]))));
   }
   if (rc != SDAE_OK) fprintf(stderr, "fourbar: %s\n", sdae_strerror(rc));
   sdae_mbs_stepper_free(s);

@@ -8,7 +8,9 @@
 
 #include <stabdae/stabdae.h>
 
-typedef struct { double k, d; } oscillator;
+typedef struct {
+  double k, d;
+} oscillator;
 
 /* constrained motion (eq. 9): X'' = -k X^3 - d X' in mu = (X + Y, Y + X') */
 static int q0(double t, const double *mu, double *out, void *params) {

@@ -41,8 +41,13 @@ static int osc_parse_args(int argc, char *const *argv, void *args, char *err, si
   *a = (osc_args){.p = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED},
                   .q = 0,
                   .x0 = {0.1, 0.6, 0.0, 0.0},
-                  .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,
-                          .scheme = 1, .map = sdae_map_user, .every = 1},
+                  .run = {.delta = 2.0,
+                          .eps = 1.0,
+                          .T = 0.001,
+                          .tf = 50.0,
+                          .scheme = 1,
+                          .map = sdae_map_user,
+                          .every = 1},
                   .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model_flags[6] = {
       {"k", CLI_REAL, &a->p.k, NULL, 0, "spring constant (force -k X^3)"},
@@ -72,8 +77,8 @@ static int osc_row(cli_row_out *o, double t, const double *xi, const double *mu,
   double x[4];
   (void)why;
   osc_from_coords(p, xi, mu, x);
-  const double v[11] = {t,     x[0],  x[1],  x[2],  x[3], xi[0],
-                        xi[1], mu[0], mu[1], osc_energy(p, x), osc_W(p, mu)};
+  const double v[11] = {
+      t, x[0], x[1], x[2], x[3], xi[0], xi[1], mu[0], mu[1], osc_energy(p, x), osc_W(p, mu)};
   return cli_emit(o, v, 11, fabs(xi[0]), v[9]); /* xi1 = Y, the constraint */
 }
 
@@ -104,12 +109,14 @@ static int osc_run(void *args, cli_sink *sink) {
   }
   osc_to_coords(&a->p, a->x0, xi, mu);
   const cli_program prog = {"oscillator", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,W,newton_iters",
-                            &model, &opt, xi, mu, osc_row, &a->p};
+                            &model,       &opt,
+                            xi,           mu,
+                            osc_row,      &a->p};
   return cli_execute_to(&prog, &a->run, sink);
 }
 
-const cli_def oscillator_def = {"oscillator", summary, CLI_LAYOUT(osc_args), osc_parse_args,
-                                osc_run, osc_certify_setup};
+const cli_def oscillator_def = {"oscillator",   summary, CLI_LAYOUT(osc_args),
+                                osc_parse_args, osc_run, osc_certify_setup};
 
 #ifndef CLI_NO_MAIN
 int main(int argc, char **argv) { return cli_main(&oscillator_def, argc, argv); }

@@ -31,16 +31,19 @@ static const char summary[] =
     "0 = (X^2 + Y^2 - L^2)/2) and writes CSV:\n"
     "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters. Steps: ceil(tf/T - 1e-9).";
 
-static int pend_parse_args(int argc, char *const *argv, void *args, char *err,
-                           size_t errlen) {
+static int pend_parse_args(int argc, char *const *argv, void *args, char *err, size_t errlen) {
   pend_args *a = args;
-  *a = (pend_args){.p = {1.0, 1.0, 9.81},
-                   .x0 = {NAN, NAN, 0.0, 0.0},
-                   .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0,
-                          .scheme = 1, .map = sdae_map_dgrad, .every = 1},
-                   .cert = {.grid = 41,
-                            .lo = {-0.1, -0.5, -3.14159, -2.0},
-                            .hi = {0.1, 0.5, 3.14159, 2.0}}};
+  *a = (pend_args){
+      .p = {1.0, 1.0, 9.81},
+      .x0 = {NAN, NAN, 0.0, 0.0},
+      .run = {.delta = 2.0,
+              .eps = 1.0,
+              .T = 0.001,
+              .tf = 10.0,
+              .scheme = 1,
+              .map = sdae_map_dgrad,
+              .every = 1},
+      .cert = {.grid = 41, .lo = {-0.1, -0.5, -3.14159, -2.0}, .hi = {0.1, 0.5, 3.14159, 2.0}}};
   const cli_flag model_flags[4] = {
       {"L", CLI_POSITIVE, &a->p.L, NULL, 0, "rod length"},
       {"m", CLI_POSITIVE, &a->p.m, NULL, 0, "mass"},
@@ -61,8 +64,9 @@ static int pend_parse_args(int argc, char *const *argv, void *args, char *err,
     a->x0[1] = -a->p.L * cos(0.5);
   }
   if (a->x0[0] == 0.0 && a->x0[1] == 0.0) {
-    snprintf(err, errlen, "--x0: the start is at the pivot (X = Y = 0), where the angle is "
-                          "undefined");
+    snprintf(err, errlen,
+             "--x0: the start is at the pivot (X = Y = 0), where the angle is "
+             "undefined");
     return CLI_BAD;
   }
   if (cli_certify_finish(&a->cert, err, errlen) != CLI_OK) return CLI_BAD;
@@ -77,8 +81,7 @@ static int pend_row(cli_row_out *o, double t, const double *xi, const double *mu
     *why = "the state left the chart (xi1 <= -L^2/2: the mass would be at the pivot)";
     return 1;
   }
-  const double v[10] = {t, x[0], x[1], x[2], x[3], xi[0], xi[1], mu[0], mu[1],
-                        pend_energy(p, x)};
+  const double v[10] = {t, x[0], x[1], x[2], x[3], xi[0], xi[1], mu[0], mu[1], pend_energy(p, x)};
   return cli_emit(o, v, 10, fabs(xi[0]), v[9]); /* xi1 = (X^2 + Y^2 - L^2)/2 */
 }
 
@@ -108,13 +111,14 @@ static int pend_run(void *args, cli_sink *sink) {
     return cli_check_model_run("pendulum", &a->cert, &model, &dae);
   }
   pend_to_coords(&a->p, a->x0, xi, mu); /* the pivot was refused by the parser */
-  const cli_program prog = {"pendulum", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters",
-                            &model, &opt, xi, mu, pend_row, &a->p};
+  const cli_program prog = {
+      "pendulum", "t,X,Y,Xdot,Ydot,xi1,xi2,mu1,mu2,E,newton_iters", &model, &opt, xi, mu, pend_row,
+      &a->p};
   return cli_execute_to(&prog, &a->run, sink);
 }
 
-const cli_def pendulum_def = {"pendulum", summary, CLI_LAYOUT(pend_args), pend_parse_args,
-                              pend_run, pend_certify_setup};
+const cli_def pendulum_def = {"pendulum",      summary,  CLI_LAYOUT(pend_args),
+                              pend_parse_args, pend_run, pend_certify_setup};
 
 #ifndef CLI_NO_MAIN
 int main(int argc, char **argv) { return cli_main(&pendulum_def, argc, argv); }

@@ -25,10 +25,11 @@ static const char summary[] =
     "front-end (m q'' = (0, -m ga) - lambda q, 0 = (x^2 + y^2 - L^2)/2) and writes CSV:\n"
     "t,q1,q2,v1,v2,lambda1,max_abs_c,E,switches. Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
-  *a = (args){.p = {.L = 1.0, .m = 1.0, .ga = 9.81}, .q0 = {NAN, NAN}, .v0 = {0.0, 0.0},
+  *a = (args){.p = {.L = 1.0, .m = 1.0, .ga = 9.81},
+              .q0 = {NAN, NAN},
+              .v0 = {0.0, 0.0},
               .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
       {"L", CLI_POSITIVE, &a->p.L, NULL, 0, "rod length"},
@@ -37,16 +38,16 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"q0", CLI_VECTOR, a->q0, NULL, 2, "start X,Y (default L sin 0.5, -L cos 0.5)"},
       {"v0", CLI_VECTOR, a->v0, NULL, 2, "start velocity VX,VY"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   if (isnan(a->q0[0])) { /* the default start depends on L: 0.5 rad from the bottom, at rest */
     a->q0[0] = a->p.L * sin(0.5);
     a->q0[1] = -a->p.L * cos(0.5);
   }
   if (a->q0[0] == 0.0 && a->q0[1] == 0.0)
-    return cli_fail(err, errlen, "--q0: the start is at the pivot, where the constraint's "
-                                 "jacobian (x, y) vanishes");
+    return cli_fail(err, errlen,
+                    "--q0: the start is at the pivot, where the constraint's "
+                    "jacobian (x, y) vanishes");
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 

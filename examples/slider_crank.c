@@ -29,8 +29,7 @@ static const char summary[] =
     "Defaults: tf 10 and T 0.001 (an error near 3e-8 at t = 10), map dgrad (the energy\n"
     "never increases). Steps: ceil(tf/T - 1e-9).";
 
-static int parse_args(int argc, char *const *argv, void *vargs, char *err,
-                      size_t errlen) {
+static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
   args *a = vargs;
   *a = (args){.p = bench_slider_crank_default(), .run = mbs_run_defaults()};
   const cli_flag model_flags[NFLAGS] = {
@@ -43,12 +42,13 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err,
       {"l0", CLI_NONNEG, &a->p.l0, NULL, 0, "spring free length"},
       {"F", CLI_REAL, &a->p.F, NULL, 0, "constant force"},
   };
-  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err,
-                     errlen);
+  int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   if (!(a->p.a < 1.0))
-    return cli_fail(err, errlen, "--a: %g does not close the loop (the crank must be shorter "
-                                 "than the rod, 1)", a->p.a);
+    return cli_fail(err, errlen,
+                    "--a: %g does not close the loop (the crank must be shorter "
+                    "than the rod, 1)",
+                    a->p.a);
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 

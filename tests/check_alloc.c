@@ -89,8 +89,10 @@ static int malloc_is_interposed(void) {
 /* the malloc count is out of reach (valgrind's malloc): the case cannot check it */
 static int malloc_unseen(const char *what) {
   if (interposed || !RUNNING_ON_VALGRIND) return 0;
-  fprintf(stderr, "check_alloc: %s not checked: valgrind replaced malloc (run valgrind with "
-                  "--soname-synonyms=somalloc=nouserintercepts)\n", what);
+  fprintf(stderr,
+          "check_alloc: %s not checked: valgrind replaced malloc (run valgrind with "
+          "--soname-synonyms=somalloc=nouserintercepts)\n",
+          what);
   return 1;
 }
 
@@ -133,9 +135,9 @@ START_TEST(counter_sees_allocations) {
 END_TEST
 
 START_TEST(no_allocation_in_step) {
-  const sdae_map_type *maps[9] = {sdae_map_euler,     sdae_map_midpoint,  sdae_map_dgrad,
-                                  sdae_map_dg4,       sdae_map_dg6,       sdae_map_midpoint4,
-                                  sdae_map_midpoint6, sdae_map_rk4,       sdae_map_rk8};
+  const sdae_map_type *maps[9] = {sdae_map_euler,     sdae_map_midpoint, sdae_map_dgrad,
+                                  sdae_map_dg4,       sdae_map_dg6,      sdae_map_midpoint4,
+                                  sdae_map_midpoint6, sdae_map_rk4,      sdae_map_rk8};
   if (malloc_unseen("no malloc in sdae_step")) return;
   for (int i = 0; i < 9; i++) {
     ck_assert_int_eq(allocations_in_run(maps[i], SDAE_STAB_PAPER), 0);
@@ -287,8 +289,8 @@ static void expect_freed(const counting_allocator *ca) {
  * block back through the allocator that made it */
 static void stepper_sweep(counting_allocator *ca) {
   quartic p = {2.0, 0.03, 0, 0};
-  stepper_call c = {quartic_model(&p), quartic_options(sdae_map_midpoint,
-                                                       SDAE_SCHEME_SEMI_IMPLICIT), NULL};
+  stepper_call c = {quartic_model(&p),
+                    quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT), NULL};
   sweep w = {stepper_reset, stepper_untouched, stepper_attempt, ca, &c};
   sdae_stepper *plain;
   double xi[2] = {0.5, 0.1}, mu[2] = {0.7, 0.6}, xi2[2] = {0.5, 0.1}, mu2[2] = {0.7, 0.6};
@@ -495,7 +497,6 @@ START_TEST(check_model_with_sweep) {
 }
 END_TEST
 
-
 /* ---- sdae_dae_model_alloc_with: the generic front-end on the oscillator's DAE above ---- */
 
 typedef struct dae_model_call {
@@ -623,7 +624,7 @@ START_TEST(hook_guards) {
       ck_assert_int_eq(before, 0); /* nothing asked of malloc for those */
       ck_assert_int_eq(after, 1);  /* one byte from malloc */
       ck_assert_int_eq(live_mid, 1);
-      ck_assert_int_eq(live, 0);   /* given back to free */
+      ck_assert_int_eq(live, 0); /* given back to free */
     }
     ck_assert_int_eq(t.allocs, 0);
     ck_assert_int_eq(t.frees, 0);

@@ -8,10 +8,10 @@
 
 #include "testmodels.h"
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 
 static size_t round_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
 
@@ -83,7 +83,7 @@ START_TEST(empty_arrays) {
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, 0);
   sdae__take_array(&a, 1, 1, 1);
-  sdae__take_array(&a, 0, 8, 8);  /* aligns: 1 -> 8 */
+  sdae__take_array(&a, 0, 8, 8); /* aligns: 1 -> 8 */
   ck_assert_uint_eq(a.used, 8);
   ck_assert_int_eq(sdae__arena_bytes(&a, 0, &bytes), SDAE_OK);
   ck_assert_uint_eq(bytes, 8);

@@ -59,8 +59,8 @@ static int S(double t, const double *mu, double *out, void *params) {
 }
 
 static void run(const sdae_map_type *map, size_t bandwidth, double *mu, int steps) {
-  sdae_model m = {.n_xi = 1, .n_mu = 2 * N, .q0 = q0, .Q_apply = Q_apply, .H = H,
-                  .grad_H = grad_H, .S = S};
+  sdae_model m = {
+      .n_xi = 1, .n_mu = 2 * N, .q0 = q0, .Q_apply = Q_apply, .H = H, .grad_H = grad_H, .S = S};
   sdae_options o;
   sdae_stepper *s;
   double xi[1] = {0.0};

@@ -153,8 +153,7 @@ START_TEST(cond18_matches_energy_balance) {
   o.delta = 2.0;
   ck_assert_int_eq(sdae_cond18_init(&b.c, 2, W, NULL, store), SDAE_OK);
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
-  ck_assert_int_eq(sdae_integrate(s, 0.0, 1e-3, 20000, 1, xi, mu, observe_both, &b, NULL),
-                   SDAE_OK);
+  ck_assert_int_eq(sdae_integrate(s, 0.0, 1e-3, 20000, 1, xi, mu, observe_both, &b, NULL), SDAE_OK);
   ck_assert_uint_eq(b.c.steps, 20000);
   ck_assert_double_le(fabs(b.c.gamma_min - b.worst), 1e-8 * fabs(b.worst) + 1e-12);
   /* dissipation: W never grows by more than the sign change of x2 allows, so the least gamma
@@ -164,7 +163,6 @@ START_TEST(cond18_matches_energy_balance) {
   sdae_stepper_free(s);
 }
 END_TEST
-
 
 /* ---- the search itself, on gains designed with a known sup ---- */
 
@@ -203,11 +201,10 @@ static int designed_Q_apply(double t, const double *xi, const double *mu, double
   return 0;
 }
 
-static sdae_stepper *designed_stepper(size_t n_xi, size_t n_mu,
-                                      double (*g)(size_t, const double *),
+static sdae_stepper *designed_stepper(size_t n_xi, size_t n_mu, double (*g)(size_t, const double *),
                                       const sdae_allocator *a) {
-  sdae_model m = {.n_xi = n_xi, .n_mu = n_mu, .q0 = designed_q0, .Q_apply = designed_Q_apply,
-                  .params = &D};
+  sdae_model m = {
+      .n_xi = n_xi, .n_mu = n_mu, .q0 = designed_q0, .Q_apply = designed_Q_apply, .params = &D};
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
   D.n_xi = n_xi, D.n_mu = n_mu, D.g = g, D.calls = 0, D.fail_at = 0;

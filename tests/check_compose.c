@@ -10,10 +10,10 @@
 #include <float.h>
 #include <math.h>
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 #include "testmodels.h"
 
 /* sum g_i^k, and in *bound the rounding it may carry: each g_i is stored to eps/2 relative,
@@ -133,7 +133,6 @@ START_TEST(declared_orders) {
   ck_assert_ptr_null(sdae_map_by_name("dg8"));
 }
 END_TEST
-
 
 /* ---- the stages' predictor ----
  * H = mu_1 (linear), S = a(t) J with a(t) = 1 + t (the rotation fixture's S): gradbar H is

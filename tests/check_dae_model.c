@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The generic front-end (<stabdae/dae.h>, src/dae/dae_model.c, src/dae/coords.c, src/model/derive.c).
- * The derived q0 and Q xi against the hand-written normal forms of the examples (the oscillator
- * of Section IV with the corrected Q of erratum 1, the pendulum), with and without the DAE's
- * Phi^-1 and an analytic mu_dot; against closed forms for a time-dependent DAE; the telescoping
- * rule's branches on polynomial rates; an integration against the example's expected CSV (the
- * Python reference's numbers); sdae_check_model on the derived model; every failure status. */
+/* The generic front-end (<stabdae/dae.h>, src/dae/dae_model.c, src/dae/coords.c,
+ * src/model/derive.c). The derived q0 and Q xi against the hand-written normal forms of the
+ * examples (the oscillator of Section IV with the corrected Q of erratum 1, the pendulum), with and
+ * without the DAE's Phi^-1 and an analytic mu_dot; against closed forms for a time-dependent DAE;
+ * the telescoping rule's branches on polynomial rates; an integration against the example's
+ * expected CSV (the Python reference's numbers); sdae_check_model on the derived model; every
+ * failure status. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -205,8 +206,7 @@ static double td_G(const tdae *p, double t, double xi, double mu) {
 static void td_check(tdae p, double xi, double mu, double tol) {
   sdae_dae dae = {2, 1, td_f, td_g, td_Phi, NULL, p.jac ? td_Phi_jac : NULL, &p};
   sdae_dae_model *d = NULL;
-  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 1, p.analytic ? td_mu_dot : NULL, NULL),
-                   SDAE_OK);
+  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 1, p.analytic ? td_mu_dot : NULL, NULL), SDAE_OK);
   const sdae_model *m = sdae_dae_model_get(d);
   for (double t = 0.0; t < 3.0; t += 0.37) {
     double q0, Qxi, qn2, mu_t = p.still ? p.b * sin(t) : mu;
@@ -246,8 +246,8 @@ END_TEST
  * G(xi, mu) = (xi1 + xi1^2 + xi1 xi2 + 2 xi2 + mu1, 3 xi2^2 - xi1 + mu2 t), n_xi = n_mu = 2. */
 typedef struct poly {
   int calls;
-  int fail_at;   /* the call that fails (1-based; 0: none), after writing 999 */
-  int status;    /* its status */
+  int fail_at; /* the call that fails (1-based; 0: none), after writing 999 */
+  int status;  /* its status */
 } poly;
 
 static int poly_rate(void *ctx, double t, const double *xi, const double *mu, double *out) {
@@ -485,7 +485,8 @@ static void integrate_case(sdae_mu_dot_fn mu_dot, int with_inverse) {
     double v[12];
     ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
     ck_assert_int_eq(sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", v, v + 1, v + 2, v + 3,
-                            v + 4, v + 5, v + 6, v + 7, v + 8), 9);
+                            v + 4, v + 5, v + 6, v + 7, v + 8),
+                     9);
     const double want[5] = {v[0], v[5], v[6], v[7], v[8]};
     for (int c = 0; c < 5; c++)
       ck_assert_msg(fabs(got.v[r][c] - want[c]) <= 1e-10 * fmax(1.0, fabs(want[c])),
@@ -513,13 +514,15 @@ START_TEST(check_model_passes) {
   osc_dae_spec(&osc, &op);
   pend_dae_spec(&pend, &pp);
   sdae_dae_model *d = derive_model(&osc, NULL, NULL);
-  ck_assert_int_eq(sdae_check_model(sdae_dae_model_get(d), &osc, 0.0, OSC_LO, OSC_HI, 50, 3, 1e-8,
-                                    NULL, &r), SDAE_OK);
+  ck_assert_int_eq(
+      sdae_check_model(sdae_dae_model_get(d), &osc, 0.0, OSC_LO, OSC_HI, 50, 3, 1e-8, NULL, &r),
+      SDAE_OK);
   ck_assert(r.consistent);
   sdae_dae_model_free(d);
   d = derive_model(&pend, NULL, guess);
-  ck_assert_int_eq(sdae_check_model(sdae_dae_model_get(d), &pend, 0.0, PEND_LO, PEND_HI, 50, 3,
-                                    1e-8, NULL, &r), SDAE_OK);
+  ck_assert_int_eq(
+      sdae_check_model(sdae_dae_model_get(d), &pend, 0.0, PEND_LO, PEND_HI, 50, 3, 1e-8, NULL, &r),
+      SDAE_OK);
   ck_assert(r.consistent);
   sdae_dae_model_free(d);
 }
@@ -613,8 +616,8 @@ enum { FAIL_NONE, FAIL_F, FAIL_PHI, FAIL_PHI_INV, FAIL_MU_DOT, FAIL_PHI_JAC };
 typedef struct faulty {
   osc_params p;
   sdae_dae inner;
-  int which, rc;   /* the callback that fails, and its return code (0: writes a NaN) */
-  int after;       /* calls of it that succeed first */
+  int which, rc; /* the callback that fails, and its return code (0: writes a NaN) */
+  int after;     /* calls of it that succeed first */
 } faulty;
 
 static int fails(faulty *q, int which, double *out) {
@@ -666,10 +669,9 @@ static sdae_dae_model *faulty_model(faulty *q, int inverse, int jac, int analyti
   sdae_dae_model *d;
   q->p = osc_p;
   osc_dae_spec(&q->inner, &q->p);
-  sdae_dae dae = {4, 1, fy_f, fy_g, fy_Phi, inverse ? fy_Phi_inv : NULL,
-                  jac ? fy_Phi_jac : NULL, q};
-  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 2, analytic ? fy_mu_dot : NULL, NULL),
-                   SDAE_OK);
+  sdae_dae dae = {4, 1, fy_f, fy_g, fy_Phi, inverse ? fy_Phi_inv : NULL, jac ? fy_Phi_jac : NULL,
+                  q};
+  ck_assert_int_eq(sdae_dae_model_alloc(&d, &dae, 2, analytic ? fy_mu_dot : NULL, NULL), SDAE_OK);
   return d;
 }
 
@@ -747,18 +749,15 @@ START_TEST(argument_statuses) {
   osc_dae_spec(&dae, &p);
   ck_assert_int_eq(sdae_dae_model_alloc(&d, NULL, 2, NULL, NULL), SDAE_ERR_NULL);
   ck_assert_int_eq(sdae_dae_model_alloc(NULL, &dae, 2, NULL, NULL), SDAE_ERR_NULL);
-  ck_assert_int_eq(sdae_dae_model_init(NULL, mem, sizeof mem, &dae, 2, NULL, NULL),
-                   SDAE_ERR_NULL);
-  ck_assert_int_eq(sdae_dae_model_init(&d, NULL, sizeof mem, &dae, 2, NULL, NULL),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_dae_model_init(NULL, mem, sizeof mem, &dae, 2, NULL, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_dae_model_init(&d, NULL, sizeof mem, &dae, 2, NULL, NULL), SDAE_ERR_NULL);
   for (int k = 0; k < 3; k++) {
     bad = dae;
     if (k == 0) bad.f = NULL;
     if (k == 1) bad.g = NULL;
     if (k == 2) bad.Phi = NULL;
     ck_assert_int_eq(sdae_dae_model_alloc(&d, &bad, 2, NULL, NULL), SDAE_ERR_NULL);
-    ck_assert_int_eq(sdae_dae_model_init(&d, mem, sizeof mem, &bad, 2, NULL, NULL),
-                     SDAE_ERR_NULL);
+    ck_assert_int_eq(sdae_dae_model_init(&d, mem, sizeof mem, &bad, 2, NULL, NULL), SDAE_ERR_NULL);
     ck_assert_uint_eq(sdae_dae_model_size(&bad, 2), 0);
   }
   ck_assert_uint_eq(sdae_dae_model_size(NULL, 2), 0);

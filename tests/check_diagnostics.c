@@ -146,8 +146,8 @@ static int failing_W(double t, const double *mu, double *out, void *params) {
 
 START_TEST(cond18_W_failures) {
   const w_fail fails[4] = {{-1, NAN}, {1, NAN}, {0, NAN}, {0, INFINITY}};
-  const int want[4] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE,
-                       SDAE_ERR_NONFINITE, SDAE_ERR_NONFINITE};
+  const int want[4] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE, SDAE_ERR_NONFINITE,
+                       SDAE_ERR_NONFINITE};
   for (int k = 0; k < 4; k++) {
     sdae_cond18 c;
     double prev[2], mu[2] = {1.0, 2.0}, xi[1] = {0.0};
@@ -199,8 +199,8 @@ static int zero_q0(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-static int shaped_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                          double *qnorm2, void *params) {
+static int shaped_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                          void *params) {
   size_t n_mu = *(const size_t *)params;
   double z[8];
   (void)t;
@@ -227,8 +227,8 @@ static double interior_peak(const double *z) {
  * grid point was spent (grid^n_free), and T_bar = 2/sup (eq. 14) */
 static sdae_certificate certify(shape g, size_t n_mu, const double *lo, const double *hi,
                                 unsigned grid, size_t n_free, double *argmax) {
-  sdae_model m = {.n_xi = 1, .n_mu = n_mu, .q0 = zero_q0, .Q_apply = shaped_Q_apply,
-                  .params = &n_mu};
+  sdae_model m = {
+      .n_xi = 1, .n_mu = n_mu, .q0 = zero_q0, .Q_apply = shaped_Q_apply, .params = &n_mu};
   sdae_options o = quartic_options(sdae_map_euler, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
   sdae_certificate c;
@@ -333,8 +333,8 @@ static int nf_Q(double t, const double *xi, const double *mu, double *out, void 
 
 static sdae_check_report check_sinh(int with_inverse) {
   static const unsigned rel1[1] = {1};
-  sdae_model m = {.n_xi = 1, .n_mu = 1, .q0 = nf_q0, .Q = nf_Q, .n_constraints = 1,
-                  .rel_degree = rel1};
+  sdae_model m = {
+      .n_xi = 1, .n_mu = 1, .q0 = nf_q0, .Q = nf_Q, .n_constraints = 1, .rel_degree = rel1};
   sdae_dae d = {2, 1, dae_f, dae_g, dae_Phi, with_inverse ? dae_Phi_inv : NULL, NULL, NULL};
   const double lo[2] = {-1.0, -2.0}, hi[2] = {1.0, 2.0};
   sdae_check_report r = {0};

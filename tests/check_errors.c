@@ -155,8 +155,7 @@ static int faulty_H(double t, const double *mu, double *out, void *p) {
   return 0;
 }
 
-static int faulty_phi(double t, double T, const double *mu, const double *y, double *out,
-                      void *p) {
+static int faulty_phi(double t, double T, const double *mu, const double *y, double *out, void *p) {
   (void)t, (void)T, (void)y, (void)p;
   out[0] = mu[1], out[1] = inject == PHI_NAN ? NAN : -mu[0];
   return 0;
@@ -368,7 +367,6 @@ START_TEST(state_checked_in_its_own_sizes) {
   sdae_stepper_free(s);
 }
 END_TEST
-
 
 /* The defaults stabdae.h documents: scheme 15, delta = epsilon = 1, the euler map, Newton's
  * tolerance 1e-14 and 20 iterations, dense (bandwidth 0), the paper's stabilizer, Baumgarte's

@@ -11,8 +11,9 @@
 #include "testmodels.h"
 
 enum cb { Q0, QD, Q_APPLY, Q0_JAC, H, GRAD_H, S, S_APPLY, HESS_H, USER_PHI, USER_PHI_JAC, NCB };
-static const char *const cb_name[NCB] = {"q0", "Q", "Q_apply", "q0_jac", "H", "grad_H", "S",
-                                         "S_apply", "hess_H", "user_phi", "user_phi_jac"};
+static const char *const cb_name[NCB] = {"q0",     "Q",        "Q_apply",     "q0_jac",
+                                         "H",      "grad_H",   "S",           "S_apply",
+                                         "hess_H", "user_phi", "user_phi_jac"};
 enum mode { FATAL, RECOVERABLE, WRITES_NAN, NMODE };
 static const int expected[NMODE] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE,
                                     SDAE_ERR_NONFINITE};
@@ -63,8 +64,7 @@ static int f_S_apply(double t, const double *mu, const double *v, double *out, v
 static int f_hess_H(double t, const double *mu, double *out, void *p) {
   return fault(HESS_H, rotation_hess_H(t, mu, out, p), out);
 }
-static int f_user_phi(double t, double T, const double *mu, const double *y, double *out,
-                      void *p) {
+static int f_user_phi(double t, double T, const double *mu, const double *y, double *out, void *p) {
   return fault(USER_PHI, rotation_user_phi(t, T, mu, y, out, p), out);
 }
 static int f_user_phi_jac(double t, double T, const double *mu, const double *y, double *out,
@@ -76,12 +76,16 @@ static int f_user_phi_jac(double t, double T, const double *mu, const double *y,
 enum { WITH_Q_APPLY = 1, WITH_S_APPLY = 2, WITH_Q0_JAC = 4, WITH_HESS_H = 8, WITH_PHI_JAC = 16 };
 
 static sdae_model faulty_model(int with) {
-  sdae_model m = {.n_xi = 1, .n_mu = 2, .q0 = f_q0, .H = f_H, .grad_H = f_grad_H,
-                  .user_phi = f_user_phi};
-  if (with & WITH_Q_APPLY) m.Q_apply = f_Q_apply;
-  else m.Q = f_Q;
-  if (with & WITH_S_APPLY) m.S_apply = f_S_apply;
-  else m.S = f_S;
+  sdae_model m = {
+      .n_xi = 1, .n_mu = 2, .q0 = f_q0, .H = f_H, .grad_H = f_grad_H, .user_phi = f_user_phi};
+  if (with & WITH_Q_APPLY)
+    m.Q_apply = f_Q_apply;
+  else
+    m.Q = f_Q;
+  if (with & WITH_S_APPLY)
+    m.S_apply = f_S_apply;
+  else
+    m.S = f_S;
   if (with & WITH_Q0_JAC) m.q0_jac = f_q0_jac;
   if (with & WITH_HESS_H) m.hess_H = f_hess_H;
   if (with & WITH_PHI_JAC) m.user_phi_jac = f_user_phi_jac;
@@ -182,8 +186,7 @@ START_TEST(composed_callbacks_fail_cleanly) {
   long inj[NCB] = {0};
   every_fault(sdae_map_dg4, SDAE_SCHEME_SEMI_IMPLICIT, WITH_HESS_H, inj);
   every_fault(sdae_map_dg4, SDAE_SCHEME_SEMI_IMPLICIT, WITH_S_APPLY, inj);
-  every_fault(sdae_map_dg6, SDAE_SCHEME_EXPLICIT, WITH_S_APPLY | WITH_HESS_H | WITH_Q_APPLY,
-              inj);
+  every_fault(sdae_map_dg6, SDAE_SCHEME_EXPLICIT, WITH_S_APPLY | WITH_HESS_H | WITH_Q_APPLY, inj);
   expect_covered(inj, (const int[]){QD, Q_APPLY, H, GRAD_H, S, S_APPLY, HESS_H}, 7);
 }
 END_TEST
@@ -238,8 +241,13 @@ static int c_S_apply(double t, const double *mu, const double *v, double *out, v
 
 /* every call of every callback failing each way, the state bit for bit as it was */
 static void every_fault_banded(const sdae_map_type *map, long *injected) {
-  sdae_model m = {.n_xi = 1, .n_mu = CHAIN, .q0 = c_q0, .Q_apply = c_Q_apply, .H = c_H,
-                  .grad_H = c_grad_H, .S_apply = c_S_apply};
+  sdae_model m = {.n_xi = 1,
+                  .n_mu = CHAIN,
+                  .q0 = c_q0,
+                  .Q_apply = c_Q_apply,
+                  .H = c_H,
+                  .grad_H = c_grad_H,
+                  .S_apply = c_S_apply};
   sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   const double mu0[CHAIN] = {0.6, -0.8, 0.3, 0.1, -0.2, 0.5};
   sdae_stepper *s;

@@ -53,8 +53,7 @@ START_TEST(observer_stops_cleanly) {
   size_t done;
   obs.stop_at = 4;
   ck_assert_int_eq(sdae_stepper_alloc(&s, &m, &o), SDAE_OK);
-  ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, 10, 1, xi, mu, observer, &obs, &done),
-                   SDAE_STOPPED);
+  ck_assert_int_eq(sdae_integrate(s, 0.0, 0.1, 10, 1, xi, mu, observer, &obs, &done), SDAE_STOPPED);
   ck_assert_uint_eq(done, 4);
   ck_assert_uint_eq(sdae_stepper_stats(s)->steps, 4);
   sdae_stepper_free(s);
@@ -106,8 +105,8 @@ static void *run_job(void *arg) {
   sdae_stepper *s;
   o.delta = 2.0;
   j->xi[0] = 0.6, j->xi[1] = 0.0, j->mu[0] = 0.7, j->mu[1] = 0.6;
-  j->status = j->mem ? sdae_stepper_init(&s, j->mem, j->len, &m, &o)
-                     : sdae_stepper_alloc(&s, &m, &o);
+  j->status =
+      j->mem ? sdae_stepper_init(&s, j->mem, j->len, &m, &o) : sdae_stepper_alloc(&s, &m, &o);
   if (j->status == SDAE_OK)
     j->status = sdae_integrate(s, 0.0, 1e-3, 2000, 1, j->xi, j->mu, NULL, NULL, NULL);
   sdae_stepper_free(s);
@@ -145,7 +144,6 @@ START_TEST(threads_bit_identical) {
   ck_assert_int_eq(memcmp(t2.xi, serial.xi, sizeof serial.xi), 0);
 }
 END_TEST
-
 
 static int count_calls(size_t step, double t, const double *xi, const double *mu, void *data) {
   (void)step, (void)t, (void)xi, (void)mu;

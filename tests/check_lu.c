@@ -8,10 +8,10 @@
 
 #include <gsl/gsl_rng.h>
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 #include "testmodels.h"
 
 enum { NMAX = SDAE_SMALL_DENSE };
@@ -98,7 +98,7 @@ START_TEST(pivot_is_the_largest_of_the_column) {
   ck_assert_uint_eq(piv[0], 1);
   ck_assert_uint_eq(piv[1], 2);
   ck_assert_uint_eq(piv[2], 0);
-  ck_assert_double_eq(A[0], 0.25);  /* U's diagonal is kept as its reciprocal */
+  ck_assert_double_eq(A[0], 0.25); /* U's diagonal is kept as its reciprocal */
   ck_assert_double_eq(A[4], -4.0 / 3.0);
   ck_assert_double_eq_tol(A[8], -3.0, 4 * DBL_EPSILON);
 }
@@ -199,7 +199,6 @@ START_TEST(banded_singular_to_rounding) {
 }
 END_TEST
 
-
 /* Partial pivoting takes the first largest entry of the column: A = [[1, 2], [-1, 3]] has a
  * tie |1| = |-1| in its first column, so no row is swapped (piv = identity), l21 = -1 and
  * U = [[1, 2], [0, 3 + 2]], U's diagonal kept as its reciprocal: factors {1, 2, -1, 1/5},
@@ -283,8 +282,7 @@ enum { CMAX = 8 };
 
 /* M = B^T D B + identity I (n x n, B m x n) as a user's code writes it, each entry its own sum:
  * the two triangles round differently, by up to about 2 (m + 1) eps max|M| */
-static void gram(const double *B, const double *D, size_t m, size_t n, double identity,
-                 double *M) {
+static void gram(const double *B, const double *D, size_t m, size_t n, double identity, double *M) {
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < n; j++) {
       double acc = i == j ? identity : 0.0;
@@ -329,8 +327,8 @@ static void expect_cholesky_solves(const double *M, size_t n) {
   for (size_t i = 0; i < n; i++) {
     double acc = -b[i];
     for (size_t j = 0; j < n; j++) acc += M[i * n + j] * x[j];
-    ck_assert_double_le(fabs(acc), 64.0 * (double)n * DBL_EPSILON * max_abs(M, n * n) *
-                                       max_abs(x, n));
+    ck_assert_double_le(fabs(acc),
+                        64.0 * (double)n * DBL_EPSILON * max_abs(M, n * n) * max_abs(x, n));
   }
 }
 

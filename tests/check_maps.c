@@ -8,10 +8,10 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 #include "testmodels.h"
 
 /* The error at t = 2 divides by 2^order when T halves (from T to T/2); within 5%. */
@@ -233,8 +233,8 @@ START_TEST(dgrad_dissipates_monotonically) {
   sdae_model m = quartic_model(&p);
   sdae_options o = quartic_options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   gsl_odeiv2_system sys = {damped_rhs, NULL, 2, &p};
-  gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-3,
-                                                        1e-13, 0.0);
+  gsl_odeiv2_driver *d =
+      gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-3, 1e-13, 0.0);
   sdae_stepper *s;
   double xi[2] = {0, 0}, mu[2] = {1.0, 0.0}, y[2] = {1.0, 0.0}, t = 0.0, T = 0.01;
   double H = H_of(&p, mu), H0 = H;
@@ -398,7 +398,6 @@ START_TEST(maps_by_name_and_order) {
   ck_assert_uint_eq(sdae_map_order(NULL), 0);
 }
 END_TEST
-
 
 /* The small-increment branch's threshold |v|^2 <= eps (1 + |m|^2), m the midpoint, at its
  * boundary, in exact binary (H is called twice, for H(mu) and H(mu+), outside the branch):

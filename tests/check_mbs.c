@@ -37,8 +37,8 @@ static double max_abs_diff(const double *a, const double *b, size_t n) {
 static const mech_pendulum PENDULUM = {.L = 1.0, .m = 1.0, .ga = 9.81};
 
 /* Max-norm error in (q, v) at tf of the swing from rest at theta0, n = tf/T steps. */
-static double pendulum_error(const sdae_mbs *sys, const sdae_options *o, double theta0,
-                             double tf, double T) {
+static double pendulum_error(const sdae_mbs *sys, const sdae_options *o, double theta0, double tf,
+                             double T) {
   const mech_pendulum *p = sys->params;
   sdae_mbs_stepper *s = stepper(sys, o);
   double q[2], v[2], qe[2], ve[2], th, om;
@@ -263,8 +263,7 @@ START_TEST(wire_xi) {
   ck_assert_int_eq(sdae_mbs_xi(s, t, q, v, xi), SDAE_OK);
   double e[2] = {cos(t), sin(t)}, n[2] = {-sin(t), cos(t)};
   ck_assert_double_eq_tol(xi[0], n[0] * q[0] + n[1] * q[1], 1e-15);
-  ck_assert_double_eq_tol(xi[1], n[0] * v[0] + n[1] * v[1] - (e[0] * q[0] + e[1] * q[1]),
-                          1e-15);
+  ck_assert_double_eq_tol(xi[1], n[0] * v[0] + n[1] * v[1] - (e[0] * q[0] + e[1] * q[1]), 1e-15);
   sdae_mbs_stepper_free(s);
 }
 END_TEST
@@ -471,11 +470,11 @@ static int dp_observe(size_t step, double t, const double *q, const double *v, v
 }
 
 /* From both arms raised (theta = 2.2, 2.7 rad, at rest; E0 = g (m1 y1 + m2 y2) = 20.4 J), a
- * chaotic motion; 4e4 steps of T = 2e-3 (80 s) with dgrad (1e5 steps take 9 s). The discrete gradient conserves
- * H = v^T M v / 2 + V exactly but for Newton's tolerance and rounding: |E - E0| <= 1e-12 |E0|.
- * The constraints at rounding: |c_j| <= 1e-13 L^2 (L = 1). The chart switches (the arms turn
- * over, so no chart is best throughout), and a step that switches changes E by rounding only:
- * 1e-14 |E0|. */
+ * chaotic motion; 4e4 steps of T = 2e-3 (80 s) with dgrad (1e5 steps take 9 s). The discrete
+ * gradient conserves H = v^T M v / 2 + V exactly but for Newton's tolerance and rounding: |E - E0|
+ * <= 1e-12 |E0|. The constraints at rounding: |c_j| <= 1e-13 L^2 (L = 1). The chart switches (the
+ * arms turn over, so no chart is best throughout), and a step that switches changes E by rounding
+ * only: 1e-14 |E0|. */
 START_TEST(double_pendulum_energy_through_switches) {
   mech_double_pendulum p = {.L1 = 1.0, .L2 = 1.0, .m1 = 1.0, .m2 = 1.0, .ga = 9.81};
   sdae_mbs sys;
@@ -490,8 +489,7 @@ START_TEST(double_pendulum_energy_through_switches) {
   ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, 2e-3, n, 1, q, v, dp_observe, &w, &done), SDAE_OK);
   ck_assert_uint_eq(done, n);
   ck_assert_double_eq_tol(w.E0, 9.81 * (-2.0 * cos(2.2) - cos(2.7)), 1e-13);
-  ck_assert_msg(w.worst_drift <= 1e-12 * fabs(w.E0), "energy drift %g of %g", w.worst_drift,
-                w.E0);
+  ck_assert_msg(w.worst_drift <= 1e-12 * fabs(w.E0), "energy drift %g of %g", w.worst_drift, w.E0);
   ck_assert_msg(w.worst_c <= 1e-13, "max |c| %g", w.worst_c);
   ck_assert_uint_ge(sdae_mbs_stepper_stats(s)->chart_switches, 1);
   ck_assert_uint_eq(w.switch_steps, sdae_mbs_stepper_stats(s)->chart_switches);
@@ -538,8 +536,8 @@ static void expect_decay(sdae_scheme scheme, double T, size_t n) {
   double q[2] = {0.3, -1.1}, v[2] = {1.0, 0.4};
   o.epsilon = 2.0;
   w.s = stepper(&sys, &o);
-  w.factor = scheme == SDAE_SCHEME_SEMI_IMPLICIT ? 1.0 / (1.0 + T * o.epsilon)
-                                                 : 1.0 - T * o.epsilon;
+  w.factor =
+      scheme == SDAE_SCHEME_SEMI_IMPLICIT ? 1.0 / (1.0 + T * o.epsilon) : 1.0 - T * o.epsilon;
   ck_assert_int_eq(sdae_mbs_integrate(w.s, 0.0, T, n, 1, q, v, decay_observe, &w, NULL), SDAE_OK);
   ck_assert_uint_eq(w.steps, n);
   ck_assert_double_eq_tol(w.first[0], 0.15, 1e-15);

@@ -11,7 +11,7 @@
 
 typedef struct bead {
   double m, w, g;
-  int wrong; /* -1: none, else the sdae_mbs_derivative given with a wrong sign */
+  int wrong;     /* -1: none, else the sdae_mbs_derivative given with a wrong sign */
   double V0, k3; /* V = V0 + m g y + k3 ((x - 0.6)^3 + (y - 0.8)^3) / 3 */
 } bead;
 
@@ -80,8 +80,7 @@ static int jacobian_dot(double t, const double *q, const double *v, double *Gdot
   return 0;
 }
 
-static int constraint_t_dot(double t, const double *q, const double *v, double *out,
-                            void *params) {
+static int constraint_t_dot(double t, const double *q, const double *v, double *out, void *params) {
   const bead *b = params;
   double c = cos(b->w * t), s = sin(b->w * t);
   out[0] = b->w * (v[0] * c + v[1] * s) +
@@ -90,10 +89,18 @@ static int constraint_t_dot(double t, const double *q, const double *v, double *
 }
 
 static sdae_mbs system_of(bead *b) {
-  return (sdae_mbs){.n_q = 2, .n_c = 1, .mass = mass, .force = force, .constraint = constraint,
-                    .jacobian = jacobian, .constraint_t = constraint_t, .potential = potential,
-                    .mass_dot_v = mass_dot_v, .jacobian_dot = jacobian_dot,
-                    .constraint_t_dot = constraint_t_dot, .params = b};
+  return (sdae_mbs){.n_q = 2,
+                    .n_c = 1,
+                    .mass = mass,
+                    .force = force,
+                    .constraint = constraint,
+                    .jacobian = jacobian,
+                    .constraint_t = constraint_t,
+                    .potential = potential,
+                    .mass_dot_v = mass_dot_v,
+                    .jacobian_dot = jacobian_dot,
+                    .constraint_t_dot = constraint_t_dot,
+                    .params = b};
 }
 
 static const double t0 = 0.7, q0[2] = {0.8, -0.35}, v0[2] = {-1.3, 0.9};
@@ -123,7 +130,7 @@ START_TEST(a_wrong_sign_is_named) {
     ck_assert_int_eq(r.worst, d);
     ck_assert_double_gt(r.mismatch[d], 0.1);
     for (int e = 0; e < SDAE_MBS_DERIVATIVES; e++) /* Gdot and ct_dot are checked against G
-                                                     * and ct as given */
+                                                    * and ct as given */
       if (e != d && !(d == SDAE_MBS_JACOBIAN && e == SDAE_MBS_JACOBIAN_DOT) &&
           !(d == SDAE_MBS_CONSTRAINT_T && e == SDAE_MBS_CONSTRAINT_T_DOT))
         ck_assert_double_lt(r.mismatch[e], 1e-8);
@@ -247,8 +254,12 @@ static int scaled_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 START_TEST(a_small_row_is_not_hidden) {
-  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = scaled_mass, .force = scaled_force,
-                  .constraint = scaled_constraint, .jacobian = scaled_jacobian};
+  sdae_mbs sys = {.n_q = 3,
+                  .n_c = 2,
+                  .mass = scaled_mass,
+                  .force = scaled_force,
+                  .constraint = scaled_constraint,
+                  .jacobian = scaled_jacobian};
   const double q[3] = {0.5, 0.5, 0.7}, v[3] = {0.1, 0.1, -0.2};
   sdae_mbs_check_report r;
   flip_small_row = 0;
@@ -264,7 +275,10 @@ END_TEST
 
 /* Nothing to compare: worst is -1. */
 START_TEST(nothing_given_nothing_compared) {
-  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = scaled_mass, .force = scaled_force,
+  sdae_mbs sys = {.n_q = 3,
+                  .n_c = 2,
+                  .mass = scaled_mass,
+                  .force = scaled_force,
                   .constraint = scaled_constraint};
   const double q[3] = {0.5, 0.5, 0.7}, v[3] = {0.1, 0.1, -0.2};
   sdae_mbs_check_report r;

@@ -350,8 +350,7 @@ END_TEST
  * y = -sqrt(L^2 + 2 xi_1 - x^2) and (x v_x + y v_y = xi_2, m (v_x - (x / y) v_y) = p); the
  * mu-dynamics (x', p') = (v_x, Wdot^T M v + W^T F) with W = (1, -x / y), Wdot^T M v =
  * -m v_y (v_x y - x v_y) / y^2 and W^T F = m ga x / y. */
-static void pendulum_rate(const mech_pendulum *P, const double *xi, const double *mu,
-                          double *out) {
+static void pendulum_rate(const mech_pendulum *P, const double *xi, const double *mu, double *out) {
   double x = mu[0], p = mu[1], y = -sqrt(P->L * P->L + 2.0 * xi[0] - x * x);
   double a = (xi[1] - x * p / P->m) / (x * x + y * y), vy = y * a, vx = p / P->m + x * a;
   out[0] = vx;
@@ -406,8 +405,8 @@ START_TEST(off_manifold_decay_is_the_papers) {
       double paper = 1.0 / (1.0 - T * k[i]);
       if (fabs(xi[i]) <= 1e-6) continue;
       ck_assert_msg(fabs(next[i] / xi[i] - paper) <= 2e-7 * (1.0 - paper),
-                    "step %zu, xi_%d = %g: contracted by %.12f, the paper's %.12f", n, i + 1,
-                    xi[i], next[i] / xi[i], paper);
+                    "step %zu, xi_%d = %g: contracted by %.12f, the paper's %.12f", n, i + 1, xi[i],
+                    next[i] / xi[i], paper);
       compared[i]++;
     }
     memcpy(xi, next, sizeof xi);
@@ -422,8 +421,7 @@ END_TEST
 
 /* max |c| over steps of T from (theta0, omega0) on the manifold, and the mu-dynamics'
  * evaluations (force calls) per step */
-static void run_on_manifold(const sdae_map_type *map, size_t steps, double *max_c,
-                            double *evals) {
+static void run_on_manifold(const sdae_map_type *map, size_t steps, double *max_c, double *evals) {
   mech_pendulum p = PENDULUM;
   counted k;
   sdae_mbs sys;

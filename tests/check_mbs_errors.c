@@ -11,8 +11,8 @@
 
 #include "mbs/mbs_chart.h"
 #include "mechanisms.h"
-#include "wire.h"
 #include "testmodels.h"
+#include "wire.h"
 
 static sdae_options options(const sdae_map_type *map) {
   sdae_options o;
@@ -162,8 +162,7 @@ START_TEST(map_without_potential) {
   mech_pendulum p = PENDULUM;
   sdae_mbs sys;
   mech_pendulum_system(&sys, &p);
-  const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, NULL,
-                                  sdae_map_user};
+  const sdae_map_type *maps[5] = {sdae_map_dgrad, sdae_map_dg4, sdae_map_dg6, NULL, sdae_map_user};
   sys.potential = NULL;
   for (int i = 0; i < 5; i++) {
     sdae_options o = options(maps[i]);
@@ -229,8 +228,13 @@ static int sphere_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 static sdae_mbs sphere_mbs(sphere *p) {
-  return (sdae_mbs){.n_q = 3, .n_c = 2, .mass = sphere_mass, .force = sphere_force,
-                    .constraint = sphere_constraint, .jacobian = sphere_jacobian, .params = p};
+  return (sdae_mbs){.n_q = 3,
+                    .n_c = 2,
+                    .mass = sphere_mass,
+                    .force = sphere_force,
+                    .constraint = sphere_constraint,
+                    .jacobian = sphere_jacobian,
+                    .params = p};
 }
 
 /* the same constraint twice: rank G = 1 < 2 at every state, SDAE_ERR_RANK at the first step,
@@ -470,8 +474,13 @@ static int ball_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 static sdae_mbs ball_mbs(ball *b) {
-  sdae_mbs s = {.n_q = b->n, .n_c = 1, .mass = ball_mass, .force = ball_force,
-                .constraint = ball_constraint, .jacobian = ball_jacobian, .params = b};
+  sdae_mbs s = {.n_q = b->n,
+                .n_c = 1,
+                .mass = ball_mass,
+                .force = ball_force,
+                .constraint = ball_constraint,
+                .jacobian = ball_jacobian,
+                .params = b};
   return s;
 }
 
@@ -562,8 +571,10 @@ START_TEST(random_masses_are_accepted) {
         double u;
         state = state * 6364136223846793005ULL + 1442695040888963407ULL;
         u = (double)(state >> 11) * 0x1p-53;
-        if (i < n * n) A[i] = 2.0 * u - 1.0;
-        else D[i - n * n] = pow(10.0, -2.0 + 6.0 * u);
+        if (i < n * n)
+          A[i] = 2.0 * u - 1.0;
+        else
+          D[i - n * n] = pow(10.0, -2.0 + 6.0 * u);
       }
       ball_gram(&b, A, D, 1.0);
       memcpy(S, b.M, n * n * sizeof *S);
@@ -600,8 +611,16 @@ END_TEST
 
 /* ---- every callback failing ---- */
 
-enum { CB_MASS, CB_FORCE, CB_CONSTRAINT, CB_JACOBIAN, CB_CONSTRAINT_T, CB_POTENTIAL, CB_DAMPING,
-       CB_COUNT };
+enum {
+  CB_MASS,
+  CB_FORCE,
+  CB_CONSTRAINT,
+  CB_JACOBIAN,
+  CB_CONSTRAINT_T,
+  CB_POTENTIAL,
+  CB_DAMPING,
+  CB_COUNT
+};
 enum { FAIL_FATAL, FAIL_RECOVERABLE, FAIL_NAN, FAIL_INF, FAIL_COUNT };
 
 /* the damped pendulum, every callback given, one of them failing at its fail_at-th call */
@@ -666,15 +685,20 @@ static int f_damping(double t, const double *q, double *D, void *params) {
 
 /* the derivatives along the motion are left out: every callback here can be made to fail */
 static sdae_mbs faulty_mbs(faulty *f) {
-  return (sdae_mbs){.n_q = 2, .n_c = 1, .mass = f_mass, .force = f_force,
-                    .constraint = f_constraint, .jacobian = f_jacobian,
-                    .constraint_t = f_constraint_t, .potential = f_potential,
-                    .damping = f_damping, .params = f};
+  return (sdae_mbs){.n_q = 2,
+                    .n_c = 1,
+                    .mass = f_mass,
+                    .force = f_force,
+                    .constraint = f_constraint,
+                    .jacobian = f_jacobian,
+                    .constraint_t = f_constraint_t,
+                    .potential = f_potential,
+                    .damping = f_damping,
+                    .params = f};
 }
 
-static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL,
-                                            SDAE_ERR_CALLBACK_RECOVERABLE, SDAE_ERR_NONFINITE,
-                                            SDAE_ERR_NONFINITE};
+static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE,
+                                            SDAE_ERR_NONFINITE, SDAE_ERR_NONFINITE};
 
 /* After one good step, the second step with callback `which` failing at its k-th call there,
  * for k = the first, the second, a middle and the last of the calls a good second step makes:
@@ -794,8 +818,10 @@ START_TEST(nonfinite_state) {
     for (int i = 0; i < 4; i++) {
       double q[2], v[2], out[2] = {7.0, 7.0};
       mech_pendulum_state(&p, 0.3, 0.5, q, v);
-      if (i < 2) q[i] = bad[b];
-      else v[i - 2] = bad[b];
+      if (i < 2)
+        q[i] = bad[b];
+      else
+        v[i - 2] = bad[b];
       expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_STATE);
       ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, out), SDAE_ERR_STATE);
       ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, out), SDAE_ERR_STATE);
@@ -848,8 +874,7 @@ START_TEST(bad_step_size) {
   for (int b = 0; b < 5; b++) expect_step_fails(s, 0.0, bad[b], q, v, 2, SDAE_ERR_STEP);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.01, q, v), SDAE_OK);
   for (int b = 0; b < 5; b++) expect_step_fails(s, 0.01, bad[b], q, v, 2, SDAE_ERR_STEP);
-  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, -0.01, 3, 1, q, v, NULL, NULL, &done),
-                   SDAE_ERR_STEP);
+  ck_assert_int_eq(sdae_mbs_integrate(s, 0.0, -0.01, 3, 1, q, v, NULL, NULL, &done), SDAE_ERR_STEP);
   ck_assert_uint_eq(done, 0);
   sdae_mbs_stepper_free(s);
   ck_assert_str_ne(sdae_strerror(SDAE_ERR_STEP), "");

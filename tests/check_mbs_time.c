@@ -62,8 +62,8 @@ static int potential(double t, const double *q, double *V, void *p) {
 /* lambda = G F + m gamma (M = m I, |G| = 1), gamma = d/dt (G v + dc/dt) with v fixed */
 static double lambda_exact(double t, const double *q, const double *v) {
   double cw = cos(w * t), sw = sin(w * t);
-  double gamma = 2.0 * (-w * cw * v[0] - w * sw * v[1]) + w * w * (sw * q[0] - cw * q[1]) +
-                 a * sin(t);
+  double gamma =
+      2.0 * (-w * cw * v[0] - w * sw * v[1]) + w * w * (sw * q[0] - cw * q[1]) + a * sin(t);
   double F[2];
   force(t, q, v, F, NULL);
   return -sw * F[0] + cw * F[1] + mass_of(t) * gamma;
@@ -101,8 +101,8 @@ static sdae_mbs bead(int derivatives) {
 }
 
 /* |q - q_ref| at tf after tf / T steps; the largest |c| on the way */
-static double error_at(const sdae_mbs *sys, const sdae_map_type *map, sdae_scheme scheme,
-                       double T, double tf, double *max_c) {
+static double error_at(const sdae_mbs *sys, const sdae_map_type *map, sdae_scheme scheme, double T,
+                       double tf, double *max_c) {
   sdae_options o;
   sdae_mbs_stepper *s;
   double q[2], v[2], ref[4], c;
@@ -123,8 +123,8 @@ static double error_at(const sdae_mbs *sys, const sdae_map_type *map, sdae_schem
 }
 
 /* the error ratio for T and T/2 is 2^p within 10 %; the constraint at rounding throughout */
-static void expect_order(int derivatives, const sdae_map_type *map, sdae_scheme scheme,
-                         double T, unsigned p) {
+static void expect_order(int derivatives, const sdae_map_type *map, sdae_scheme scheme, double T,
+                         unsigned p) {
   sdae_mbs sys = bead(derivatives);
   double c1, c2, e1 = error_at(&sys, map, scheme, T, 1.0, &c1);
   double e2 = error_at(&sys, map, scheme, 0.5 * T, 1.0, &c2), want = ldexp(1.0, (int)p);
@@ -326,8 +326,8 @@ static int drive_constraint(double t, const double *q, double *c, void *params) 
 }
 
 START_TEST(moving_constraint_at_late_time) {
-  sdae_mbs sys = {.n_q = 3, .n_c = 2, .mass = drive_mass, .force = drive_force,
-                  .constraint = drive_constraint};
+  sdae_mbs sys = {
+      .n_q = 3, .n_c = 2, .mass = drive_mass, .force = drive_force, .constraint = drive_constraint};
   sdae_options o;
   sdae_mbs_stepper *s;
   const double late = 1e15;
@@ -368,8 +368,12 @@ static int turn_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 START_TEST(turning_constraint_at_moderate_times) {
-  sdae_mbs sys = {.n_q = 2, .n_c = 1, .mass = turn_mass, .force = turn_force,
-                  .constraint = turn_constraint, .jacobian = turn_jacobian};
+  sdae_mbs sys = {.n_q = 2,
+                  .n_c = 1,
+                  .mass = turn_mass,
+                  .force = turn_force,
+                  .constraint = turn_constraint,
+                  .jacobian = turn_jacobian};
   sdae_options o;
   sdae_mbs_stepper *s;
   const double ts[4] = {1.0, 10.7, 100.7, 1000.7}, q[2] = {0.8, -0.35}, v[2] = {-1.3, 0.9};
@@ -377,7 +381,8 @@ START_TEST(turning_constraint_at_moderate_times) {
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   for (int i = 0; i < 4; i++) {
     double xi[2], t = ts[i], w = 3.0;
-    double exact = sin(w * t) * v[0] - cos(w * t) * v[1] + w * (q[0] * cos(w * t) + q[1] * sin(w * t));
+    double exact =
+        sin(w * t) * v[0] - cos(w * t) * v[1] + w * (q[0] * cos(w * t) + q[1] * sin(w * t));
     ck_assert_int_eq(sdae_mbs_xi(s, t, q, v, xi), SDAE_OK);
     ck_assert_double_eq_tol(xi[1], exact, 1e-9 * (1.0 + fabs(exact)));
   }

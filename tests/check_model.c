@@ -245,8 +245,8 @@ static int probe_Q(double t, const double *xi, const double *mu, double *out, vo
   return leave(p, CB_Q, out);
 }
 
-static int probe_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                         double *qnorm2, void *params) {
+static int probe_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                         void *params) {
   probe *p = params;
   double b = rate_b(t);
   int rc = enter(p, CB_Q_APPLY, t);
@@ -273,8 +273,13 @@ static sdae_model probe_model(probe *p, int use) {
 }
 
 static sdae_dae probe_dae(probe *p, int use) {
-  sdae_dae d = {4, p->two ? 2 : 1, probe_f, probe_g, probe_Phi,
-                (use & USE_INV) ? probe_Phi_inv : NULL, (use & USE_JAC) ? probe_Phi_jac : NULL,
+  sdae_dae d = {4,
+                p->two ? 2 : 1,
+                probe_f,
+                probe_g,
+                probe_Phi,
+                (use & USE_INV) ? probe_Phi_inv : NULL,
+                (use & USE_JAC) ? probe_Phi_jac : NULL,
                 p};
   return d;
 }
@@ -409,8 +414,8 @@ START_TEST(probe_Lg_residual) {
       p.two = two, p.eg = 0.75, p.eg_row = row;
       sdae_model m = probe_model(&p, USE_JAC);
       sdae_dae d = probe_dae(&p, USE_JAC);
-      ck_assert_int_eq(
-          sdae_check_model_with(&m, &d, 0.25, BLO, BHI, 5, 3, 1e-6, NULL, &al, &r), SDAE_OK);
+      ck_assert_int_eq(sdae_check_model_with(&m, &d, 0.25, BLO, BHI, 5, 3, 1e-6, NULL, &al, &r),
+                       SDAE_OK);
       ck_assert_double_eq(r.residual[SDAE_CHECK_LG], 1.0);
       ck_assert_int_eq(r.worst_check, SDAE_CHECK_LG);
       ck_assert_uint_eq(r.worst_index, (size_t)row);
@@ -494,8 +499,7 @@ START_TEST(probe_every_failure_is_reported) {
         for (long k = 1; k <= n; k++) {
           probe p = probe_at(0.25);
           p.fail_cb = cb, p.fail_mode = mode, p.fail_at = k;
-          ck_assert_int_eq(run_probe(&p, uses[u], BLO, BHI, npoints, 1e-9, NULL, &r),
-                           want[mode]);
+          ck_assert_int_eq(run_probe(&p, uses[u], BLO, BHI, npoints, 1e-9, NULL, &r), want[mode]);
           ck_assert_int_eq(p.calls[cb], k);
           ck_assert_uint_eq(r.points, (size_t)((k - 1) / per_point));
           ck_assert_int_eq(r.consistent, 0);
@@ -514,43 +518,30 @@ START_TEST(probe_bad_arguments) {
   sdae_dae d = probe_dae(&p, 0), d2;
   sdae_check_report r;
   double lo[4], hi[4];
-  ck_assert_int_eq(sdae_check_model(NULL, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, NULL, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, NULL, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, NULL),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(NULL, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, NULL, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, NULL, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, NULL), SDAE_ERR_NULL);
   m2 = m, m2.q0 = NULL;
-  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
   m2 = m, m2.Q = NULL;
-  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
   m2.Q_apply = probe_Q_apply; /* either form of Q will do */
   ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_OK);
   d2 = d, d2.f = NULL;
-  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
   d2 = d, d2.g = NULL;
-  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
   d2 = d, d2.Phi = NULL;
-  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_NULL);
   m2 = m, m2.n_xi = 0;
-  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_DIM);
   m2 = m, m2.n_mu = 0;
-  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_check_model(&m2, &d, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_DIM);
   d2 = d, d2.m = 0;
-  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_DIM);
   d2 = d, d2.n = 3;
-  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
-                   SDAE_ERR_DIM);
+  ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r), SDAE_ERR_DIM);
   d2 = d, d2.m = SIZE_MAX / 2;
   ck_assert_int_eq(sdae_check_model(&m, &d2, 0.25, BLO, BHI, 2, 1, 1e-9, NULL, &r),
                    SDAE_ERR_OVERFLOW);
@@ -558,8 +549,7 @@ START_TEST(probe_bad_arguments) {
   for (int k = 0; k < 4; k++)
     ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, BHI, 2, 1, bad_tol[k], NULL, &r),
                      SDAE_ERR_PARAM);
-  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, BHI, 2, 1, DBL_TRUE_MIN, NULL, &r),
-                   SDAE_OK);
+  ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, BLO, BHI, 2, 1, DBL_TRUE_MIN, NULL, &r), SDAE_OK);
   for (int j = 0; j < 4; j++) {
     const double bad[3] = {NAN, INFINITY, -INFINITY};
     for (int k = 0; k < 3; k++) {
@@ -573,8 +563,7 @@ START_TEST(probe_bad_arguments) {
     }
     memcpy(lo, BLO, sizeof lo), memcpy(hi, BHI, sizeof hi);
     lo[j] = 0.5, hi[j] = 0.25;
-    ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, lo, hi, 2, 1, 1e-9, NULL, &r),
-                     SDAE_ERR_PARAM);
+    ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, lo, hi, 2, 1, 1e-9, NULL, &r), SDAE_ERR_PARAM);
     hi[j] = 0.5; /* lo = hi: that coordinate fixed */
     ck_assert_int_eq(sdae_check_model(&m, &d, 0.25, lo, hi, 2, 1, 1e-9, NULL, &r), SDAE_OK);
   }
@@ -598,11 +587,10 @@ START_TEST(probe_worst_point) {
       ck_assert_double_le(worst[j], BHI[j]);
     }
     double x1 = worst[0], x2 = worst[1];
-    ck_assert_double_eq_tol(r.residual[SDAE_CHECK_CHAIN],
-                            fabs(x1) / (fabs(x1 + x2) + fabs(x2)), 1e-9);
-    ck_assert_int_eq(run_probe(&p, use, worst, worst, 1, 1e-6, w2, &again), SDAE_OK);
-    ck_assert_double_eq_tol(again.residual[SDAE_CHECK_CHAIN], r.residual[SDAE_CHECK_CHAIN],
+    ck_assert_double_eq_tol(r.residual[SDAE_CHECK_CHAIN], fabs(x1) / (fabs(x1 + x2) + fabs(x2)),
                             1e-9);
+    ck_assert_int_eq(run_probe(&p, use, worst, worst, 1, 1e-6, w2, &again), SDAE_OK);
+    ck_assert_double_eq_tol(again.residual[SDAE_CHECK_CHAIN], r.residual[SDAE_CHECK_CHAIN], 1e-9);
   }
 }
 END_TEST

@@ -9,10 +9,10 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 #include "testmodels.h"
 
 /* The midpoint map of x'' = -x^3 as a user map that records every mu+ it is called with. */
@@ -197,8 +197,7 @@ END_TEST
 /* The LU reads only what the packing writes: a caller's block full of stale huge numbers
  * (the bytes 0x7f make doubles near 1.4e306) gives the same steps, bit for bit, as a zeroed
  * one, through Newton's matrix (midpoint map) and Baumgarte's chain (scheme 15). */
-static void steps_in_block(unsigned char fill, sdae_stabilizer stabilizer, double *xi,
-                           double *mu) {
+static void steps_in_block(unsigned char fill, sdae_stabilizer stabilizer, double *xi, double *mu) {
   static max_align_t mem[256];
   quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
@@ -320,15 +319,15 @@ typedef struct fd_case {
 } fd_case;
 
 /* phi = (1/2, -1/4, 1/2, ...): independent of y, so its differences are exactly 0 and M = I. */
-static int const_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int const_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   (void)t, (void)T, (void)mu, (void)mu_next;
   for (size_t i = 0; i < c->model->n_mu; i++) out[i] = i % 2 ? -0.25 : 0.5;
   return SDAE_OK;
 }
 
-static const sdae_map_type const_map = {.name = "const", .order = 1, .implicit = 1,
-                                        .phi = const_phi};
+static const sdae_map_type const_map = {
+    .name = "const", .order = 1, .implicit = 1, .phi = const_phi};
 
 /* Newton from y = x = (1, 1, ...) with h = 1/4: R(x) = -h phi != 0, so iteration 1 evaluates R
  * (1), builds M by finite differences (2 w, w the colour groups) and lands exactly (dyadic) on
@@ -344,8 +343,7 @@ static void fd_cost(fd_case fc, unsigned long groups) {
   sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter,
                      &count);
   a.base = calloc(count.used, 1); /* calloc: aligned for any type */
-  sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter,
-                     &a);
+  sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter, &a);
   nw.iters = 0;
   sdae_map_ctx c = {&m, NULL, &nw, 0};
   double x[16], y[16];
@@ -358,9 +356,9 @@ static void fd_cost(fd_case fc, unsigned long groups) {
 }
 
 START_TEST(fd_jacobian_costs_2n_dense) {
-  fd_cost((fd_case){2, 0}, 2);  /* the small dense LU */
+  fd_cost((fd_case){2, 0}, 2); /* the small dense LU */
   fd_cost((fd_case){4, 0}, 4);
-  fd_cost((fd_case){6, 0}, 6);  /* GSL's LU on the full band */
+  fd_cost((fd_case){6, 0}, 6); /* GSL's LU on the full band */
 }
 END_TEST
 
@@ -370,7 +368,6 @@ START_TEST(fd_jacobian_costs_2_times_2b_plus_1_banded) {
   fd_cost((fd_case){16, 4}, 9);
 }
 END_TEST
-
 
 /* ---- Newton's definition at its boundaries, through sdae__newton_solve itself ----
  * A map of the test's own (the table of src/maps/map.h) and a workspace for n unknowns. */
@@ -406,8 +403,8 @@ static int solve_with(const sdae_map_type *map, size_t n, size_t band, double to
 
 /* phi = the constant vector phi_value (independent of y: its differences are exactly 0, M = I) */
 static double phi_value[8];
-static int value_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int value_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   (void)t, (void)T, (void)mu, (void)mu_next;
   for (size_t i = 0; i < c->model->n_mu; i++) out[i] = phi_value[i];
   return SDAE_OK;
@@ -422,8 +419,8 @@ static int inf_jac(sdae_map_ctx *c, double t, double T, const double *mu, const 
   for (size_t i = 0; i < n * n; i++) out[i] = i == 0 ? INFINITY : 0.0;
   return SDAE_OK;
 }
-static const sdae_map_type inf_jac_map = {.name = "infjac", .implicit = 1, .phi = value_phi,
-                                          .jac = inf_jac};
+static const sdae_map_type inf_jac_map = {
+    .name = "infjac", .implicit = 1, .phi = value_phi, .jac = inf_jac};
 
 /* An analytic Jacobian holding Inf: SDAE_ERR_NONFINITE (not a singular verdict on Inf), for the
  * small dense LU (n = 2) and GSL's (n = 6). R(x) = -h phi != 0, so M is built at once. */
@@ -443,8 +440,8 @@ END_TEST
 
 /* phi_i = +1e308 where y_i >= x_i, -1e308 below: finite everywhere, but the central difference
  * of column i, (1e308 - (-1e308)) / (2 h_i), overflows (2e308 > DBL_MAX = 1.8e308) */
-static int cliff_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int cliff_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   (void)t, (void)T;
   for (size_t i = 0; i < c->model->n_mu; i++) out[i] = mu_next[i] >= mu[i] ? 1e308 : -1e308;
   return SDAE_OK;
@@ -461,8 +458,7 @@ START_TEST(overflowing_differences_are_nonfinite) {
     unsigned iters;
     unsigned long evals;
     for (size_t i = 0; i < 6; i++) x[i] = y[i] = 1.0;
-    ck_assert_int_eq(solve_with(&cliff_map, cs[k].n, cs[k].band, 1e-14, 0.25, x, y, &iters,
-                                &evals),
+    ck_assert_int_eq(solve_with(&cliff_map, cs[k].n, cs[k].band, 1e-14, 0.25, x, y, &iters, &evals),
                      SDAE_ERR_NONFINITE);
     ck_assert_uint_eq(iters, 1);
   }
@@ -509,8 +505,8 @@ END_TEST
 
 /* phi = (0, p(y_1)), p = 2^-30 below 1 and 0 above: piecewise constant, so every central
  * difference here is exactly 0 and M = I (Newton is then y+ = x + h phi(y)). */
-static int step_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                    const double *mu_next, double *out) {
+static int step_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                    double *out) {
   (void)c, (void)t, (void)T, (void)mu;
   out[0] = 0.0;
   out[1] = mu_next[1] < 1.0 ? 0x1p-30 : 0.0;
@@ -548,8 +544,8 @@ END_TEST
  * (1/2, 0) exactly and iteration 2 finds R = 0: 2 iterations, 1 + 2 n + 1 = 6 evaluations. (A
  * step that is not symmetric about y_j, or is zero at y_j = 0, gives another count or no
  * matrix.) */
-static int linear_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                      const double *mu_next, double *out) {
+static int linear_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                      double *out) {
   (void)t, (void)T, (void)mu;
   for (size_t i = 0; i < c->model->n_mu; i++) out[i] = -4.0 * mu_next[i];
   return SDAE_OK;
@@ -569,8 +565,8 @@ START_TEST(fd_jacobian_exact_on_linear_map) {
 END_TEST
 
 /* phi = A y with its exact Jacobian A (n = 4), recording every y phi is called at */
-static const double A4[16] = {0.3, -0.7, 0.1, 0.9, 1.1, 0.2, -0.6, 0.4,
-                              -0.8, 0.5, 0.7, -0.3, 0.6, -0.9, 0.35, 0.15};
+static const double A4[16] = {0.3,  -0.7, 0.1, 0.9,  1.1, 0.2,  -0.6, 0.4,
+                              -0.8, 0.5,  0.7, -0.3, 0.6, -0.9, 0.35, 0.15};
 static double seen4[8][4];
 static int nseen4;
 static int a4_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
@@ -633,8 +629,8 @@ static int chain_q0(double t, const double *mu, double *out, void *p) {
     out[i] = 3.0 * ((i + 1 < CHAIN ? mu[i + 1] : 0.0) - (i > 0 ? mu[i - 1] : 0.0));
   return 0;
 }
-static int chain_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                         double *qnorm2, void *p) {
+static int chain_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                         void *p) {
   (void)t, (void)mu, (void)p;
   for (int i = 0; i < CHAIN; i++) Qxi[i] = i == 0 ? xi[0] : 0.0;
   qnorm2[0] = 1.0;

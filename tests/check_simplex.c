@@ -60,8 +60,8 @@ static void expect_points(const recorder *r, const double (*pts)[2], long count)
   ck_assert_int_eq(r->calls, count);
   for (long i = 0; i < count; i++)
     for (size_t j = 0; j < r->n; j++)
-      ck_assert_msg(fabs(r->pts[i][j] - pts[i][j]) <= 1e-14, "point %ld [%zu]: %.17g, not %.17g",
-                    i, j, r->pts[i][j], pts[i][j]);
+      ck_assert_msg(fabs(r->pts[i][j] - pts[i][j]) <= 1e-14, "point %ld [%zu]: %.17g, not %.17g", i,
+                    j, r->pts[i][j], pts[i][j]);
 }
 
 /* ---- the work size ---- */
@@ -78,11 +78,11 @@ static size_t work_reference(size_t n) {
 }
 
 START_TEST(work_size) {
-  size_t half = (size_t)1 << (sizeof(size_t) * 4); /* sqrt(SIZE_MAX + 1) */
-  ck_assert_uint_eq(sdae__simplex_work(0), 0);          /* header: 0 for n = 0 */
-  ck_assert_uint_eq(sdae__simplex_work(1), 4 + 3);      /* 2^2 + 3 */
-  ck_assert_uint_eq(sdae__simplex_work(2), 9 + 6);      /* 3^2 + 6 */
-  ck_assert_uint_eq(sdae__simplex_work(4), 25 + 12);    /* 5^2 + 12 */
+  size_t half = (size_t)1 << (sizeof(size_t) * 4);   /* sqrt(SIZE_MAX + 1) */
+  ck_assert_uint_eq(sdae__simplex_work(0), 0);       /* header: 0 for n = 0 */
+  ck_assert_uint_eq(sdae__simplex_work(1), 4 + 3);   /* 2^2 + 3 */
+  ck_assert_uint_eq(sdae__simplex_work(2), 9 + 6);   /* 3^2 + 6 */
+  ck_assert_uint_eq(sdae__simplex_work(4), 25 + 12); /* 5^2 + 12 */
   /* around the largest n that fits: (n + 1)^2 + 3 n crosses SIZE_MAX near n = 2^(bits/2) */
   for (size_t n = half - 8; n < half + 8; n++)
     ck_assert_uint_eq(sdae__simplex_work(n), work_reference(n));
@@ -94,7 +94,10 @@ END_TEST
 
 /* ---- the moves, traced by hand in one and two dimensions ---- */
 
-static double linear(const double *u, size_t n) { (void)n; return u[0]; }
+static double linear(const double *u, size_t n) {
+  (void)n;
+  return u[0];
+}
 
 /* f = u from 0, step 0.2: vertices 0 (f 0), 0.2 (worst). Reflection through c = 0: -0.2,
  * beats the best -> expansion c - 2 (0.2 - c) = -0.4, better than the reflection: kept.
@@ -139,7 +142,10 @@ END_TEST
  * -0.2 (0.19) does not beat the second worst (here the best, 0.01) but beats the worst: it
  * replaces it and is contracted to -0.1 (0.09), kept. A second worst taken as the worst would
  * accept the reflection and stop there. */
-static double abs_shifted(const double *u, size_t n) { (void)n; return fabs(u[0] + 0.01); }
+static double abs_shifted(const double *u, size_t n) {
+  (void)n;
+  return fabs(u[0] + 0.01);
+}
 
 START_TEST(second_worst_decides_contraction) {
   static const double pts[4][2] = {{0}, {0.2}, {-0.2}, {-0.1}};
@@ -157,7 +163,10 @@ END_TEST
  * reflection -0.4 (f -0.2) only ties the best: it is not expanded to -0.2 - 2 (0 + 0.2) = -0.6;
  * it only ties the second worst too (the same vertex in one dimension): not contracted (GSL),
  * accepted. Both vertices then have f = -0.2: the best returned is the first, -0.4. */
-static double floored(const double *u, size_t n) { (void)n; return fmax(u[0], -0.2); }
+static double floored(const double *u, size_t n) {
+  (void)n;
+  return fmax(u[0], -0.2);
+}
 
 /* f = (u - 10)^2 from 0, step 1, by hand: {0 (100), 1 (81)}: reflection 2 (64) beats the best,
  * expansion 3 (49) beats it: kept. {3, 1 (worst)}: reflection 5 (25), expansion 7 (9): kept.
@@ -203,15 +212,14 @@ START_TEST(ties_neither_expand_nor_keep_expansion) {
   double u[1] = {0.0};
   ck_assert_int_eq(minimize(&r, u, 0.2, 0.0, 2), 0);
   ck_assert_int_ge(r.calls, 5);
-  ck_assert_double_eq(r.pts[3][0], -0.4);                 /* the expansion, tried */
-  ck_assert_double_le(fabs(r.pts[4][0] - -0.4), 1e-15);   /* reflection of 0 through -0.2 */
+  ck_assert_double_eq(r.pts[3][0], -0.4);               /* the expansion, tried */
+  ck_assert_double_le(fabs(r.pts[4][0] - -0.4), 1e-15); /* reflection of 0 through -0.2 */
   for (long i = 0; i < r.calls; i++) /* no expansion of a reflection that only ties the best */
     ck_assert_double_gt(fabs(r.pts[i][0] - -0.6), 1e-9);
   ck_assert_int_eq(r.calls, 5); /* nor a contraction */
   ck_assert_double_le(fabs(u[0] - -0.4), 1e-15);
 }
 END_TEST
-
 
 /* f = 15 u (u >= 0), -20 u (-0.1 <= u < 0), 2 + 10 (u + 0.1) (u < -0.1): f(0) = 0, f(0.2) = 3,
  * f(-0.2) = 1, f(-0.1) = 2. The reflection -0.2 (1) does not beat the second worst (0) but
@@ -240,14 +248,18 @@ END_TEST
  * (0.5), kept. Then f = -10 u (u < 0), min(10 u, 1) (u >= 0): the reflection -0.2 (2) is
  * worse than the worst (1); the contraction 0.1 has f = 1, no worse than the worst: kept,
  * no shrink. */
-static double five_abs(const double *u, size_t n) { (void)n; return 5.0 * fabs(u[0]); }
+static double five_abs(const double *u, size_t n) {
+  (void)n;
+  return 5.0 * fabs(u[0]);
+}
 static double capped(const double *u, size_t n) {
   (void)n;
   return u[0] < 0.0 ? -10.0 * u[0] : fmin(10.0 * u[0], 1.0);
 }
 
 START_TEST(ties_with_the_worst) {
-  static const double pts_a[4][2] = {{0}, {0.2}, {-0.2}, {-0.1}}, pts_b[4][2] = {{0}, {0.2}, {-0.2}, {0.1}};
+  static const double pts_a[4][2] = {{0}, {0.2}, {-0.2}, {-0.1}},
+                      pts_b[4][2] = {{0}, {0.2}, {-0.2}, {0.1}};
   recorder a = {.f = five_abs, .n = 1}, b = {.f = capped, .n = 1};
   double u[1] = {0.0};
   ck_assert_int_eq(minimize(&a, u, 0.2, 0.0, 1), 0);
@@ -280,7 +292,10 @@ END_TEST
 
 /* ---- stopping ---- */
 
-static double constant(const double *u, size_t n) { (void)u, (void)n; return 1.0; }
+static double constant(const double *u, size_t n) {
+  (void)u, (void)n;
+  return 1.0;
+}
 
 /* f constant in one dimension: no move beats anything, every iteration reflects a vertex
  * through the other, and the two vertices stay step = 0.2 apart: their RMS distance from
@@ -311,7 +326,8 @@ END_TEST
 static const double quad_center[4] = {0.3, -0.7, 1.1, 0.25};
 static double quadratic(const double *u, size_t n) {
   double s = 0.0;
-  for (size_t j = 0; j < n; j++) s += (double)(j + 1) * (u[j] - quad_center[j]) * (u[j] - quad_center[j]);
+  for (size_t j = 0; j < n; j++)
+    s += (double)(j + 1) * (u[j] - quad_center[j]) * (u[j] - quad_center[j]);
   return s;
 }
 
@@ -375,8 +391,8 @@ static void fail_at_every_call(double (*f)(const double *, size_t), size_t n, co
 
 START_TEST(failure_returned_at_once) {
   static const double zero[4] = {0.0, 0.0, 0.0, 0.0}, start[2] = {-1.2, 1.0};
-  fail_at_every_call(linear, 1, zero, 2);  /* reflections and expansions */
-  fail_at_every_call(tent, 1, zero, 3);    /* contractions and a shrink */
+  fail_at_every_call(linear, 1, zero, 2); /* reflections and expansions */
+  fail_at_every_call(tent, 1, zero, 3);   /* contractions and a shrink */
   fail_at_every_call(quadratic, 3, zero, 1000);
   fail_at_every_call(rosenbrock, 2, start, 300);
 }

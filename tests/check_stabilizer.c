@@ -26,8 +26,8 @@ static int two_Q(double t, const double *xi, const double *mu, double *out, void
 }
 
 /* The same Q given as its product with xi and its column norms. */
-static int two_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                       double *qnorm2, void *params) {
+static int two_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                       void *params) {
   double Q[6];
   two_Q(t, xi, mu, Q, params);
   for (int r = 0; r < 3; r++) Qxi[r] = Q[2 * r] * xi[0] + Q[2 * r + 1] * xi[1];
@@ -198,7 +198,6 @@ START_TEST(paper_stabilizer_factor_along_run) {
   sdae_stepper_free(s);
 }
 END_TEST
-
 
 /* Relative degree 1, the smallest: two constraints {1, 1} on the oscillator (n_xi = 2), each
  * chain the scalar xi_c' = 0 (index reduction) or -alpha_0 xi_c (Baumgarte, alpha_0 = 1). One

@@ -6,10 +6,10 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/arena.h"
+#include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
-#include "core/lu.h"
-#include "core/arena.h"
 #include "testmodels.h"
 
 static sdae_options options(const sdae_map_type *map, sdae_scheme scheme) {
@@ -21,8 +21,8 @@ static sdae_options options(const sdae_map_type *map, sdae_scheme scheme) {
 }
 
 /* one step of the map from (t, xi, mu) */
-static void one_step(const sdae_model *m, const sdae_map_type *map, double t, double T,
-                     double *xi, double *mu) {
+static void one_step(const sdae_model *m, const sdae_map_type *map, double t, double T, double *xi,
+                     double *mu) {
   sdae_options o = options(map, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_stepper *s;
   ck_assert_int_eq(sdae_stepper_alloc(&s, m, &o), SDAE_OK);
@@ -118,8 +118,7 @@ static double rotation_error(const sdae_model *m, const sdae_map_type *map, doub
  * With the wrong time in a symmetric map the quadrature of a(t) is off by O(T): ratio 2; a
  * Runge-Kutta stage at a wrong node c_i breaks an order condition of order 2 (sum b_i c_i =
  * 1/2, with c the node of a(t)) or higher. */
-static void expect_order(const sdae_model *m, const sdae_map_type *map, unsigned order,
-                         double T) {
+static void expect_order(const sdae_model *m, const sdae_map_type *map, unsigned order, double T) {
   double e1 = rotation_error(m, map, 0.0, 2.0, T), e2 = rotation_error(m, map, 0.0, 2.0, T / 2);
   ck_assert_uint_eq(sdae_map_order(map), order);
   ck_assert_double_gt(e2, 1e-11);

@@ -104,8 +104,7 @@ int cli_check_model_run(const char *prog, const cli_certify *c, const sdae_model
   printf("points: %zu\ntolerance: %g (relative to the size of the terms)\n", r.points, tol);
   for (int k = 0; k < 4; k++) printf("%s: %.3g\n", check_names[k], r.residual[k]);
   printf("worst: %s, component %s, at xi1=%.6g xi2=%.6g mu1=%.6g mu2=%.6g\n",
-         check_names[r.worst_check], names[r.worst_index], worst[0], worst[1], worst[2],
-         worst[3]);
+         check_names[r.worst_check], names[r.worst_index], worst[0], worst[1], worst[2], worst[3]);
   printf("consistent: %s\n", r.consistent ? "yes" : "no");
   return r.consistent ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }

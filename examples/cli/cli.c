@@ -150,8 +150,7 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
   switch (fl->kind) {
   case CLI_REAL:
   case CLI_POSITIVE:
-  case CLI_NONNEG:
-    return parse_real(s, fl, err, errlen);
+  case CLI_NONNEG: return parse_real(s, fl, err, errlen);
   case CLI_COUNT: {
     size_t v;
     if (cli_parse_size(s, &v) || v == 0)
@@ -163,16 +162,13 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
     unsigned long v;
     if (cli_parse_ulong(s, &v))
       return cli_fail(err, errlen, "--%s: '%s' is not a whole number in [0, %lu]", fl->name, s,
-                  ULONG_MAX);
+                      ULONG_MAX);
     *(unsigned long *)fl->target = v;
     return CLI_OK;
   }
-  case CLI_CHOICE:
-    return parse_choice(s, fl, err, errlen);
-  case CLI_MAP:
-    return parse_map(s, fl, err, errlen);
-  case CLI_VECTOR:
-    return cli_parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
+  case CLI_CHOICE: return parse_choice(s, fl, err, errlen);
+  case CLI_MAP: return parse_map(s, fl, err, errlen);
+  case CLI_VECTOR: return cli_parse_vector(s, fl->target, fl->n, fl->name, err, errlen);
   case CLI_LIST:
     if (*s == '\0') return cli_fail(err, errlen, "--%s: empty list", fl->name);
     *(const char **)fl->target = s;
@@ -182,8 +178,7 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
     if (*s == '\0') return cli_fail(err, errlen, "--%s: empty value", fl->name);
     *(const char **)fl->target = s;
     return CLI_OK;
-  case CLI_SWITCH:
-    return cli_fail(err, errlen, "--%s takes no value", fl->name);
+  case CLI_SWITCH: return cli_fail(err, errlen, "--%s takes no value", fl->name);
   }
   return cli_fail(err, errlen, "--%s: internal error (unknown kind)", fl->name);
 }
@@ -191,8 +186,7 @@ static int parse_value(const char *s, const cli_flag *fl, char *err, size_t errl
 static const cli_flag *find_flag(const char *name, size_t len, const cli_flag *flags,
                                  size_t nflags) {
   for (size_t i = 0; i < nflags; i++)
-    if (strlen(flags[i].name) == len && strncmp(flags[i].name, name, len) == 0)
-      return &flags[i];
+    if (strlen(flags[i].name) == len && strncmp(flags[i].name, name, len) == 0) return &flags[i];
   return NULL;
 }
 
@@ -384,8 +378,9 @@ cli_file_sink cli_file_sink_make(FILE *f) {
 FILE *cli_open_output(const cli_run *run, const char *prog) {
   if (!run->out) return stdout;
   FILE *f = fopen(run->out, "w");
-  if (!f) fprintf(stderr, "%s: --out: cannot open '%s' for writing: %s\n", prog, run->out,
-                  strerror(errno));
+  if (!f)
+    fprintf(stderr, "%s: --out: cannot open '%s' for writing: %s\n", prog, run->out,
+            strerror(errno));
   return f;
 }
 
@@ -405,8 +400,8 @@ int cli_close_output(FILE *f, const char *prog) {
 int cli_report_failure(const char *prog, const cli_run *run, int status, size_t done,
                        const char *why) {
   if (status == SDAE_STOPPED)
-    fprintf(stderr, "%s: stopped at step %zu (t = %.17g): %s\n", prog, done,
-            (double)done * run->T, why);
+    fprintf(stderr, "%s: stopped at step %zu (t = %.17g): %s\n", prog, done, (double)done * run->T,
+            why);
   else
     fprintf(stderr, "%s: step %zu from t = %.17g failed: %s\n", prog, done + 1,
             (double)done * run->T, sdae_strerror(status));
@@ -432,8 +427,8 @@ typedef struct observer_data {
 static int observe(size_t step, double t, const double *xi, const double *mu, void *data) {
   observer_data *od = data;
   const sdae_stats *st = sdae_stepper_stats(od->stepper);
-  cli_row_out o = {od->sink, step == 0 ? 0 : st->newton_iters_last,
-                   {.newton_total = st->newton_iters_total}};
+  cli_row_out o = {
+      od->sink, step == 0 ? 0 : st->newton_iters_last, {.newton_total = st->newton_iters_total}};
   (void)t; /* rows are at t = i T exactly, not an accumulated sum */
   if (od->p->row(&o, (double)step * od->T, xi, mu, od->p->row_ctx, &od->why)) {
     if (!od->why) od->why = "cannot write the output";
@@ -450,8 +445,7 @@ static int integrate(const cli_program *p, const cli_run *run, sdae_stepper *s, 
     od->why = "cannot write the output";
     return SDAE_STOPPED;
   }
-  return sdae_integrate(s, 0.0, run->T, run->nsteps, run->every, p->xi, p->mu, observe, od,
-                        done);
+  return sdae_integrate(s, 0.0, run->T, run->nsteps, run->every, p->xi, p->mu, observe, od, done);
 }
 
 static int execute_file(const cli_program *p, const cli_run *run) {
@@ -490,7 +484,6 @@ int cli_execute_to(const cli_program *p, const cli_run *run, cli_sink *sink) {
   sink->end(sink, status, done, od.why);
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
-
 
 /* ---- a program ---------------------------------------------------------------------------- */
 

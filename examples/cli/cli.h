@@ -32,9 +32,9 @@ typedef enum cli_kind {
 typedef struct cli_flag {
   const char *name; /* without the leading "--" */
   cli_kind kind;
-  void *target;                /* double *, size_t *, unsigned long *, int *, const char ** */
-  const char *const *choices;  /* CLI_CHOICE, CLI_MAP: NULL-terminated list */
-  size_t n;                    /* CLI_VECTOR: number of values */
+  void *target;               /* double *, size_t *, unsigned long *, int *, const char ** */
+  const char *const *choices; /* CLI_CHOICE, CLI_MAP: NULL-terminated list */
+  size_t n;                   /* CLI_VECTOR: number of values */
   const char *help;
 } cli_flag;
 
@@ -65,12 +65,12 @@ extern const char *const cli_stabilizer_choices[];
 
 typedef struct cli_run {
   double delta, eps, T, tf;
-  int scheme;       /* index into cli_scheme_choices */
+  int scheme;               /* index into cli_scheme_choices */
   const sdae_map_type *map; /* one of the program's map choices */
-  size_t every;     /* a CSV row every `every` steps, plus t = 0 and the last step */
-  const char *out;  /* NULL: stdout */
-  size_t nsteps;    /* set by cli_run_finish */
-  int stabilizer;   /* index into cli_stabilizer_choices; 0 (paper) when not given */
+  size_t every;             /* a CSV row every `every` steps, plus t = 0 and the last step */
+  const char *out;          /* NULL: stdout */
+  size_t nsteps;            /* set by cli_run_finish */
+  int stabilizer;           /* index into cli_stabilizer_choices; 0 (paper) when not given */
 } cli_run;
 
 /* Appends the shared flags (--delta --eps --T --tf --scheme --map --stabilizer --every --out)
@@ -141,15 +141,15 @@ int cli_emit(cli_row_out *o, const double *v, size_t n, double violation, double
 
 /* One CSV row from the state at time t; non-zero when the state cannot be written (outside the
  * model's domain), with a one-line reason in why. */
-typedef int (*cli_row_fn)(cli_row_out *o, double t, const double *xi, const double *mu,
-                          void *ctx, const char **why);
+typedef int (*cli_row_fn)(cli_row_out *o, double t, const double *xi, const double *mu, void *ctx,
+                          const char **why);
 
 typedef struct cli_program {
-  const char *name;        /* for messages */
-  const char *header;      /* the CSV header line, without newline */
+  const char *name;   /* for messages */
+  const char *header; /* the CSV header line, without newline */
   const sdae_model *model;
   const sdae_options *options;
-  double *xi, *mu;         /* the initial state, updated in place */
+  double *xi, *mu; /* the initial state, updated in place */
   cli_row_fn row;
   void *row_ctx;
 } cli_program;
@@ -172,7 +172,7 @@ int cli_parse_or_exit(int rc, const char *prog, const char *summary, const cli_f
 typedef struct cli_layout {
   size_t size, run, flags, nflags;
 } cli_layout;
-#define CLI_LAYOUT(type)                                                                    \
+#define CLI_LAYOUT(type)                                                                           \
   { sizeof(type), offsetof(type, run), offsetof(type, flags), offsetof(type, nflags) }
 
 /* The model and options of a --certify, and its box (n = n_xi + n_mu bounds each). */

@@ -10,8 +10,13 @@ const char *const mbs_map_choices[] = {"euler",     "midpoint",  "dgrad", "dg4",
                                        "midpoint4", "midpoint6", "rk4",   "rk8", NULL};
 
 cli_run mbs_run_defaults(void) {
-  return (cli_run){.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 10.0, .scheme = 1,
-                   .map = sdae_map_dgrad, .every = 1};
+  return (cli_run){.delta = 2.0,
+                   .eps = 1.0,
+                   .T = 0.001,
+                   .tf = 10.0,
+                   .scheme = 1,
+                   .map = sdae_map_dgrad,
+                   .every = 1};
 }
 
 int mbs_parse(int argc, char *const *argv, const cli_flag *model, size_t n, cli_flag *flags,
@@ -42,8 +47,8 @@ typedef struct row_data {
   sdae_mbs_stepper *s;
   cli_sink *sink;
   double T;
-  double *row;       /* t, q, v, lambda, max_abs_c, E */
-  const char *why;   /* set when a row could not be written */
+  double *row;     /* t, q, v, lambda, max_abs_c, E */
+  const char *why; /* set when a row could not be written */
   char why_buf[96];
 } row_data;
 
@@ -100,8 +105,7 @@ static int integrate(const mbs_program *p, const cli_run *run, row_data *d, size
 }
 
 /* the stepper and the row's storage; SDAE_OK or the failure (nothing kept) */
-static int prepare(const mbs_program *p, const cli_run *run, sdae_mbs_stepper **s,
-                   double **row) {
+static int prepare(const mbs_program *p, const cli_run *run, sdae_mbs_stepper **s, double **row) {
   sdae_options opt;
   sdae_options_default(&opt);
   cli_run_options(run, &opt);
@@ -156,4 +160,3 @@ int mbs_execute_to(const mbs_program *p, const cli_run *run, cli_sink *sink) {
   sink->end(sink, status, done, d.why);
   return status == SDAE_OK ? CLI_EXIT_OK : CLI_EXIT_FAILED;
 }
-

@@ -25,9 +25,9 @@ int mbs_parse(int argc, char *const *argv, const cli_flag *model, size_t n, cli_
               size_t *nflags, cli_run *run, char *err, size_t errlen);
 
 typedef struct mbs_program {
-  const char *name;     /* for messages */
+  const char *name; /* for messages */
   const sdae_mbs *sys;
-  double *q, *v;        /* the initial state (n_q each), updated in place */
+  double *q, *v; /* the initial state (n_q each), updated in place */
 } mbs_program;
 
 /* Builds the stepper and integrates run->nsteps steps, writing rows to sink (NULL: the run's

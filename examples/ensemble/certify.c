@@ -24,8 +24,8 @@ static void slab(const cli_certify_setup *c, size_t dim, size_t j, size_t p, siz
 }
 
 /* certifies slab p into r: F_STATUS, the certificate, then argmax */
-static void certify_slab(const cli_certify_setup *c, size_t dim, size_t j, size_t p,
-                         size_t pieces, double *r) {
+static void certify_slab(const cli_certify_setup *c, size_t dim, size_t j, size_t p, size_t pieces,
+                         double *r) {
   double *lo = malloc(2 * dim * sizeof *lo);
   sdae_stepper *s = NULL;
   sdae_certificate cert;
@@ -58,8 +58,8 @@ static int report(double *all, size_t len, size_t pieces) {
     evals += r[F_EVALS];
   }
   const double *r = all + best * len;
-  sdae_certificate cert = {r[F_SUP], (size_t)r[F_IMAX], r[F_TBAR], r[F_T15], r[F_T11],
-                           (size_t)evals};
+  sdae_certificate cert = {r[F_SUP], (size_t)r[F_IMAX], r[F_TBAR],
+                           r[F_T15], r[F_T11],          (size_t)evals};
   cli_certify_print(&cert, r + F_ARGMAX);
   printf("slabs: %zu\nevaluations: %zu\n", pieces, cert.evaluations);
   return CLI_EXIT_OK;

@@ -21,28 +21,28 @@ extern const cli_def *const ens_models[]; /* NULL-terminated */
 
 typedef struct ens_members {
   size_t ncols, nrows;
-  char **names;  /* ncols flag names (the header) */
-  char **flags;  /* ncols "--name" */
-  char **fields; /* nrows x ncols values */
-  size_t *line;  /* the file's line of each row */
+  char **names;            /* ncols flag names (the header) */
+  char **flags;            /* ncols "--name" */
+  char **fields;           /* nrows x ncols values */
+  size_t *line;            /* the file's line of each row */
   unsigned long long hash; /* FNV-1a of the file's bytes */
-  char *text;    /* the file, which names and fields point into */
+  char *text;              /* the file, which names and fields point into */
 } ens_members;
 
 typedef struct ens_job {
-  const cli_def *def;  /* the model's program */
+  const cli_def *def; /* the model's program */
   const char *members_path, *out;
   const char *at_text; /* --at as given */
   double at[64];
   size_t n_at;
   int resume, quiet, certify;
-  size_t chunk;       /* 0: adaptive */
-  size_t pieces;      /* --certify: sub-boxes */
-  double progress;    /* seconds between progress lines */
+  size_t chunk;    /* 0: adaptive */
+  size_t pieces;   /* --certify: sub-boxes */
+  double progress; /* seconds between progress lines */
   int nshared;
-  char **shared;      /* the flags for every member (argv[1..]) */
+  char **shared; /* the flags for every member (argv[1..]) */
   ens_members members;
-  size_t prog_cols;   /* the columns of the program's CSV (set by ens_header) */
+  size_t prog_cols; /* the columns of the program's CSV (set by ens_header) */
 } ens_job;
 
 /* ---- members.c ----------------------------------------------------------------------------- */
@@ -65,8 +65,7 @@ int ens_members_check(const ens_job *job, void *args, char *err, size_t errlen);
 char *ens_header(ens_job *job, void *args);
 /* Runs member i and appends its output row (with newline) to *buf (grown as needed, *cap);
  * args is the program's argument storage. 0, or -1 when out of memory. */
-int ens_member_run(const ens_job *job, size_t i, void *args, char **buf, size_t *len,
-                   size_t *cap);
+int ens_member_run(const ens_job *job, size_t i, void *args, char **buf, size_t *len, size_t *cap);
 /* Whether an output row records a failed member (its status is not "ok"). */
 int ens_row_failed(const char *row);
 

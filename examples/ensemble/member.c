@@ -14,11 +14,11 @@
 typedef struct capture {
   cli_sink base;
   const ens_job *job;
-  double T;           /* the member's step: --at picks the row at t >= t_k - 1e-9 T */
-  size_t n;           /* values per row (the columns but the last) */
-  double *last;       /* n values and the last column, then n_at rows of the same */
+  double T;     /* the member's step: --at picks the row at t >= t_k - 1e-9 T */
+  size_t n;     /* values per row (the columns but the last) */
+  double *last; /* n values and the last column, then n_at rows of the same */
   int have_last;
-  size_t next_at;     /* the first --at time not reached yet */
+  size_t next_at; /* the first --at time not reached yet */
   double vmax, e0, e_last;
   unsigned long newton, switches;
   int status, ended;
@@ -103,8 +103,10 @@ static void put_field(text *t, const char *s) {
   }
   put(t, ",\"");
   for (; *s; s++) {
-    if (*s == '"') put(t, "\"\"");
-    else put(t, "%c", *s);
+    if (*s == '"')
+      put(t, "\"\"");
+    else
+      put(t, "%c", *s);
   }
   put(t, "\"");
 }
@@ -112,9 +114,12 @@ static void put_field(text *t, const char *s) {
 /* n values %.17g and the last column %u, or n + 1 empty fields */
 static void put_row(text *t, const double *row, size_t n, int have) {
   for (size_t j = 0; j <= n; j++) {
-    if (!have) put(t, ",");
-    else if (j < n) put(t, ",%.17g", row[j]);
-    else put(t, ",%u", (unsigned)row[j]);
+    if (!have)
+      put(t, ",");
+    else if (j < n)
+      put(t, ",%.17g", row[j]);
+    else
+      put(t, ",%u", (unsigned)row[j]);
   }
 }
 
@@ -144,8 +149,7 @@ static int keep_header(cli_sink *s, const char *line) {
   return 1; /* the header is all it wants: stop */
 }
 
-static int no_row(cli_sink *s, const double *v, size_t n, unsigned last,
-                  const cli_row_info *info) {
+static int no_row(cli_sink *s, const double *v, size_t n, unsigned last, const cli_row_info *info) {
   (void)s, (void)v, (void)n, (void)last, (void)info;
   return 1;
 }
@@ -225,12 +229,12 @@ static const char *status_text(const capture *c, int parsed, const char *err) {
   if (parsed != CLI_OK) return err;
   /* a program stops before its driver only when memory for its own state is missing */
   if (!c->ended) return sdae_strerror(SDAE_ERR_NOMEM);
-  return c->status == SDAE_OK ? "ok" : c->status == SDAE_STOPPED ? c->why
-                                                                  : sdae_strerror(c->status);
+  return c->status == SDAE_OK        ? "ok"
+         : c->status == SDAE_STOPPED ? c->why
+                                     : sdae_strerror(c->status);
 }
 
-int ens_member_run(const ens_job *job, size_t i, void *args, char **buf, size_t *len,
-                   size_t *cap) {
+int ens_member_run(const ens_job *job, size_t i, void *args, char **buf, size_t *len, size_t *cap) {
   size_t n = job->prog_cols - 1;
   capture c = {.base = {cap_header, cap_row, cap_end}, .job = job, .n = n};
   char **argv = malloc(ens_argv_len(job) * sizeof *argv);

@@ -48,9 +48,12 @@ static long split_line(char *line, char **fields, size_t max) {
     if (*r == '"') {
       for (r++;; r++) {
         if (*r == '\0') return -1;
-        if (*r == '"' && r[1] == '"') *w++ = *r++;
-        else if (*r == '"') break;
-        else *w++ = *r;
+        if (*r == '"' && r[1] == '"')
+          *w++ = *r++;
+        else if (*r == '"')
+          break;
+        else
+          *w++ = *r;
       }
       r++;
       if (*r != ',' && *r != '\0') return -1;
@@ -77,8 +80,8 @@ static int check_names(ens_members *m, const char *path, char *err, size_t errle
     if (*name == '\0') return cli_fail(err, errlen, "%s:1: column %zu has no name", path, c + 1);
     for (size_t k = 0; refused[k]; k++)
       if (strcmp(name, refused[k]) == 0)
-        return cli_fail(err, errlen, "%s:1: column '%s': the runner sets --%s itself", path,
-                        name, name);
+        return cli_fail(err, errlen, "%s:1: column '%s': the runner sets --%s itself", path, name,
+                        name);
     for (size_t d = 0; d < c; d++)
       if (strcmp(name, m->names[d]) == 0)
         return cli_fail(err, errlen, "%s:1: column '%s' twice", path, name);
@@ -110,8 +113,7 @@ static int split_rows(ens_members *m, char *text, const char *path, char *err, s
   return CLI_OK;
 }
 
-static int split_fields(ens_members *m, char **lines, const char *path, char *err,
-                        size_t errlen) {
+static int split_fields(ens_members *m, char **lines, const char *path, char *err, size_t errlen) {
   long n = split_line(lines[0], m->names, m->ncols);
   if (n < 0) return cli_fail(err, errlen, "%s:1: a stray or unclosed quote", path);
   m->ncols = (size_t)n; /* fewer than counted when a quoted name holds a comma */
@@ -124,8 +126,7 @@ static int split_fields(ens_members *m, char **lines, const char *path, char *er
                       m->ncols);
     for (size_t c = 0; c < m->ncols; c++)
       if (m->fields[r * m->ncols + c][0] == '\0')
-        return cli_fail(err, errlen, "%s:%zu: column '%s' is empty", path, lineno,
-                        m->names[c]);
+        return cli_fail(err, errlen, "%s:%zu: column '%s' is empty", path, lineno, m->names[c]);
   }
   for (size_t r = 0; r < m->nrows; r++) m->line[r] = m->line[r + 1];
   return check_names(m, path, err, errlen);

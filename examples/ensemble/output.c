@@ -49,8 +49,7 @@ static int write_job(const char *path, const char *text) {
   return (fclose(f) != 0) | bad ? -1 : 0;
 }
 
-static FILE *fresh(const ens_job *job, const char *header, const char *jpath,
-                   const char *jtext) {
+static FILE *fresh(const ens_job *job, const char *header, const char *jpath, const char *jtext) {
   if (write_job(jpath, jtext)) {
     fprintf(stderr, "%s: cannot write '%s': %s\n", ENS_PROG, jpath, strerror(errno));
     return NULL;
@@ -120,8 +119,10 @@ FILE *ens_output_open(const ens_job *job, const char *header, size_t *first) {
   } else if (read_small(jpath, old, sizeof old) < 0) {
     fprintf(stderr, "%s: --resume: cannot read '%s'\n", ENS_PROG, jpath);
   } else if (strcmp(old, jtext) != 0) {
-    fprintf(stderr, "%s: --resume: '%s' belongs to another job (model, members, --at or flags "
-                    "differ)\n", ENS_PROG, jpath);
+    fprintf(stderr,
+            "%s: --resume: '%s' belongs to another job (model, members, --at or flags "
+            "differ)\n",
+            ENS_PROG, jpath);
   } else {
     f = resume(job, header, first);
   }

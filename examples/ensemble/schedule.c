@@ -24,17 +24,17 @@ typedef struct master {
   void *args;
   FILE *out;
   int ranks;
-  size_t first, n;        /* the members to run: [first, n) */
-  size_t next, written;   /* the first member not handed out, not written */
-  char **rows;            /* the rows of members not yet written, by member - first */
-  chunk *queue;           /* IN_FLIGHT per worker, oldest first */
+  size_t first, n;      /* the members to run: [first, n) */
+  size_t next, written; /* the first member not handed out, not written */
+  char **rows;          /* the rows of members not yet written, by member - first */
+  chunk *queue;         /* IN_FLIGHT per worker, oldest first */
   size_t *queued;
   int *stopped;
-  size_t done, failed;    /* members finished in this run */
-  size_t own, messages;   /* members run by rank 0, results received */
+  size_t done, failed;  /* members finished in this run */
+  size_t own, messages; /* members run by rank 0, results received */
   double t0, reported;
-  int bad;                /* the output could not be written */
-  char *buf;              /* the rows of the master's members and of the received chunks */
+  int bad;   /* the output could not be written */
+  char *buf; /* the rows of the master's members and of the received chunks */
   size_t len, cap;
 } master;
 
@@ -68,15 +68,15 @@ static void progress(master *m, int last) {
   double rate = dt > 0 ? (double)m->done / dt : 0.0;
   if (last) {
     /* rank 0's share of the work and its messages tell whether --chunk should be larger */
-    fprintf(stderr, "%s: %zu members in %.3g s (%zu failed), %.4g members/s; rank 0 ran %zu "
-                    "and received %zu chunks\n",
+    fprintf(stderr,
+            "%s: %zu members in %.3g s (%zu failed), %.4g members/s; rank 0 ran %zu "
+            "and received %zu chunks\n",
             ENS_PROG, m->done, dt, m->failed, rate, m->own, m->messages);
     return;
   }
   size_t left = m->n - m->first - m->done;
-  fprintf(stderr, "%s: %zu/%zu members done (%zu failed), %.4g members/s, ETA %.0f s\n",
-          ENS_PROG, m->first + m->done, m->n, m->failed, rate,
-          rate > 0 ? (double)left / rate : 0.0);
+  fprintf(stderr, "%s: %zu/%zu members done (%zu failed), %.4g members/s, ETA %.0f s\n", ENS_PROG,
+          m->first + m->done, m->n, m->failed, rate, rate > 0 ? (double)left / rate : 0.0);
 }
 
 /* keeps the row of member i (a line of text, newline included) */
@@ -162,8 +162,15 @@ static int master_loop(master *m) {
 
 static int run_master(const ens_job *job, void *args, FILE *out, size_t first, int ranks) {
   size_t nw = ranks > 1 ? (size_t)ranks - 1 : 1;
-  master m = {.job = job, .args = args, .out = out, .ranks = ranks, .first = first,
-              .n = job->members.nrows, .next = first, .written = first, .t0 = MPI_Wtime()};
+  master m = {.job = job,
+              .args = args,
+              .out = out,
+              .ranks = ranks,
+              .first = first,
+              .n = job->members.nrows,
+              .next = first,
+              .written = first,
+              .t0 = MPI_Wtime()};
   m.reported = m.t0;
   m.rows = calloc(m.n - first + 1, sizeof *m.rows);
   m.queue = malloc(nw * IN_FLIGHT * sizeof *m.queue);

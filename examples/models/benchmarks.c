@@ -12,8 +12,7 @@ static void diagonal(const double *d, size_t n, double *M) {
 }
 
 /* dc/dt = 0: the constraints of the slider crank and of Andrews' mechanism are fixed in time */
-static int fixed_constraint_t(double t, const double *q, double *ct, void *params,
-                              size_t n_c) {
+static int fixed_constraint_t(double t, const double *q, double *ct, void *params, size_t n_c) {
   (void)t, (void)q, (void)params;
   memset(ct, 0, n_c * sizeof *ct);
   return 0;
@@ -88,8 +87,7 @@ static int crank_constraint_t(double t, const double *q, double *ct, void *param
   return fixed_constraint_t(t, q, ct, params, 2);
 }
 
-static int crank_mass_dot_v(double t, const double *q, const double *v, double *out,
-                            void *params) {
+static int crank_mass_dot_v(double t, const double *q, const double *v, double *out, void *params) {
   (void)t, (void)q, (void)v, (void)params;
   constant_mass_dot_v(3, out);
   return 0;
@@ -131,15 +129,22 @@ static int crank_damping(double t, const double *q, double *D, void *params) {
 }
 
 bench_slider_crank bench_slider_crank_default(void) {
-  return (bench_slider_crank){.a = 0.5, .J1 = 1.0, .m2 = 1.0, .J2 = 2.0, .k = 1.0, .c = 1.0,
-                              .l0 = 1.0, .F = 1.0};
+  return (bench_slider_crank){
+      .a = 0.5, .J1 = 1.0, .m2 = 1.0, .J2 = 2.0, .k = 1.0, .c = 1.0, .l0 = 1.0, .F = 1.0};
 }
 
 void bench_slider_crank_system(sdae_mbs *sys, bench_slider_crank *p) {
-  *sys = (sdae_mbs){.n_q = 3, .n_c = 2, .mass = crank_mass, .force = crank_force,
-                    .constraint = crank_constraint, .jacobian = crank_jacobian,
-                    .constraint_t = crank_constraint_t, .potential = crank_potential,
-                    .damping = crank_damping, .params = p, .mass_dot_v = crank_mass_dot_v,
+  *sys = (sdae_mbs){.n_q = 3,
+                    .n_c = 2,
+                    .mass = crank_mass,
+                    .force = crank_force,
+                    .constraint = crank_constraint,
+                    .jacobian = crank_jacobian,
+                    .constraint_t = crank_constraint_t,
+                    .potential = crank_potential,
+                    .damping = crank_damping,
+                    .params = p,
+                    .mass_dot_v = crank_mass_dot_v,
                     .jacobian_dot = crank_jacobian_dot,
                     .constraint_t_dot = crank_constraint_t_dot};
 }
@@ -182,8 +187,7 @@ static int car_mass(double t, const double *q, double *M, void *params) {
 }
 
 /* a spring of rest length L0 from the anchor to the end, and gravity k g: F = (L0 - len) u */
-static int car_spring(const bench_car_axis *p, const double *end, const double *anchor,
-                      double *F) {
+static int car_spring(const bench_car_axis *p, const double *end, const double *anchor, double *F) {
   double dx = end[0] - anchor[0], dy = end[1] - anchor[1], len = hypot(dx, dy);
   if (!(len > 0)) return 1;
   F[0] = (p->L0 - len) * dx / len;
@@ -227,8 +231,7 @@ static int car_constraint_t(double t, const double *q, double *ct, void *params)
   return 0;
 }
 
-static int car_mass_dot_v(double t, const double *q, const double *v, double *out,
-                          void *params) {
+static int car_mass_dot_v(double t, const double *q, const double *v, double *out, void *params) {
   (void)t, (void)q, (void)v, (void)params;
   constant_mass_dot_v(4, out);
   return 0;
@@ -260,15 +263,21 @@ static int car_constraint_t_dot(double t, const double *q, const double *v, doub
 }
 
 bench_car_axis bench_car_axis_default(void) {
-  return (bench_car_axis){.eps = 1e-2, .mass = 10.0, .L = 1.0, .L0 = 0.5, .r = 0.1, .w = 10.0,
-                          .g = 1.0};
+  return (bench_car_axis){
+      .eps = 1e-2, .mass = 10.0, .L = 1.0, .L0 = 0.5, .r = 0.1, .w = 10.0, .g = 1.0};
 }
 
 void bench_car_axis_system(sdae_mbs *sys, bench_car_axis *p) {
-  *sys = (sdae_mbs){.n_q = 4, .n_c = 2, .mass = car_mass, .force = car_force,
-                    .constraint = car_constraint, .jacobian = car_jacobian,
-                    .constraint_t = car_constraint_t, .params = p,
-                    .mass_dot_v = car_mass_dot_v, .jacobian_dot = car_jacobian_dot,
+  *sys = (sdae_mbs){.n_q = 4,
+                    .n_c = 2,
+                    .mass = car_mass,
+                    .force = car_force,
+                    .constraint = car_constraint,
+                    .jacobian = car_jacobian,
+                    .constraint_t = car_constraint_t,
+                    .params = p,
+                    .mass_dot_v = car_mass_dot_v,
+                    .jacobian_dot = car_jacobian_dot,
                     .constraint_t_dot = car_constraint_t_dot};
 }
 
@@ -282,15 +291,48 @@ void bench_car_axis_initial(const bench_car_axis *p, double *q, double *v) {
 /* ---- Andrews' squeezing mechanism ---------------------------------------------------------- */
 
 void bench_andrews_default(bench_andrews *p) {
-  *p = (bench_andrews){
-      .m1 = 0.04325, .m2 = 0.00365, .m3 = 0.02373, .m4 = 0.00706, .m5 = 0.07050,
-      .m6 = 0.00706, .m7 = 0.05498, .xa = -0.06934, .ya = -0.00227, .xb = -0.03635,
-      .yb = 0.03273, .xc = 0.014, .yc = 0.072, .c0 = 4530, .i1 = 2.194e-6, .i2 = 4.410e-7,
-      .i3 = 5.255e-6, .i4 = 5.667e-7, .i5 = 1.169e-5, .i6 = 5.667e-7, .i7 = 1.912e-5,
-      .d = 28e-3, .da = 115e-4, .e = 2e-2, .ea = 1421e-5, .rr = 7e-3, .ra = 92e-5,
-      .l0 = 7785e-5, .ss = 35e-3, .sa = 1874e-5, .sb = 1043e-5, .sc = 18e-3, .sd = 2e-2,
-      .ta = 2308e-5, .tb = 916e-5, .u = 4e-2, .ua = 1228e-5, .ub = 449e-5, .zf = 2e-2,
-      .zt = 4e-2, .fa = 1421e-5, .mom = 33e-3};
+  *p = (bench_andrews){.m1 = 0.04325,
+                       .m2 = 0.00365,
+                       .m3 = 0.02373,
+                       .m4 = 0.00706,
+                       .m5 = 0.07050,
+                       .m6 = 0.00706,
+                       .m7 = 0.05498,
+                       .xa = -0.06934,
+                       .ya = -0.00227,
+                       .xb = -0.03635,
+                       .yb = 0.03273,
+                       .xc = 0.014,
+                       .yc = 0.072,
+                       .c0 = 4530,
+                       .i1 = 2.194e-6,
+                       .i2 = 4.410e-7,
+                       .i3 = 5.255e-6,
+                       .i4 = 5.667e-7,
+                       .i5 = 1.169e-5,
+                       .i6 = 5.667e-7,
+                       .i7 = 1.912e-5,
+                       .d = 28e-3,
+                       .da = 115e-4,
+                       .e = 2e-2,
+                       .ea = 1421e-5,
+                       .rr = 7e-3,
+                       .ra = 92e-5,
+                       .l0 = 7785e-5,
+                       .ss = 35e-3,
+                       .sa = 1874e-5,
+                       .sb = 1043e-5,
+                       .sc = 18e-3,
+                       .sd = 2e-2,
+                       .ta = 2308e-5,
+                       .tb = 916e-5,
+                       .u = 4e-2,
+                       .ua = 1228e-5,
+                       .ub = 449e-5,
+                       .zf = 2e-2,
+                       .zt = 4e-2,
+                       .fa = 1421e-5,
+                       .mom = 33e-3};
 }
 
 static int andrews_mass(double t, const double *q, double *M, void *params) {
@@ -299,8 +341,8 @@ static int andrews_mass(double t, const double *q, double *M, void *params) {
   double siph = sin(q[3]), siom = sin(q[5]);
   (void)t;
   memset(M, 0, 49 * sizeof *M);
-  M[0] = p->m1 * p->ra * p->ra + p->m2 * (p->rr * p->rr - 2 * p->da * p->rr * coth +
-                                         p->da * p->da) + p->i1 + p->i2;
+  M[0] = p->m1 * p->ra * p->ra +
+         p->m2 * (p->rr * p->rr - 2 * p->da * p->rr * coth + p->da * p->da) + p->i1 + p->i2;
   M[1] = M[7] = p->m2 * (p->da * p->da - p->da * p->rr * coth) + p->i2;
   M[8] = p->m2 * p->da * p->da + p->i2;
   M[16] = p->m3 * (p->sa * p->sa + p->sb * p->sb) + p->i3;
@@ -452,22 +494,27 @@ static int andrews_potential(double t, const double *q, double *V, void *params)
 }
 
 void bench_andrews_system(sdae_mbs *sys, bench_andrews *p) {
-  *sys = (sdae_mbs){.n_q = 7, .n_c = 6, .mass = andrews_mass, .force = andrews_force,
-                    .constraint = andrews_constraint, .jacobian = andrews_jacobian,
-                    .constraint_t = andrews_constraint_t, .potential = andrews_potential,
-                    .params = p, .mass_dot_v = andrews_mass_dot_v,
+  *sys = (sdae_mbs){.n_q = 7,
+                    .n_c = 6,
+                    .mass = andrews_mass,
+                    .force = andrews_force,
+                    .constraint = andrews_constraint,
+                    .jacobian = andrews_jacobian,
+                    .constraint_t = andrews_constraint_t,
+                    .potential = andrews_potential,
+                    .params = p,
+                    .mass_dot_v = andrews_mass_dot_v,
                     .jacobian_dot = andrews_jacobian_dot,
                     .constraint_t_dot = andrews_constraint_t_dot};
 }
 
 void bench_andrews_initial(double *q, double *v) {
   /* the Test Set's init (Hairer and Wanner II, VII.7): a consistent position at rest */
-  static const double q0[7] = {-0.0617138900142764496358948458001, 0.0,
-                               0.455279819163070380255912382449,
-                               0.222668390165885884674473185609,
-                               0.487364979543842550225598953530,
-                               -0.222668390165885884674473185609,
-                               1.23054744454982119249735015568};
+  static const double q0[7] = {
+      -0.0617138900142764496358948458001, 0.0,
+      0.455279819163070380255912382449,   0.222668390165885884674473185609,
+      0.487364979543842550225598953530,   -0.222668390165885884674473185609,
+      1.23054744454982119249735015568};
   memcpy(q, q0, sizeof q0);
   memset(v, 0, 7 * sizeof *v);
 }
@@ -476,11 +523,11 @@ void bench_andrews_initial(double *q, double *v) {
 
 /* car axis at t = 3: xl, yl, xr, yr, their velocities, lam1, lam2 (RADAU5 at tight
  * tolerances) */
-static const double car_axis_ref[10] = {
-    0.493455784275402809122e-1,  0.496989460230171153861,     0.104174252488542151681e1,
-    0.373911027265361256927,     -0.770583684040972357970e-1, 0.744686658723778553466e-2,
-    0.175568157537232222276e-1,  0.770341043779251976443,     -0.473688659084893324729e-2,
-    -0.110468033125734368808e-2};
+static const double car_axis_ref[10] = {0.493455784275402809122e-1,  0.496989460230171153861,
+                                        0.104174252488542151681e1,   0.373911027265361256927,
+                                        -0.770583684040972357970e-1, 0.744686658723778553466e-2,
+                                        0.175568157537232222276e-1,  0.770341043779251976443,
+                                        -0.473688659084893324729e-2, -0.110468033125734368808e-2};
 
 void bench_car_axis_reference(double *q, double *v, double *lambda) {
   memcpy(q, car_axis_ref, 4 * sizeof *q);
@@ -492,13 +539,11 @@ void bench_car_axis_reference(double *q, double *v, double *lambda) {
  * multipliers; PSIDE at tolerances 1e-14 (Cray C90), good to about 1e-10 in positions and 3e-8
  * in velocities */
 static const double andrews_ref[20] = {
-    0.1581077119629904e+2,  -0.1575637105984298e+2, 0.4082224013073101e-1,
-    -0.5347301163226948e+0, 0.5244099658805304e+0,  0.5347301163226948e+0,
-    0.1048080741042263e+1,  0.1139920302151208e+4,  -0.1424379294994111e+4,
-    0.1103291221937134e+2,  0.1929337464421385e+2,  0.5735699284790808e+0,
-    -0.1929337464421385e+2, 0.3231791658026955e+0,  0.1991753333731910e+3,
-    -0.2975531228015052e+2, 0.2306654119098399e+2,  0.3145271365475927e+2,
-    0.2264249232082739e+2,  0.1161740700019673e+2};
+    0.1581077119629904e+2,  -0.1575637105984298e+2, 0.4082224013073101e-1, -0.5347301163226948e+0,
+    0.5244099658805304e+0,  0.5347301163226948e+0,  0.1048080741042263e+1, 0.1139920302151208e+4,
+    -0.1424379294994111e+4, 0.1103291221937134e+2,  0.1929337464421385e+2, 0.5735699284790808e+0,
+    -0.1929337464421385e+2, 0.3231791658026955e+0,  0.1991753333731910e+3, -0.2975531228015052e+2,
+    0.2306654119098399e+2,  0.3145271365475927e+2,  0.2264249232082739e+2, 0.1161740700019673e+2};
 
 void bench_andrews_reference(double *q, double *v, double *lambda) {
   memcpy(q, andrews_ref, 7 * sizeof *q);

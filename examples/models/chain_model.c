@@ -28,8 +28,8 @@
 static double cube(double v) { return v * v * v; }
 
 /* F_i at positions X and velocities V, read with a stride (x and mu store them interleaved) */
-static double chain_force(const chain_params *p, const double *X, const double *V,
-                          size_t stride, size_t i) {
+static double chain_force(const chain_params *p, const double *X, const double *V, size_t stride,
+                          size_t i) {
   double Xi = X[i * stride];
   double F = -p->k * cube(Xi) - p->d * V[i * stride];
   if (i + 1 < p->N) F += p->kc * cube(X[(i + 1) * stride] - Xi);
@@ -112,8 +112,8 @@ static double bond_secant(const double *xi, const double *mu, size_t j) {
   return u * u + u * D + D * D;
 }
 
-static int chain_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                         double *qnorm2, void *params) {
+static int chain_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                         void *params) {
   const chain_params *p = params;
   (void)t;
   double s_left = 0.0; /* s_{i-1}; 0 before the first mass */
@@ -177,7 +177,6 @@ static int chain_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-
 void chain_model_free(chain_params *p) {
   free(p->rel_degree);
   p->rel_degree = NULL;
@@ -204,8 +203,7 @@ static int chain_grad_H(double t, const double *mu, double *out, void *params) {
 }
 
 /* S v with S = block-diag([[0, 1/m], [-1/m, -d/m^2]]), in O(N) */
-static int chain_S_apply(double t, const double *mu, const double *v, double *out,
-                         void *params) {
+static int chain_S_apply(double t, const double *mu, const double *v, double *out, void *params) {
   const chain_params *p = params;
   (void)t;
   (void)mu;

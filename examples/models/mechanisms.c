@@ -128,16 +128,20 @@ int mech_pendulum_damping(double t, const double *q, double *D, void *params) {
 }
 
 void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p) {
-  *sys = (sdae_mbs){.n_q = 2, .n_c = 1, .mass = mech_pendulum_mass,
-                    .force = mech_pendulum_force, .constraint = mech_pendulum_constraint,
-                    .jacobian = mech_pendulum_jacobian, .potential = mech_pendulum_potential,
-                    .damping = p->d != 0.0 ? mech_pendulum_damping : NULL, .params = p,
+  *sys = (sdae_mbs){.n_q = 2,
+                    .n_c = 1,
+                    .mass = mech_pendulum_mass,
+                    .force = mech_pendulum_force,
+                    .constraint = mech_pendulum_constraint,
+                    .jacobian = mech_pendulum_jacobian,
+                    .potential = mech_pendulum_potential,
+                    .damping = p->d != 0.0 ? mech_pendulum_damping : NULL,
+                    .params = p,
                     .mass_dot_v = mech_pendulum_mass_dot_v,
                     .jacobian_dot = mech_pendulum_jacobian_dot};
 }
 
-void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q,
-                         double *v) {
+void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q, double *v) {
   q[0] = p->L * sin(theta), q[1] = -p->L * cos(theta);
   v[0] = p->L * cos(theta) * omega, v[1] = p->L * sin(theta) * omega;
 }
@@ -192,8 +196,7 @@ static int dpend_jacobian(double t, const double *q, double *G, void *params) {
   return 0;
 }
 
-static int dpend_mass_dot_v(double t, const double *q, const double *v, double *out,
-                            void *params) {
+static int dpend_mass_dot_v(double t, const double *q, const double *v, double *out, void *params) {
   (void)t, (void)q, (void)v, (void)params;
   constant_mass_dot_v(4, out);
   return 0;
@@ -216,10 +219,16 @@ static int dpend_potential(double t, const double *q, double *V, void *params) {
 }
 
 void mech_double_pendulum_system(sdae_mbs *sys, mech_double_pendulum *p) {
-  *sys = (sdae_mbs){.n_q = 4, .n_c = 2, .mass = dpend_mass, .force = dpend_force,
-                    .constraint = dpend_constraint, .jacobian = dpend_jacobian,
-                    .potential = dpend_potential, .params = p,
-                    .mass_dot_v = dpend_mass_dot_v, .jacobian_dot = dpend_jacobian_dot};
+  *sys = (sdae_mbs){.n_q = 4,
+                    .n_c = 2,
+                    .mass = dpend_mass,
+                    .force = dpend_force,
+                    .constraint = dpend_constraint,
+                    .jacobian = dpend_jacobian,
+                    .potential = dpend_potential,
+                    .params = p,
+                    .mass_dot_v = dpend_mass_dot_v,
+                    .jacobian_dot = dpend_jacobian_dot};
 }
 
 void mech_double_pendulum_state(const mech_double_pendulum *p, const double *a, const double *w,
@@ -257,9 +266,9 @@ static int fourbar_constraint(double t, const double *q, double *c, void *params
   const mech_fourbar *p = params;
   const double D[2] = {p->d, 0.0};
   (void)t;
-  c[0] = half_sq(q, origin, p->a);  /* crank AB */
-  c[1] = half_sq(q + 2, q, p->b);   /* coupler BC */
-  c[2] = half_sq(q + 2, D, p->e);   /* rocker CD */
+  c[0] = half_sq(q, origin, p->a); /* crank AB */
+  c[1] = half_sq(q + 2, q, p->b);  /* coupler BC */
+  c[2] = half_sq(q + 2, D, p->e);  /* rocker CD */
   return 0;
 }
 
@@ -299,14 +308,19 @@ static int fourbar_potential(double t, const double *q, double *V, void *params)
 }
 
 void mech_fourbar_system(sdae_mbs *sys, mech_fourbar *p) {
-  *sys = (sdae_mbs){.n_q = 4, .n_c = 3, .mass = fourbar_mass, .force = fourbar_force,
-                    .constraint = fourbar_constraint, .jacobian = fourbar_jacobian,
-                    .potential = fourbar_potential, .params = p,
-                    .mass_dot_v = fourbar_mass_dot_v, .jacobian_dot = fourbar_jacobian_dot};
+  *sys = (sdae_mbs){.n_q = 4,
+                    .n_c = 3,
+                    .mass = fourbar_mass,
+                    .force = fourbar_force,
+                    .constraint = fourbar_constraint,
+                    .jacobian = fourbar_jacobian,
+                    .potential = fourbar_potential,
+                    .params = p,
+                    .mass_dot_v = fourbar_mass_dot_v,
+                    .jacobian_dot = fourbar_jacobian_dot};
 }
 
-int mech_fourbar_state(const mech_fourbar *p, double theta, double omega, double *q,
-                       double *v) {
+int mech_fourbar_state(const mech_fourbar *p, double theta, double omega, double *q, double *v) {
   double Bx = p->a * cos(theta), By = p->a * sin(theta);
   double ux = p->d - Bx, uy = -By, r = hypot(ux, uy);
   /* C on both circles |C - B| = b, |C - D| = e: along B->D by s, then h to the left */

@@ -25,15 +25,13 @@ int mech_pendulum_mass(double t, const double *q, double *M, void *params);
 int mech_pendulum_force(double t, const double *q, const double *v, double *F, void *params);
 int mech_pendulum_constraint(double t, const double *q, double *c, void *params);
 int mech_pendulum_jacobian(double t, const double *q, double *G, void *params);
-int mech_pendulum_mass_dot_v(double t, const double *q, const double *v, double *out,
-                             void *params);
+int mech_pendulum_mass_dot_v(double t, const double *q, const double *v, double *out, void *params);
 int mech_pendulum_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
                                void *params);
 int mech_pendulum_potential(double t, const double *q, double *V, void *params);
 int mech_pendulum_damping(double t, const double *q, double *D, void *params);
 /* (q, v) at the angle theta turning at omega: on the circle, v tangent to it. */
-void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q,
-                         double *v);
+void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q, double *v);
 /* The exact undamped swing from rest at theta0 (Jacobi elliptic functions): theta(t), omega(t). */
 void mech_pendulum_exact(const mech_pendulum *p, double theta0, double t, double *theta,
                          double *omega);

@@ -86,7 +86,6 @@ static int osc_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-
 /* ---- maps --------------------------------------------------------------------------------- */
 
 static int osc_H(double t, const double *mu, double *out, void *params) {
@@ -125,8 +124,8 @@ static int osc_S(double t, const double *mu, double *out, void *params) {
 }
 
 /* The paper's phi_T of Section IV, second row divided by m (erratum 3) */
-static int osc_paper_phi(double t, double T, const double *mu, const double *mu_next,
-                         double *out, void *params) {
+static int osc_paper_phi(double t, double T, const double *mu, const double *mu_next, double *out,
+                         void *params) {
   const osc_params *p = params;
   double a = mu_next[0], b = mu[0];
   (void)t;
@@ -198,6 +197,6 @@ static int dae_Phi_inv(double t, const double *z, double *x, void *params) {
 }
 
 void osc_dae_spec(sdae_dae *d, osc_params *p) {
-  *d = (sdae_dae){.n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi,
-                  .Phi_inv = dae_Phi_inv, .params = p};
+  *d = (sdae_dae){
+      .n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi, .Phi_inv = dae_Phi_inv, .params = p};
 }

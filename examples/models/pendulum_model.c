@@ -104,7 +104,6 @@ static int pend_q0_jac(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-
 static int pend_H_cb(double t, const double *mu, double *out, void *params) {
   (void)t;
   out[0] = pend_H(params, mu);
@@ -183,6 +182,6 @@ static int dae_Phi_inv(double t, const double *z, double *x, void *params) {
 }
 
 void pend_dae_spec(sdae_dae *d, pend_params *p) {
-  *d = (sdae_dae){.n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi,
-                  .Phi_inv = dae_Phi_inv, .params = p};
+  *d = (sdae_dae){
+      .n = 4, .m = 1, .f = dae_f, .g = dae_g, .Phi = dae_Phi, .Phi_inv = dae_Phi_inv, .params = p};
 }

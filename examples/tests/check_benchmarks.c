@@ -94,8 +94,7 @@ static double potential_of(const double *q, const void *ctx) {
 static double ida_spring_length(const double *q, const void *ctx) {
   (void)ctx;
   double a = 0.5, x = q[1];
-  return sqrt(x * x - x * (cos(q[2]) + a * cos(q[0])) + (1 + a * a) / 4 +
-              a * cos(q[2] - q[0]) / 2);
+  return sqrt(x * x - x * (cos(q[2]) + a * cos(q[0])) + (1 + a * a) / 4 + a * cos(q[2] - q[0]) / 2);
 }
 
 /* The slider crank's potential, damping and force against idaSlCrank_dns's spring (k = c =
@@ -136,7 +135,9 @@ END_TEST
 /* The car axis' force is the gradient of the Test Set's spring energy and gravity at a fixed
  * time, V_t = (|ql| - L0)^2/2 + (|qr - b(t)| - L0)^2/2 + k g (yl + yr), b(t) the wheel
  * (sqrt(L^2 - yb^2), r sin(w t)); M = k I with k = 10 (1e-2)^2/2 = 5e-4 */
-typedef struct car_at { double t; } car_at;
+typedef struct car_at {
+  double t;
+} car_at;
 
 static double car_energy(const double *q, const void *ctx) {
   double t = ((const car_at *)ctx)->t, yb = 0.1 * sin(10 * t), xb = sqrt(1 - yb * yb);
@@ -299,8 +300,8 @@ END_TEST
  * relative; measured at most 9e-9, the car axis' dc/dt at t = 3, where the check's step in t
  * grows with |t| while the road keeps its period 2 pi / w = 0.63), far inside tol = 1e-6 that
  * a wrong term would exceed */
-static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q,
-                                     const double *v, unsigned given) {
+static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q, const double *v,
+                                     unsigned given) {
   sdae_mbs_check_report r;
   ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
   ck_assert_uint_eq(r.checked, given);
@@ -359,8 +360,7 @@ END_TEST
 
 /* A copy of a mechanism with one entry of one derivative along the motion of the wrong sign
  * (the three share a signature): the sign error a hand derivation makes most easily. */
-typedef int (*along_motion)(double t, const double *q, const double *v, double *out,
-                            void *params);
+typedef int (*along_motion)(double t, const double *q, const double *v, double *out, void *params);
 static along_motion true_derivative;
 static size_t flipped_entry;
 
@@ -421,8 +421,8 @@ END_TEST
 /* ---- integrated through the front-end ------------------------------------------------------ */
 
 typedef struct run_result {
-  double E0, E1;    /* the energy at the start and the end */
-  double rise;      /* the largest E(k + 1) - E(k) over the steps */
+  double E0, E1; /* the energy at the start and the end */
+  double rise;   /* the largest E(k + 1) - E(k) over the steps */
   double lambda[NC];
 } run_result;
 
@@ -532,8 +532,8 @@ START_TEST(test_slider_crank_order) {
     end_state(&b.sys[0], sdae_map_dgrad, 0.01 / (1 << k), 10.0, y[k], &res);
   for (size_t g = 0; g < 3; g++) { /* q, v, lambda */
     size_t from = 3 * g, to = g == 2 ? 8 : 3 * g + 3;
-    ck_assert_double_eq_tol(max_diff(y[0], y[1], from, to) / max_diff(y[1], y[2], from, to),
-                            4.0, 0.5);
+    ck_assert_double_eq_tol(max_diff(y[0], y[1], from, to) / max_diff(y[1], y[2], from, to), 4.0,
+                            0.5);
   }
 }
 END_TEST

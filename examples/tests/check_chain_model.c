@@ -141,8 +141,8 @@ START_TEST(test_banded_jacobian) {
       if (off < -CHAIN_JAC_LOWER || off > CHAIN_JAC_UPPER)
         ck_assert_double_eq_tol(fd, 0.0, 1e-9); /* the declared band holds the whole matrix */
       else
-        ck_assert_double_eq_tol(band[row * CHAIN_JAC_WIDTH + (size_t)(off + CHAIN_JAC_LOWER)],
-                                fd, 1e-7);
+        ck_assert_double_eq_tol(band[row * CHAIN_JAC_WIDTH + (size_t)(off + CHAIN_JAC_LOWER)], fd,
+                                1e-7);
     }
   }
   chain_model_free(&p);

@@ -126,7 +126,10 @@ END_TEST
 
 /* s + l <= p + q with the crank shortest: (a, b, e, d) */
 START_TEST(test_grashof) {
-  const struct { double a, b, e, d; int crank_rocker; } cases[] = {
+  const struct {
+    double a, b, e, d;
+    int crank_rocker;
+  } cases[] = {
       {1, 4, 3, 4.5, 1},   /* 5.5 <= 7 */
       {2.5, 4, 3, 4.5, 1}, /* 7 <= 7: the change point still counts */
       {2.6, 4, 3, 4.5, 0}, /* 7.1 > 6.9 */
@@ -144,15 +147,14 @@ END_TEST
 
 /* what every one of these mechanisms gives: G, (d/ds M) v, d/ds G, and a potential (so the
  * force is checked against -dV/dq, the Lagrangian's velocity terms, 0 here, and -D v) */
-static const unsigned point_masses_given =
-    1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V | 1u << SDAE_MBS_JACOBIAN_DOT |
-    1u << SDAE_MBS_FORCE;
+static const unsigned point_masses_given = 1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V |
+                                           1u << SDAE_MBS_JACOBIAN_DOT | 1u << SDAE_MBS_FORCE;
 
 /* every derivative given agrees with the check's fourth-order differences, which are good to
  * about 1e-9 relative (c is quadratic and M constant here: to rounding, measured <= 2.1e-13),
  * far inside tol = 1e-6 that a wrong term would exceed */
-static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q,
-                                     const double *v, unsigned given) {
+static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q, const double *v,
+                                     unsigned given) {
   sdae_mbs_check_report r;
   ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
   ck_assert_uint_eq(r.checked, given);

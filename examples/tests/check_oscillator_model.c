@@ -9,8 +9,7 @@
 #include "oscillator_model.h"
 #include "test_util.h"
 
-static const osc_params paper = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81,
-                                   .q = OSC_Q_CORRECTED};
+static const osc_params paper = {.k = 2.0, .d = 0.03, .m = 1.0, .ga = 9.81, .q = OSC_Q_CORRECTED};
 
 static void random_state(gsl_rng *r, double *x) {
   x[0] = tu_flat(r, -1.5, 1.5);
@@ -19,9 +18,7 @@ static void random_state(gsl_rng *r, double *x) {
   x[3] = tu_flat(r, -2.0, 2.0);
 }
 
-static void phi_z(const double *x, double *z, const void *ctx) {
-  osc_to_coords(ctx, x, z, z + 2);
-}
+static void phi_z(const double *x, double *z, const void *ctx) { osc_to_coords(ctx, x, z, z + 2); }
 
 START_TEST(test_coordinates_invert) {
   gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);

@@ -31,9 +31,8 @@ typedef struct sdae_certificate {
  * workspace comes from the stepper's allocator (sdae_stepper_alloc_with; malloc otherwise) and
  * is given back before the call returns; SDAE_ERR_NOMEM when there is none, and then *c, sup_i
  * and argmax are untouched (as on every failure). */
-SDAE_API int sdae_certify_box(struct sdae_stepper *s, double t, const double *lo,
-                              const double *hi, unsigned grid, double *sup_i, double *argmax,
-                              sdae_certificate *c);
+SDAE_API int sdae_certify_box(struct sdae_stepper *s, double t, const double *lo, const double *hi,
+                              unsigned grid, double *sup_i, double *argmax, sdae_certificate *c);
 
 /* Condition (18), (W(mu+) - W(mu))/T <= gamma W(mu), and the left side of (17), measured along
  * a trajectory by the observer sdae_cond18_observe (data: the sdae_cond18). */

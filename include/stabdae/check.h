@@ -16,18 +16,18 @@ extern "C" {
 #endif
 
 typedef enum sdae_check_kind {
-  SDAE_CHECK_INVERSE = 0,  /* Phi(Phi^-1(z)) = z */
-  SDAE_CHECK_LG = 1,       /* L_g phi_j = 0 for mu and all but the last of each xi chain */
-  SDAE_CHECK_CHAIN = 2,    /* L_f xi_j = xi_{j+1} along each chain */
-  SDAE_CHECK_DYNAMICS = 3  /* q0(mu) + Q(xi, mu) xi = L_f mu(Phi^-1(xi, mu)) */
+  SDAE_CHECK_INVERSE = 0, /* Phi(Phi^-1(z)) = z */
+  SDAE_CHECK_LG = 1,      /* L_g phi_j = 0 for mu and all but the last of each xi chain */
+  SDAE_CHECK_CHAIN = 2,   /* L_f xi_j = xi_{j+1} along each chain */
+  SDAE_CHECK_DYNAMICS = 3 /* q0(mu) + Q(xi, mu) xi = L_f mu(Phi^-1(xi, mu)) */
 } sdae_check_kind;
 
 typedef struct sdae_check_report {
-  size_t points;        /* points checked */
-  double residual[4];   /* the worst residual of each check, relative to its terms' size */
-  int worst_check;      /* the check with the largest residual */
-  size_t worst_index;   /* the component of z where it was found */
-  int consistent;       /* every residual <= tol */
+  size_t points;      /* points checked */
+  double residual[4]; /* the worst residual of each check, relative to its terms' size */
+  int worst_check;    /* the check with the largest residual */
+  size_t worst_index; /* the component of z where it was found */
+  int consistent;     /* every residual <= tol */
 } sdae_check_report;
 
 /* At npoints random points of the box lo <= z <= hi (seeded, reproducible) checks the model

@@ -25,7 +25,7 @@ typedef struct sdae_mbs {
   size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
   int (*mass)(double t, const double *q, double *M, void *params); /* n_q x n_q, SPD */
   int (*force)(double t, const double *q, const double *v, double *F, void *params); /* n_q */
-  int (*constraint)(double t, const double *q, double *c, void *params);            /* n_c */
+  int (*constraint)(double t, const double *q, double *c, void *params);             /* n_c */
   /* optional: dc/dq, n_c x n_q; NULL: fourth-order central differences of c. Without it the
    * mu-dynamics difference those differences again (dG/dt), good to about 1e-10 only: an
    * implicit map's Newton then stops at SDAE_MBS_FD_NEWTON_TOL if newton_tol is smaller */
@@ -49,8 +49,7 @@ typedef struct sdae_mbs {
   /* n_c x n_q, row-major: d/ds G(t + s, q + s v); with it, jacobian is needed too */
   int (*jacobian_dot)(double t, const double *q, const double *v, double *Gdot, void *params);
   /* n_c values: d/ds (dc/dt)(t + s, q + s v); used with constraint_t */
-  int (*constraint_t_dot)(double t, const double *q, const double *v, double *out,
-                          void *params);
+  int (*constraint_t_dot)(double t, const double *q, const double *v, double *out, void *params);
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure
@@ -77,18 +76,18 @@ typedef struct sdae_mbs_stepper sdae_mbs_stepper;
  * failed step counts nothing). sdae_mbs_stepper_reset_stats zeroes the counters, not the
  * current chart's measure. */
 typedef struct sdae_mbs_stats {
-  sdae_stats step;               /* the normal form's stepper: steps, Newton, phi evaluations */
-  unsigned long chart_switches;  /* charts replaced at step boundaries (the first one is not) */
-  unsigned long phi_inv_iters;   /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
-  double chart_measure;          /* max |G_D^-1 G_I| of the current chart where it was chosen */
+  sdae_stats step;              /* the normal form's stepper: steps, Newton, phi evaluations */
+  unsigned long chart_switches; /* charts replaced at step boundaries (the first one is not) */
+  unsigned long phi_inv_iters;  /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
+  double chart_measure;         /* max |G_D^-1 G_I| of the current chart where it was chosen */
 } sdae_mbs_stats;
 
 /* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid. */
 SDAE_API size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o);
 /* Builds the stepper in the caller's block (no malloc); sys and o are copied. On failure *s is
  * left as it was. SDAE_ERR_MAP for a discrete-gradient map without potential. */
-SDAE_API int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len,
-                                   const sdae_mbs *sys, const sdae_options *o);
+SDAE_API int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sdae_mbs *sys,
+                                   const sdae_options *o);
 SDAE_API int sdae_mbs_stepper_alloc(sdae_mbs_stepper **s, const sdae_mbs *sys,
                                     const sdae_options *o);
 /* As sdae_mbs_stepper_alloc, the block from the allocator a (NULL: malloc). */
@@ -137,13 +136,13 @@ typedef enum sdae_mbs_derivative {
 #define SDAE_MBS_DERIVATIVES 6
 
 typedef struct sdae_mbs_check_report {
-  unsigned checked;             /* bit k set: derivative k was given and compared */
+  unsigned checked;                      /* bit k set: derivative k was given and compared */
   double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst entry: what |given - differences|
                                           * exceeds the differences' rounding by, relative to
                                           * the entry (0 when not given; Inf for a NaN) */
-  int worst;                    /* the derivative with the largest mismatch; -1: none given */
-  size_t worst_index;           /* its entry (row-major) where that mismatch is */
-  int consistent;               /* every mismatch <= tol */
+  int worst;          /* the derivative with the largest mismatch; -1: none given */
+  size_t worst_index; /* its entry (row-major) where that mismatch is */
+  int consistent;     /* every mismatch <= tol */
 } sdae_mbs_check_report;
 
 /* Compares every derivative the mechanism gives with fourth-order central differences of the
@@ -160,9 +159,8 @@ typedef struct sdae_mbs_check_report {
  * it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
 SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v,
                             double tol, sdae_mbs_check_report *r);
-SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q,
-                                 const double *v, double tol, const sdae_allocator *a,
-                                 sdae_mbs_check_report *r);
+SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
+                                 double tol, const sdae_allocator *a, sdae_mbs_check_report *r);
 
 /* Called with the state after step `step` (0: the initial one); non-zero stops the run. */
 typedef int (*sdae_mbs_observer)(size_t step, double t, const double *q, const double *v,

@@ -42,8 +42,8 @@ typedef struct sdae_model {
    * optionally d phi / d mu+ (n_mu x n_mu) */
   int (*user_phi)(double t, double T, const double *mu, const double *mu_next, double *out,
                   void *params);
-  int (*user_phi_jac)(double t, double T, const double *mu, const double *mu_next,
-                      double *out, void *params);
+  int (*user_phi_jac)(double t, double T, const double *mu, const double *mu_next, double *out,
+                      void *params);
 
   /* optional, needed by the baselines: the constraints and the relative degree of each; xi
    * holds (h_c, L_f h_c, ..., L_f^{r_c - 1} h_c) for c = 1..n_constraints, one after another */

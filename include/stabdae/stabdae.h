@@ -23,11 +23,11 @@
 #include <stddef.h>
 
 #include <stabdae/alloc.h>
-#include <stabdae/export.h>
-#include <stabdae/model.h>
 #include <stabdae/certify.h>
 #include <stabdae/check.h>
 #include <stabdae/dae.h>
+#include <stabdae/export.h>
+#include <stabdae/model.h>
 #include <stabdae/version.h>
 
 #ifdef __cplusplus
@@ -43,28 +43,28 @@ SDAE_API const char *sdae_version(void);
 
 typedef enum sdae_status {
   SDAE_OK = 0,
-  SDAE_STOPPED = 1,             /* sdae_integrate: the observer asked to stop */
-  SDAE_ERR_NULL = -1,           /* a required pointer is NULL */
-  SDAE_ERR_DIM = -2,            /* a dimension is zero or inconsistent */
-  SDAE_ERR_STEP = -3,           /* T <= 0 or not finite */
-  SDAE_ERR_PARAM = -4,          /* delta, epsilon, a tolerance or a gain out of range */
-  SDAE_ERR_OPTION = -5,         /* unknown scheme or stabilizer */
-  SDAE_ERR_STATE = -6,          /* xi or mu holds NaN or Inf on entry */
-  SDAE_ERR_CALLBACK_FATAL = -7, /* a user callback returned < 0 */
+  SDAE_STOPPED = 1,                   /* sdae_integrate: the observer asked to stop */
+  SDAE_ERR_NULL = -1,                 /* a required pointer is NULL */
+  SDAE_ERR_DIM = -2,                  /* a dimension is zero or inconsistent */
+  SDAE_ERR_STEP = -3,                 /* T <= 0 or not finite */
+  SDAE_ERR_PARAM = -4,                /* delta, epsilon, a tolerance or a gain out of range */
+  SDAE_ERR_OPTION = -5,               /* unknown scheme or stabilizer */
+  SDAE_ERR_STATE = -6,                /* xi or mu holds NaN or Inf on entry */
+  SDAE_ERR_CALLBACK_FATAL = -7,       /* a user callback returned < 0 */
   SDAE_ERR_CALLBACK_RECOVERABLE = -8, /* a user callback returned > 0 */
-  SDAE_ERR_NONFINITE = -9,      /* a callback wrote NaN/Inf, or the new state is not finite */
-  SDAE_ERR_SINGULAR = -10,      /* the Newton matrix I - T dphi/dmu+ is singular */
-  SDAE_ERR_NEWTON = -11,        /* Newton did not converge within the iteration cap */
-  SDAE_ERR_MAP = -12,           /* no map, or the map needs callbacks the model does not give */
-  SDAE_ERR_BUFFER = -13,        /* the caller's memory block is too small */
-  SDAE_ERR_NOMEM = -14,         /* an allocation failed */
-  SDAE_ERR_REL_DEGREE = -15,    /* the baselines need rel_degree, summing to n_xi */
-  SDAE_ERR_OVERFLOW = -16,      /* the workspace size does not fit in size_t */
+  SDAE_ERR_NONFINITE = -9,            /* a callback wrote NaN/Inf, or the new state is not finite */
+  SDAE_ERR_SINGULAR = -10,            /* the Newton matrix I - T dphi/dmu+ is singular */
+  SDAE_ERR_NEWTON = -11,              /* Newton did not converge within the iteration cap */
+  SDAE_ERR_MAP = -12,        /* no map, or the map needs callbacks the model does not give */
+  SDAE_ERR_BUFFER = -13,     /* the caller's memory block is too small */
+  SDAE_ERR_NOMEM = -14,      /* an allocation failed */
+  SDAE_ERR_REL_DEGREE = -15, /* the baselines need rel_degree, summing to n_xi */
+  SDAE_ERR_OVERFLOW = -16,   /* the workspace size does not fit in size_t */
   /* the front-ends (<stabdae/dae.h>, <stabdae/mbs.h>) */
-  SDAE_ERR_RANK = -17,          /* the constraints are dependent here: rank G < n_c */
-  SDAE_ERR_CHART = -18,         /* no usable chart: every choice of q_D is nearly singular */
-  SDAE_ERR_PHI_INV = -19,       /* Newton for Phi^-1 (x from (xi, mu)) did not converge */
-  SDAE_ERR_MASS = -20           /* the mass matrix is not symmetric positive definite */
+  SDAE_ERR_RANK = -17,    /* the constraints are dependent here: rank G < n_c */
+  SDAE_ERR_CHART = -18,   /* no usable chart: every choice of q_D is nearly singular */
+  SDAE_ERR_PHI_INV = -19, /* Newton for Phi^-1 (x from (xi, mu)) did not converge */
+  SDAE_ERR_MASS = -20     /* the mass matrix is not symmetric positive definite */
 } sdae_status;
 
 /* ---- options ------------------------------------------------------------------------------ */
@@ -80,8 +80,8 @@ typedef enum sdae_stabilizer {
   SDAE_STAB_BAUMGARTE = 2 /* as none, last = -sum_j alpha_j xi_j */
 } sdae_stabilizer;
 
-/* A map phi_T(mu, mu+) for the constrained motion: a static table of functions (src/maps/map.h), one
- * file per map. Each needs of the model what its comment says. */
+/* A map phi_T(mu, mu+) for the constrained motion: a static table of functions (src/maps/map.h),
+ * one file per map. Each needs of the model what its comment says. */
 typedef struct sdae_map_type sdae_map_type;
 
 SDAE_API extern const sdae_map_type *const sdae_map_euler;    /* "euler": q0(mu), explicit */
@@ -110,14 +110,14 @@ SDAE_API unsigned sdae_map_order(const sdae_map_type *map);
 
 /* The method: how the model is solved. The problem itself is the sdae_model. */
 typedef struct sdae_options {
-  sdae_scheme scheme;         /* default SDAE_SCHEME_SEMI_IMPLICIT */
-  double delta, epsilon;      /* eq. 6, both > 0; default 1, 1 */
-  const sdae_map_type *map;   /* default sdae_map_euler */
+  sdae_scheme scheme;       /* default SDAE_SCHEME_SEMI_IMPLICIT */
+  double delta, epsilon;    /* eq. 6, both > 0; default 1, 1 */
+  const sdae_map_type *map; /* default sdae_map_euler */
 
   /* Newton on R(mu+) = mu+ - mu - T (phi_T + Q xi): stop when the update is at most
    * newton_tol * (1 + ||mu+||_inf); at most newton_max_iter iterations */
-  double newton_tol;           /* default 1e-14 */
-  unsigned newton_max_iter;    /* default 20 */
+  double newton_tol;        /* default 1e-14 */
+  unsigned newton_max_iter; /* default 20 */
   /* 0 (default: dense), or b > 0 when d phi/d mu+ has at most b sub- and b super-diagonals
    * (true of the midpoint and discrete-gradient maps when q0, S and grad H couple mu_i only to
    * mu_j with |i - j| <= b). Newton then factors a band, O(n b^2), and builds its matrix from
@@ -125,7 +125,7 @@ typedef struct sdae_options {
    * user_phi_jac) are dense and are not used then. */
   size_t bandwidth;
 
-  sdae_stabilizer stabilizer;  /* default SDAE_STAB_PAPER */
+  sdae_stabilizer stabilizer; /* default SDAE_STAB_PAPER */
   /* Baumgarte: L_f^{r} h_c = -sum_{j<r} baumgarte_alpha[j] L_f^j h_c for every constraint;
    * the default {1, 2} makes a relative-degree-2 constraint critically damped at rate 1 */
   double baumgarte_alpha[SDAE_MAX_REL_DEGREE];
@@ -138,11 +138,11 @@ SDAE_API void sdae_options_default(sdae_options *o);
 typedef struct sdae_stepper sdae_stepper;
 
 typedef struct sdae_stats {
-  unsigned long steps;           /* successful steps */
-  unsigned newton_iters_last;    /* Newton iterations of the last step (0: explicit) */
+  unsigned long steps;        /* successful steps */
+  unsigned newton_iters_last; /* Newton iterations of the last step (0: explicit) */
   unsigned long newton_iters_total;
-  double newton_residual_last;   /* ||R||_inf at the last Newton iterate evaluated */
-  unsigned long phi_evals;       /* evaluations of phi_T */
+  double newton_residual_last; /* ||R||_inf at the last Newton iterate evaluated */
+  unsigned long phi_evals;     /* evaluations of phi_T */
 } sdae_stats;
 
 /* Bytes sdae_stepper_init needs; 0 when the model or options are invalid or overflow. */
@@ -173,8 +173,7 @@ SDAE_API void sdae_stepper_reset_stats(sdae_stepper *s);
 /* ---- integrate ---------------------------------------------------------------------------- */
 
 /* Called with the state after step `step` (0: the initial state); non-zero stops the run. */
-typedef int (*sdae_observer)(size_t step, double t, const double *xi, const double *mu,
-                             void *data);
+typedef int (*sdae_observer)(size_t step, double t, const double *xi, const double *mu, void *data);
 
 /* nsteps fixed steps of size T from t0. The observer (may be NULL) sees step 0, every
  * `every`-th step and the last one. On failure xi, mu hold the state after the last good step

@@ -168,14 +168,14 @@ static void report(const search *S, double *sup_i, double *argmax, sdae_certific
     if (argmax) memcpy(argmax + i * S->dim, b + 1, S->dim * sizeof(double));
     if (b[0] > c->sup_neg_k) c->sup_neg_k = b[0], c->i_max = i;
   }
-  c->T_bar = 2.0 / c->sup_neg_k;                              /* eq. 14 */
+  c->T_bar = 2.0 / c->sup_neg_k;                           /* eq. 14 */
   c->T_thm5_scheme15 = (sqrt(5.0) - 1.0) / 4.0 * c->T_bar; /* Theorem 5 */
   c->T_thm5_scheme11 = c->T_bar / 2.0;
   c->evaluations = S->evals;
 }
 
-int sdae_certify_box(sdae_stepper *s, double t, const double *lo, const double *hi,
-                     unsigned grid, double *sup_i, double *argmax, sdae_certificate *c) {
+int sdae_certify_box(sdae_stepper *s, double t, const double *lo, const double *hi, unsigned grid,
+                     double *sup_i, double *argmax, sdae_certificate *c) {
   search S = {0};
   size_t bytes;
   void *block;

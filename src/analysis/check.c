@@ -28,7 +28,7 @@ typedef struct work {
   const sdae_dae *dae;
   double t;
   size_t n, n_xi, n_mu;
-  sdae_coords coords;        /* Phi's Jacobian (in coords.J) and Phi^-1 */
+  sdae_coords coords; /* Phi's Jacobian (in coords.J) and Phi^-1 */
   double *z, *x, *z2, *F, *G, *q0, *Q, *Qxi, *qn2, *fb;
   unsigned char *chain_last; /* n_xi: 1 for the last coordinate of a chain (L_g may be != 0) */
   gsl_rng rng;               /* mt19937, its state in the block (gsl_rng_alloc would malloc) */
@@ -121,14 +121,16 @@ static int check_point(work *w, sdae_check_report *r) {
   }
   note(r, w, SDAE_CHECK_INVERSE, at, rel(res, size));
   if ((rc = sdae__coords_jacobian(&w->coords, w->t, w->x)) != SDAE_OK) return rc;
-  if ((rc = sdae__callback_checked(d->f(w->t, w->x, w->F, d->params), w->F, w->n)) != SDAE_OK) return rc;
-  if ((rc = sdae__callback_checked(d->g(w->t, w->x, w->G, d->params), w->G, w->n * d->m)) != SDAE_OK) return rc;
+  if ((rc = sdae__callback_checked(d->f(w->t, w->x, w->F, d->params), w->F, w->n)) != SDAE_OK)
+    return rc;
+  if ((rc = sdae__callback_checked(d->g(w->t, w->x, w->G, d->params), w->G, w->n * d->m)) !=
+      SDAE_OK)
+    return rc;
   check_lie(w, r);
   if ((rc = normal_form(w)) != SDAE_OK) return rc;
   for (size_t a = 0; a < w->n_mu; a++) {
     double lf = row_dot(w, w->n_xi + a, w->F, 1, &size);
-    note(r, w, SDAE_CHECK_DYNAMICS, w->n_xi + a,
-         rel(lf - w->q0[a] - w->Qxi[a], size + w->fb[a]));
+    note(r, w, SDAE_CHECK_DYNAMICS, w->n_xi + a, rel(lf - w->q0[a] - w->Qxi[a], size + w->fb[a]));
   }
   return SDAE_OK;
 }
@@ -164,8 +166,7 @@ static int run(work *w, const double *lo, const double *hi, size_t npoints, unsi
   int rc = SDAE_OK;
   gsl_rng_set(&w->rng, seed);
   for (size_t p = 0; p < npoints && rc == SDAE_OK; p++) {
-    for (size_t j = 0; j < w->n; j++)
-      w->z[j] = lo[j] + (hi[j] - lo[j]) * gsl_rng_uniform(&w->rng);
+    for (size_t j = 0; j < w->n; j++) w->z[j] = lo[j] + (hi[j] - lo[j]) * gsl_rng_uniform(&w->rng);
     rc = check_point(w, r);
     if (rc == SDAE_OK) r->points++;
   }
@@ -198,10 +199,9 @@ static int take_block(work *w, const sdae_allocator *al, char **block, size_t *b
   return SDAE_OK;
 }
 
-int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t,
-                          const double *lo, const double *hi, size_t npoints,
-                          unsigned long seed, double tol, double *worst_z,
-                          const sdae_allocator *a, sdae_check_report *r) {
+int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae, double t, const double *lo,
+                          const double *hi, size_t npoints, unsigned long seed, double tol,
+                          double *worst_z, const sdae_allocator *a, sdae_check_report *r) {
   int rc = validate(model, dae, lo, hi, tol, r);
   size_t bytes;
   char *block;

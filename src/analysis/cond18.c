@@ -9,8 +9,8 @@
 #include "core/callback.h"
 
 int sdae_cond18_init(sdae_cond18 *c, size_t n_mu,
-                     int (*W)(double t, const double *mu, double *out, void *params),
-                     void *params, double *mu_prev) {
+                     int (*W)(double t, const double *mu, double *out, void *params), void *params,
+                     double *mu_prev) {
   if (!c || !W || !mu_prev) return SDAE_ERR_NULL;
   if (n_mu == 0) return SDAE_ERR_DIM;
   memset(c, 0, sizeof *c);
@@ -45,8 +45,7 @@ static void measure_step(sdae_cond18 *c, double t, const double *mu, double W) {
   c->steps++;
 }
 
-int sdae_cond18_observe(size_t step, double t, const double *xi, const double *mu,
-                        void *cond18) {
+int sdae_cond18_observe(size_t step, double t, const double *xi, const double *mu, void *cond18) {
   sdae_cond18 *c = cond18;
   double W;
   (void)step, (void)xi;

@@ -78,8 +78,7 @@ static int evaluate(checker *k, quantity what, double t, const double *q, double
   switch (what) {
   case C: return sdae__callback_checked(s->constraint(t, q, out, s->params), out, k->n_c);
   case CT: return sdae__callback_checked(s->constraint_t(t, q, out, s->params), out, k->n_c);
-  case G:
-    return sdae__callback_checked(s->jacobian(t, q, out, s->params), out, k->n_c * k->n_q);
+  case G: return sdae__callback_checked(s->jacobian(t, q, out, s->params), out, k->n_c * k->n_q);
   case MV: return mass_times_v(k, t, q, 0, out);
   case V: return sdae__callback_checked(s->potential(t, q, out, s->params), out, 1);
   default: return mass_times_v(k, t, q, 1, out);
@@ -90,8 +89,7 @@ static int evaluate(checker *k, quantity what, double t, const double *q, double
  * to 16 rad or a time of 1e3 changes no faster than at 0), but never below 2^20 ulps of the
  * largest moving variable, which beyond about 4e9 makes it relative; then exact in t, or in
  * the one coordinate that moves. */
-static double line_step(const checker *k, double t, const double *q, double dt,
-                        const double *dq) {
+static double line_step(const checker *k, double t, const double *q, double dt, const double *dq) {
   double big = dt != 0.0 ? fabs(t) : 0.0, speed = fabs(dt), h;
   size_t moving = 0, count = 0;
   for (size_t j = 0; j < k->n_q; j++)
@@ -131,8 +129,8 @@ static int derivative(checker *k, quantity what, double t, const double *q, doub
  * rounding of a closed form of its row's size (rows of `cols` entries: a matrix's rows, or one
  * row for a vector), so that a row of large entries hides no wrong small row. NaN is
  * INFINITY. */
-static double mismatch(const double *a, const double *b, const double *noise, size_t n,
-                       size_t cols, size_t *where) {
+static double mismatch(const double *a, const double *b, const double *noise, size_t n, size_t cols,
+                       size_t *where) {
   double worst = 0.0;
   *where = 0;
   for (size_t r = 0; r < n; r += cols) {
@@ -207,8 +205,7 @@ static int check_force(checker *k, double t, const double *q, sdae_mbs_check_rep
     k->nz[j] = nV + nT + k->col_nz[j];
   }
   if (s->damping) {
-    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) !=
-        SDAE_OK)
+    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) != SDAE_OK)
       return rc;
     for (size_t i = 0; i < n; i++)
       for (size_t j = 0; j < n; j++) k->fd[i] -= k->Mq[i * n + j] * k->v[j];
@@ -270,8 +267,8 @@ static int valid(const sdae_mbs *sys, double t, const double *q, const double *v
   return SDAE_OK;
 }
 
-int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
-                        double tol, const sdae_allocator *a, sdae_mbs_check_report *r) {
+int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v, double tol,
+                        const sdae_allocator *a, sdae_mbs_check_report *r) {
   checker k = {0};
   sdae_arena count = {0}, take = {0};
   sdae_mbs_check_report rep = {.worst = -1};

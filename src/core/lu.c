@@ -55,8 +55,8 @@ int sdae__lu_factor(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub) {
   return SDAE_OK;
 }
 
-void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb,
-                             size_t ub, const double *b, double *x) {
+void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb, size_t ub,
+                             const double *b, double *x) {
   size_t ld = sdae__lu_band_cols(lb, ub);
   gsl_matrix_const_view M = gsl_matrix_const_view_array(AB, n, ld);
   gsl_vector_uint_const_view P = gsl_vector_uint_const_view_array(piv, n);

@@ -14,8 +14,8 @@ int sdae__lu_solve(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub, co
                    double *x);
 /* the two halves of sdae__lu_solve, so that Newton can reuse the factors */
 int sdae__lu_factor(double *AB, unsigned *piv, size_t n, size_t lb, size_t ub);
-void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb,
-                             size_t ub, const double *b, double *x);
+void sdae__lu_factored_solve(const double *AB, const unsigned *piv, size_t n, size_t lb, size_t ub,
+                             const double *b, double *x);
 /* Dense n x n (row-major) with n <= SDAE_SMALL_DENSE: LU with partial pivoting in place (piv:
  * row i of the factors is row piv[i] of A), same singularity test (SDAE_ERR_SINGULAR); then
  * solves with the factors. */

@@ -3,10 +3,10 @@
  *
  *   R(y) = y - x - h (phi(x, y) + shift),   dR/dy = I - h dphi/dy
  *
- * (maps/map_solve.c). dR/dy is the system's own Jacobian when it has one and Newton is dense, central differences of R otherwise: columns 2b + 1 apart do
- * not share a row of a band-b matrix, so each colour group of columns costs two residuals.
- * dR/dy is factored by LU (lu.c): written out for small dense systems, GSL's banded LU
- * otherwise (dense is the band n - 1).
+ * (maps/map_solve.c). dR/dy is the system's own Jacobian when it has one and Newton is dense,
+ * central differences of R otherwise: columns 2b + 1 apart do not share a row of a band-b matrix,
+ * so each colour group of columns costs two residuals. dR/dy is factored by LU (lu.c): written out
+ * for small dense systems, GSL's banded LU otherwise (dense is the band n - 1).
  *
  * dR/dy is rebuilt at every iterate (Newton, quadratic convergence) except after an update below
  * reuse_below (1 + ||y||): by then the iterate is within about L 1e-10 of the root (L = h times
@@ -67,9 +67,7 @@ static int residual(sdae_newton *nw, const sdae_newton_system *sys, const double
   return SDAE_OK;
 }
 
-static size_t band_cols(const sdae_newton *nw) {
-  return sdae__lu_band_cols(nw->band, nw->band);
-}
+static size_t band_cols(const sdae_newton *nw) { return sdae__lu_band_cols(nw->band, nw->band); }
 
 /* a dense Newton keeps dR/dy in nw->J (and factors it there when small); a banded one builds it
  * directly in GSL's band storage nw->LU */
@@ -84,8 +82,8 @@ static void set_entry(sdae_newton *nw, size_t i, size_t j, double v) {
 
 /* one colour group: columns first, first + w, ...; h_j (kept in nw->dy) ~ eps^(1/3) |y_j|, the
  * step that balances truncation and rounding, made exactly representable */
-static int fd_group(sdae_newton *nw, const sdae_newton_system *sys, const double *y,
-                    size_t first, size_t w) {
+static int fd_group(sdae_newton *nw, const sdae_newton_system *sys, const double *y, size_t first,
+                    size_t w) {
   size_t n = nw->n, b = nw->band;
   int rc;
   memcpy(nw->fd_y, y, n * sizeof *y);
@@ -116,8 +114,8 @@ static int finite_differences(sdae_newton *nw, const sdae_newton_system *sys, co
 /* dR/dy at y, factored */
 static int newton_matrix(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
   size_t n = nw->n, b = nw->band;
-  int rc = nw->J && sys->jacobian ? sys->jacobian(sys->ctx, y, nw->J)
-                                  : finite_differences(nw, sys, y);
+  int rc =
+      nw->J && sys->jacobian ? sys->jacobian(sys->ctx, y, nw->J) : finite_differences(nw, sys, y);
   if (rc != SDAE_OK) return rc;
   if (nw->J) {
     if (!sdae__all_finite(nw->J, n * n)) return SDAE_ERR_NONFINITE;
@@ -217,8 +215,8 @@ static int chord(sdae_newton *nw, const sdae_newton_system *sys, double *y, doub
 
 /* the chord iteration with the kept matrix, counting in *used; *slow when it no longer
  * serves (its rate), y then the last iterate, for the fresh Newton to go on from */
-static int chord_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y,
-                       unsigned *used, int *slow) {
+static int chord_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y, unsigned *used,
+                       int *slow) {
   double prev = 0.0, rate = 0.0;
   *slow = 0;
   for (unsigned k = 0; *used < nw->max_iter; k++) {

@@ -22,7 +22,7 @@ typedef struct sdae_newton {
   double tol;
   unsigned max_iter;
   double *R, *dy, *fd_y, *fd_plus, *fd_minus; /* n each */
-  double *J;            /* n x n, dense only: dR/dy */
+  double *J;                                  /* n x n, dense only: dR/dy */
   double *LU;           /* n x (3 band + 1): dR/dy in band format, then its factors */
   unsigned *piv;        /* n */
   unsigned iters;       /* iterations, counted here alone; the owner reads and clears them */

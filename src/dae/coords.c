@@ -59,8 +59,7 @@ int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x) {
     if (rc != SDAE_OK) return rc;
     for (size_t i = 0; i < n; i++) c->r[i] -= z[i];
     sdae__lu_pack(c->J, n, n - 1, n - 1, c->LU);
-    if ((rc = sdae__lu_solve(c->LU, c->piv, n, n - 1, n - 1, c->r, c->step)) != SDAE_OK)
-      return rc;
+    if ((rc = sdae__lu_solve(c->LU, c->piv, n, n - 1, n - 1, c->r, c->step)) != SDAE_OK) return rc;
     for (size_t i = 0; i < n; i++) {
       x[i] -= c->step[i];
       step = fmax(step, fabs(c->step[i]));

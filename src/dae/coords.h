@@ -12,12 +12,12 @@
 typedef struct sdae_coords {
   const sdae_dae *dae;
   size_t n, n_xi;
-  double *J;        /* n x n: dPhi/dx at the point of the last sdae__coords_jacobian */
-  double *LU;       /* n x (3 n - 2): Newton's matrix in band format, then its factors */
-  unsigned *piv;    /* n */
-  double *r, *step; /* n each: Newton's residual Phi(x) - z and its step */
+  double *J;            /* n x n: dPhi/dx at the point of the last sdae__coords_jacobian */
+  double *LU;           /* n x (3 n - 2): Newton's matrix in band format, then its factors */
+  unsigned *piv;        /* n */
+  double *r, *step;     /* n each: Newton's residual Phi(x) - z and its step */
   double *xa, *za, *zb; /* n each: a moved point and Phi at two of them */
-  double *fx;       /* n: f(t, x), the direction of mu's rate */
+  double *fx;           /* n: f(t, x), the direction of mu's rate */
 } sdae_coords;
 
 /* its arrays (counted, or handed out); mu is z[n_xi..n) */

@@ -68,8 +68,8 @@ static int dm_q0(double t, const double *mu, double *out, void *params) {
 }
 
 /* into the object's arrays first: a failure leaves Qxi and qnorm2 as they were */
-static int dm_Q_apply(double t, const double *xi, const double *mu, double *Qxi,
-                      double *qnorm2, void *params) {
+static int dm_Q_apply(double t, const double *xi, const double *mu, double *Qxi, double *qnorm2,
+                      void *params) {
   sdae_dae_model *d = params;
   int rc = sdae__derive_Q_apply(&d->derive, t, xi, mu, d->Qxi, d->qnorm2);
   if (rc == SDAE_OK) {
@@ -115,8 +115,8 @@ static int measure(const sdae_dae *dae, size_t n_xi, size_t *bytes) {
   return sdae__block_bytes(&a, sizeof(sdae_dae_model), bytes);
 }
 
-static sdae_dae_model *build(void *mem, const sdae_dae *dae, size_t n_xi,
-                             sdae_mu_dot_fn mu_dot, const double *x_guess) {
+static sdae_dae_model *build(void *mem, const sdae_dae *dae, size_t n_xi, sdae_mu_dot_fn mu_dot,
+                             const double *x_guess) {
   sdae_arena a;
   sdae_dae_model *d = sdae__block_start(mem, sizeof(sdae_dae_model), &a);
   wire(d, dae, n_xi, mu_dot);
@@ -134,8 +134,8 @@ size_t sdae_dae_model_size(const sdae_dae *dae, size_t n_xi) {
   return bytes;
 }
 
-int sdae_dae_model_init(sdae_dae_model **d, void *mem, size_t len, const sdae_dae *dae,
-                        size_t n_xi, sdae_mu_dot_fn mu_dot, const double *x_guess) {
+int sdae_dae_model_init(sdae_dae_model **d, void *mem, size_t len, const sdae_dae *dae, size_t n_xi,
+                        sdae_mu_dot_fn mu_dot, const double *x_guess) {
   size_t bytes;
   int rc;
   if (!d || !mem) return SDAE_ERR_NULL;

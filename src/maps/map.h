@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The map interface: what a map type (one file, map_*.c) implements and what it receives.
  * A map sees the model, its own scratch and a Newton solver, never the stepper; it writes only
- * its output and its scratch. Data flows one way: model -> map -> stepper, Newton below them all. */
+ * its output and its scratch. Data flows one way: model -> map -> stepper, Newton below them all.
+ */
 #ifndef STABDAE_SRC_MAPS_MAP_H
 #define STABDAE_SRC_MAPS_MAP_H
 
@@ -12,9 +13,9 @@
 /* What a map is handed at every call. */
 typedef struct sdae_map_ctx {
   const sdae_model *model;
-  double *work;               /* the map's scratch: scratch(model, options) doubles */
-  sdae_newton *newton;        /* the solver a composed map solves its stages with */
-  unsigned long phi_evals;    /* every evaluation of phi, counted by sdae__map_phi alone */
+  double *work;            /* the map's scratch: scratch(model, options) doubles */
+  sdae_newton *newton;     /* the solver a composed map solves its stages with */
+  unsigned long phi_evals; /* every evaluation of phi, counted by sdae__map_phi alone */
 } sdae_map_ctx;
 
 typedef int (*sdae_map_fn)(sdae_map_ctx *c, double t, double T, const double *mu,
@@ -22,8 +23,8 @@ typedef int (*sdae_map_fn)(sdae_map_ctx *c, double t, double T, const double *mu
 
 struct sdae_map_type {
   const char *name;
-  unsigned order;  /* of accuracy as T -> 0; 0: the user's map decides */
-  int implicit;    /* phi depends on mu+: the step solves for mu+ by Newton */
+  unsigned order; /* of accuracy as T -> 0; 0: the user's map decides */
+  int implicit;   /* phi depends on mu+: the step solves for mu+ by Newton */
   /* phi evaluates the model's energy H (a discrete gradient): what it conserves is H at a fixed
    * t, so a front-end whose H would depend on t must refuse it */
   int uses_H;
@@ -73,7 +74,7 @@ static inline int sdae__map_uses_H(const sdae_map_type *map) {
 /* Newton on a step's or a stage's equation y = x + h (phi_T(x, y) + shift) (shift may be NULL),
  * from y (map_solve.c): the map's own Jacobian when it has one for this model and Newton is
  * dense, differences otherwise */
-int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h,
-                    const double *x, const double *shift, double *y);
+int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
+                    const double *shift, double *y);
 
 #endif /* STABDAE_SRC_MAPS_MAP_H */

@@ -26,15 +26,14 @@
 static const double triple_jump[3] = {1.3512071919596576340, -1.7024143839193152681,
                                       1.3512071919596576340};
 static const double s9odr6a[9] = {
-    0.39216144400731413928, 0.33259913678935943860, -0.70624617255763935981,
-    0.08221359629355080023, 0.79854399093482996340, 0.08221359629355080023,
+    0.39216144400731413928,  0.33259913678935943860, -0.70624617255763935981,
+    0.08221359629355080023,  0.79854399093482996340, 0.08221359629355080023,
     -0.70624617255763935981, 0.33259913678935943860, 0.39216144400731413928};
 
 static int dg_needs(const sdae_model *m) { return sdae__dgrad_type.needs(m); }
 
 /* the stage's start and end, then the base map's scratch */
-static size_t stage_scratch(const sdae_map_type *base, const sdae_model *m,
-                            const sdae_options *o) {
+static size_t stage_scratch(const sdae_map_type *base, const sdae_model *m, const sdae_options *o) {
   return 2 * m->n_mu + base->scratch(m, o);
 }
 
@@ -59,8 +58,8 @@ static void dg_begin(sdae_map_ctx *c) { compose_begin(c, &sdae__dgrad_type); }
 /* Psi_T(mu) by the map's stages, each y = Psi_h(x): Newton on y = x + h phi(x, y) from the
  * predictor x + h phi(x, x); phi_T = (Psi_T(mu) - mu) / T. The stages see the context with
  * the base map's part of the scratch. */
-static int compose(const sdae_map_type *map, sdae_map_ctx *c, double t, double T,
-                   const double *mu, double *out) {
+static int compose(const sdae_map_type *map, sdae_map_ctx *c, double t, double T, const double *mu,
+                   double *out) {
   const sdae_map_type *base = map->base;
   size_t n = c->model->n_mu;
   double *x = c->work, *y = x + n;
@@ -82,14 +81,14 @@ static int compose(const sdae_map_type *map, sdae_map_ctx *c, double t, double T
   return SDAE_OK;
 }
 
-static int dg4_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                   const double *mu_next, double *out) {
+static int dg4_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                   double *out) {
   (void)mu_next;
   return compose(sdae_map_dg4, c, t, T, mu, out);
 }
 
-static int dg6_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                   const double *mu_next, double *out) {
+static int dg6_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                   double *out) {
   (void)mu_next;
   return compose(sdae_map_dg6, c, t, T, mu, out);
 }

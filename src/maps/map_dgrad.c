@@ -20,9 +20,9 @@ static int dgrad_needs(const sdae_model *m) {
 static int dgrad_jac_given(const sdae_model *m) { return m->hess_H != NULL; }
 
 /* The scratch: the midpoint, grad H there, the increment, the correction c and |v|^2 (0 in
- * the small-increment branch), H at the step's mu kept, a dense S unless S_apply is given; with hess_H the Hessian
- * (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for the Jacobian
- * at the same point. */
+ * the small-increment branch), H at the step's mu kept, a dense S unless S_apply is given; with
+ * hess_H the Hessian (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for
+ * the Jacobian at the same point. */
 typedef struct parts {
   double *mid, *grad, *v, *inc, *S, *D, *w, *col;
   double *kept; /* H(t_m, mu) kept within a step: 1 (0: none), t_m, H, then mu */
@@ -56,10 +56,8 @@ static int apply_S(const sdae_model *m, double tm, const parts *P, int load, con
                    double *out) {
   size_t n = m->n_mu;
   int rc;
-  if (m->S_apply)
-    return sdae__callback_checked(m->S_apply(tm, P->mid, g, out, m->params), out, n);
-  if (load && (rc = sdae__call_checked(m->S, m, tm, P->mid, P->S, n * n)) != SDAE_OK)
-    return rc;
+  if (m->S_apply) return sdae__callback_checked(m->S_apply(tm, P->mid, g, out, m->params), out, n);
+  if (load && (rc = sdae__call_checked(m->S, m, tm, P->mid, P->S, n * n)) != SDAE_OK) return rc;
   for (size_t r = 0; r < n; r++) {
     double acc = 0.0;
     for (size_t j = 0; j < n; j++) acc += P->S[r * n + j] * g[j];
@@ -70,8 +68,7 @@ static int apply_S(const sdae_model *m, double tm, const parts *P, int load, con
 
 /* H(tm, mu) into *H, kept for the next call at the same tm and mu within the step: a step's
  * Newton evaluates phi at one mu and many mu+ (a front-end's H may cost a Phi^-1) */
-static int H_start(const sdae_model *m, double tm, const double *mu, const parts *P,
-                   double *H) {
+static int H_start(const sdae_model *m, double tm, const double *mu, const parts *P, double *H) {
   size_t n = m->n_mu;
   double *kept = P->kept;
   int rc;
@@ -114,8 +111,8 @@ static int correction(const sdae_model *m, double tm, const double *mu, const do
 
 /* S(mid) gradbar H, gradbar H = grad H(mid) + c v: leaves mid, v, c and gradbar H in the
  * scratch */
-static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   const sdae_model *m = c->model;
   size_t n = m->n_mu;
   parts P = layout(c);
@@ -153,8 +150,8 @@ static int correction_gradient(const sdae_model *m, double tm, const double *mu_
 
 /* d phi / d mu+ = S(mid) D, D = d gradbar / d mu+ = Hm/2 + c I + v w^T; the derivative of S is
  * left out (zero for a constant S). mid, v, c, gradbar H and S come from phi at this point. */
-static int dgrad_jac(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int dgrad_jac(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   const sdae_model *m = c->model;
   size_t n = m->n_mu;
   parts P = layout(c);

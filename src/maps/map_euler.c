@@ -3,8 +3,8 @@
 #include "map.h"
 #include "model/model.h"
 
-static int euler_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                     const double *mu_next, double *out) {
+static int euler_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                     double *out) {
   (void)T;
   (void)mu_next;
   return sdae__eval_q0(c->model, t, mu, out);

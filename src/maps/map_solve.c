@@ -21,7 +21,8 @@ static int residual(void *ctx, const double *y, double *R) {
   size_t n = e->c->model->n_mu;
   int rc = sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, R);
   if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++) R[i] = y[i] - e->x[i] - e->h * (R[i] + (e->shift ? e->shift[i] : 0.0));
+  for (size_t i = 0; i < n; i++)
+    R[i] = y[i] - e->x[i] - e->h * (R[i] + (e->shift ? e->shift[i] : 0.0));
   return SDAE_OK;
 }
 
@@ -44,8 +45,8 @@ static int analytic(const sdae_map_type *map, const sdae_model *m) {
  * 2 (2 b + 1) banded) is kept across steps and stages while it serves
  * (sdae__newton_solve_kept, its coefficient h); the map's own Jacobian costs one call and is
  * rebuilt as Newton needs it. */
-int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h,
-                    const double *x, const double *shift, double *y) {
+int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
+                    const double *shift, double *y) {
   step_eq e = {map, c, t, h, x, shift};
   int own = analytic(map, c->model) && c->newton->J;
   sdae_newton_system sys = {residual, own ? jacobian : NULL, &e};

@@ -6,16 +6,17 @@
 
 static int user_needs(const sdae_model *m) { return m->user_phi ? SDAE_OK : SDAE_ERR_MAP; }
 
-static int user_phi(sdae_map_ctx *c, double t, double T, const double *mu,
-                    const double *mu_next, double *out) {
+static int user_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                    double *out) {
   const sdae_model *m = c->model;
   return sdae__callback_checked(m->user_phi(t, T, mu, mu_next, out, m->params), out, m->n_mu);
 }
 
-static int user_jac(sdae_map_ctx *c, double t, double T, const double *mu,
-                    const double *mu_next, double *out) {
+static int user_jac(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
+                    double *out) {
   const sdae_model *m = c->model;
-  return sdae__callback_checked(m->user_phi_jac(t, T, mu, mu_next, out, m->params), out, m->n_mu * m->n_mu);
+  return sdae__callback_checked(m->user_phi_jac(t, T, mu, mu_next, out, m->params), out,
+                                m->n_mu * m->n_mu);
 }
 
 static int user_jac_given(const sdae_model *m) { return m->user_phi_jac != NULL; }

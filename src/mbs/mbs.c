@@ -96,8 +96,8 @@ int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sda
   return SDAE_OK;
 }
 
-int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys,
-                                const sdae_options *o, const sdae_allocator *a) {
+int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys, const sdae_options *o,
+                                const sdae_allocator *a) {
   sdae_block block;
   size_t bytes, inner;
   void *mem;
@@ -269,8 +269,7 @@ int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v,
   return sdae__mbs_query_xi(&s->query, &s->eval, t, q, v, xi);
 }
 
-int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
-                    double *E) {
+int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *E) {
   if (!s || !q || !v || !E) return SDAE_ERR_NULL;
   return sdae__mbs_query_energy(&s->query, &s->eval, t, q, v, E);
 }

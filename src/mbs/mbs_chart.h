@@ -13,22 +13,22 @@
 /* the charts of the manifold, an atlas: the current one, the search for the best, its factors */
 typedef struct sdae_mbs_atlas {
   size_t n_q, n_c, n_f;
-  int have;               /* a chart was chosen */
-  int kept;               /* the last choice kept the current chart over a better proposal */
-  size_t *dep, *ind;      /* the chart: n_c and n_f coordinates, ascending */
+  int have;          /* a chart was chosen */
+  int kept;          /* the last choice kept the current chart over a better proposal */
+  size_t *dep, *ind; /* the chart: n_c and n_f coordinates, ascending */
   /* the search for the best chart: QRPT's work (n_c x n_q, n_c, n_q) and its permutation, the
    * candidate chart */
   double *qr, *tau, *norm;
   size_t *perm, *cand_dep, *cand_ind;
   /* the factors at the G factored last */
-  double *gd;             /* n_c x n_c: G_D gathered, the factorization's input */
-  double *GD;             /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
-  unsigned *piv;          /* n_c */
-  double *A;              /* n_c x n_f: G_D^-1 G_I */
-  double *W;              /* n_q x n_f: dq/dq_I, spans ker G */
-  double *col, *sol;      /* n_c each: a column of G_I and G_D^-1 of it */
+  double *gd;        /* n_c x n_c: G_D gathered, the factorization's input */
+  double *GD;        /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
+  unsigned *piv;     /* n_c */
+  double *A;         /* n_c x n_f: G_D^-1 G_I */
+  double *W;         /* n_q x n_f: dq/dq_I, spans ker G */
+  double *col, *sol; /* n_c each: a column of G_I and G_D^-1 of it */
   /* the chart before a step, given back when the step fails */
-  size_t *saved;          /* n_q: dep, then ind */
+  size_t *saved; /* n_q: dep, then ind */
   int saved_have;
   unsigned long saved_switches;
   double saved_measure;

@@ -236,11 +236,11 @@ static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double
   return SDAE_ERR_PHI_INV;
 }
 
-/* the reduced mass W^T M W (n_f x n_f) into co->Mr, factored: symmetric by construction (docs/front-ends.md,
- * the price of zero drift), Y = M W column by column, then the upper triangle of W^T Y, mirrored.
- * Formed entry by entry, its two triangles would round differently by up to eps times M's
- * largest entries, which W^T M W need not have (a heavy direction across the constraints):
- * Cholesky would then see a non-symmetric matrix. */
+/* the reduced mass W^T M W (n_f x n_f) into co->Mr, factored: symmetric by construction
+ * (docs/front-ends.md, the price of zero drift), Y = M W column by column, then the upper triangle
+ * of W^T Y, mirrored. Formed entry by entry, its two triangles would round differently by up to eps
+ * times M's largest entries, which W^T M W need not have (a heavy direction across the
+ * constraints): Cholesky would then see a non-symmetric matrix. */
 static int reduced_mass(sdae_mbs_coords *co) {
   size_t n_q = co->n_q, n_f = co->n_f;
   const double *W = co->chart->W;
@@ -277,8 +277,7 @@ static int solve_v(sdae_mbs_coords *co, const double *xi, const double *mu) {
 }
 
 static int same_point(const sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
-  return co->valid && co->key_t == t &&
-         memcmp(co->key, xi, 2 * co->n_c * sizeof *xi) == 0 &&
+  return co->valid && co->key_t == t && memcmp(co->key, xi, 2 * co->n_c * sizeof *xi) == 0 &&
          memcmp(co->key + 2 * co->n_c, mu, 2 * co->n_f * sizeof *mu) == 0;
 }
 

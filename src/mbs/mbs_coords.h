@@ -17,34 +17,34 @@ typedef struct sdae_mbs_coords {
   size_t n_q, n_c, n_f;
   unsigned newton_max_iter; /* Phi^-1's Newton: the options' cap */
   /* the point */
-  double *q, *v;            /* n_q each */
-  double *c, *ct;           /* n_c each */
-  double *G;                /* n_c x n_q: dc/dq */
-  double *M;                /* n_q x n_q */
-  double *Mr;               /* n_f x n_f: the reduced mass W^T M W, factored (Phi^-1) */
-  int valid;                /* the point is Phi^-1(key_t, key) */
-  int at_start;             /* the step started at the point (its G, dc/dt and M kept) */
+  double *q, *v;  /* n_q each */
+  double *c, *ct; /* n_c each */
+  double *G;      /* n_c x n_q: dc/dq */
+  double *M;      /* n_q x n_q */
+  double *Mr;     /* n_f x n_f: the reduced mass W^T M W, factored (Phi^-1) */
+  int valid;      /* the point is Phi^-1(key_t, key) */
+  int at_start;   /* the step started at the point (its G, dc/dt and M kept) */
   double key_t;
-  double *key;              /* 2 n_q: (xi, mu) */
+  double *key; /* 2 n_q: (xi, mu) */
   /* the base: the configuration Phi^-1 converged at last (first the step's start), where the
    * chart was factored; the next solve is predicted from it */
   double *base_q;           /* n_q */
   double *base_c, *base_ct; /* n_c each: c (xi's c-part) and dc/dt there */
   double base_t;
-  int base_here;            /* the point's q, G, dc/dt, M and reduced mass are the base's */
+  int base_here; /* the point's q, G, dc/dt, M and reduced mass are the base's */
   /* scratch, one array a role */
-  double *M_spd;            /* n_q x n_q: M at the step's start, factored to test it is SPD */
-  double *Mv;               /* n_q: M v at the point */
-  double *res, *dq_D;       /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
-  double *dq_I;             /* n_f: q_I's move from the base */
-  double *Y;                /* n_q: a column of M W */
-  double *rhs, *z_D;        /* n_c each: G_D z_D = xi's velocity part - dc/dt */
-  double *Mz;               /* n_q: M z */
-  double *v_I;              /* n_f: v's independent part */
-  double *F, *Gdot, *Mdv;   /* the mu-dynamics: F + (dM/dt) v (n_q), dG/dt (n_c x n_q),
-                               (dM/dt) v (n_q) */
-  double *GdW, *X;          /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
-  double *dW;               /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
+  double *M_spd;          /* n_q x n_q: M at the step's start, factored to test it is SPD */
+  double *Mv;             /* n_q: M v at the point */
+  double *res, *dq_D;     /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
+  double *dq_I;           /* n_f: q_I's move from the base */
+  double *Y;              /* n_q: a column of M W */
+  double *rhs, *z_D;      /* n_c each: G_D z_D = xi's velocity part - dc/dt */
+  double *Mz;             /* n_q: M z */
+  double *v_I;            /* n_f: v's independent part */
+  double *F, *Gdot, *Mdv; /* the mu-dynamics: F + (dM/dt) v (n_q), dG/dt (n_c x n_q),
+                             (dM/dt) v (n_q) */
+  double *GdW, *X;        /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
+  double *dW;             /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
   /* counter */
   unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
 } sdae_mbs_coords;
@@ -69,8 +69,8 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
 void sdae__mbs_coords_floors(const sdae_mbs_coords *co, const double *q, const double *v,
                              double *floor);
 /* the step's start (t, q, v) taken as Phi^-1(t, 0, mu) (mu its coordinates), once every xi_i
- * is at its floor: the two differ by rounding (docs/front-ends.md, the cost of a step); G, dc/dt and M
- * at q from sdae__mbs_coords_xi and _begin, the reduced mass formed in the current chart */
+ * is at its floor: the two differ by rounding (docs/front-ends.md, the cost of a step); G, dc/dt
+ * and M at q from sdae__mbs_coords_xi and _begin, the reduced mass formed in the current chart */
 int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
                           const double *mu);
 /* the point's q, v = Phi^-1(t, xi, mu), with G, M and the chart's W there */

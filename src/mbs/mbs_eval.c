@@ -16,7 +16,7 @@
 
 static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
 static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
-#define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5) */
+#define FD_STEP 7.4e-4                                  /* DBL_EPSILON^(1/5) */
 
 void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys) {
   e->sys = *sys;
@@ -212,8 +212,8 @@ static int differenced(sdae_mbs_eval *e, double t, const double *q, const double
   return SDAE_OK;
 }
 
-/* Each derivative the mechanism gives replaces its stencil (docs/front-ends.md, the cost of a step);
- * gamma = Gdot v + d/ds dc/dt, Gdot into scratch when only gamma is wanted. */
+/* Each derivative the mechanism gives replaces its stencil (docs/front-ends.md, the cost of a
+ * step); gamma = Gdot v + d/ds dc/dt, Gdot into scratch when only gamma is wanted. */
 int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v, double *Gdot,
                     double *Mdv, double *gdot) {
   const sdae_mbs *s = &e->sys;
@@ -243,8 +243,8 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
   return SDAE_OK;
 }
 
-void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c,
-                          const double *G, const double *ct, double *xi) {
+void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c, const double *G,
+                          const double *ct, double *xi) {
   for (size_t j = 0; j < e->n_c; j++) {
     double cdot = ct[j];
     for (size_t i = 0; i < e->n_q; i++) cdot += G[j * e->n_q + i] * v[i];

@@ -13,9 +13,9 @@
 typedef struct sdae_mbs_eval {
   sdae_mbs sys;
   size_t n_q, n_c;
-  double *jac_q, *jac_c;    /* G by differences: q moved in one coordinate, c there */
-  double *ct_c;             /* dc/dt by differences: c at a moved t */
-  double *along_q;          /* the derivatives along (1, v): q moved along v, and there */
+  double *jac_q, *jac_c; /* G by differences: q moved in one coordinate, c there */
+  double *ct_c;          /* dc/dt by differences: c at a moved t */
+  double *along_q;       /* the derivatives along (1, v): q moved along v, and there */
   double *along_G, *along_M, *along_ct; /* G, M and dc/dt */
   double *along_Gdot, *along_ctdot;     /* gamma's Gdot and d/ds dc/dt */
   double *t_Gdot, *t_Mdv, *t_ctdot;     /* the stencils' parts along t alone, at late times */
@@ -43,8 +43,8 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
                     double *Mdv, double *gdot);
 
 /* xi (2 n_c) from c, G and dc/dt at q: per constraint (c_j, G_j v + dc_j/dt) */
-void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c,
-                          const double *G, const double *ct, double *xi);
+void sdae__mbs_xi_compose(const sdae_mbs_eval *e, const double *v, const double *c, const double *G,
+                          const double *ct, double *xi);
 /* xi (2 n_c) of (t, q, v): per constraint (c_j, G_j v + dc_j/dt), the same in every chart; c,
  * G and dc/dt at q left in c, G, ct */
 int sdae__mbs_xi_of(sdae_mbs_eval *e, double t, const double *q, const double *v, double *c,

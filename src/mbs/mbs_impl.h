@@ -22,13 +22,13 @@ struct sdae_mbs_stepper {
   sdae_mbs_eval eval;
   sdae_mbs_atlas chart;
   sdae_mbs_coords coords;
-  sdae_mbs_model nf;     /* the normal form in the current chart */
+  sdae_mbs_model nf; /* the normal form in the current chart */
   sdae_mbs_query query;
-  sdae_stepper *inner;   /* the normal form's stepper, in this block */
-  sdae_block block;      /* what sdae_mbs_stepper_alloc_with allocated */
-  sdae_mbs_stats stats;  /* the parts' counters, gathered after every step */
-  int energy_map;        /* the map conserves H: the constraints must not depend on t */
-  double *xi, *mu;       /* 2 n_c, 2 n_f: the step's state in the chart */
+  sdae_stepper *inner;  /* the normal form's stepper, in this block */
+  sdae_block block;     /* what sdae_mbs_stepper_alloc_with allocated */
+  sdae_mbs_stats stats; /* the parts' counters, gathered after every step */
+  int energy_map;       /* the map conserves H: the constraints must not depend on t */
+  double *xi, *mu;      /* 2 n_c, 2 n_f: the step's state in the chart */
 };
 
 #endif /* STABDAE_SRC_MBS_MBS_IMPL_H */

@@ -14,16 +14,16 @@
 #include "model/derive.h"
 
 typedef struct sdae_mbs_model {
-  sdae_model model;      /* params = this */
-  sdae_derive derive;    /* q0 and Q from the mu-dynamics */
+  sdae_model model;   /* params = this */
+  sdae_derive derive; /* q0 and Q from the mu-dynamics */
   sdae_mbs_eval *eval;
   sdae_mbs_coords *co;
   size_t n_q, n_c, n_f;
-  int status;            /* the status behind the last failing callback of the normal form */
-  double *zero;          /* 2 n_c zeros: xi on the manifold, where H and R are taken */
-  double *D, *R;         /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
-  double *row;           /* n_f: grad H's first half while q0's is still read */
-  double *floor;         /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
+  int status;    /* the status behind the last failing callback of the normal form */
+  double *zero;  /* 2 n_c zeros: xi on the manifold, where H and R are taken */
+  double *D, *R; /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
+  double *row;   /* n_f: grad H's first half while q0's is still read */
+  double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
 /* the normal form of the mechanism behind eval, in coords' chart; the arrays come from

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The quantities at a state (mbs_query.c, behind sdae_mbs_xi, sdae_mbs_energy and
- * sdae_mbs_lambda of mbs.c): each computes into its own scratch (and the stencils' of mbs_eval, which keep
- * nothing between calls), never the step's arrays, and hands out its result
- * only when it is finite. */
+ * sdae_mbs_lambda of mbs.c): each computes into its own scratch (and the stencils' of mbs_eval,
+ * which keep nothing between calls), never the step's arrays, and hands out its result only when it
+ * is finite. */
 #ifndef STABDAE_SRC_MBS_MBS_QUERY_H
 #define STABDAE_SRC_MBS_MBS_QUERY_H
 
@@ -13,14 +13,14 @@
 
 typedef struct sdae_mbs_query {
   /* sdae_mbs_xi: c, G and dc/dt at q, and xi before it is checked */
-  double *c, *G, *ct, *xi;      /* n_c, n_c x n_q, n_c, 2 n_c */
+  double *c, *G, *ct, *xi; /* n_c, n_c x n_q, n_c, 2 n_c */
   /* sdae_mbs_energy: M at q */
-  double *M;                    /* n_q x n_q */
+  double *M; /* n_q x n_q */
   /* sdae_mbs_lambda: G, gamma and F at the state, M's Cholesky factor, Y = G M^-1, G Y^T
    * factored, the right side G M^-1 F + gamma solved in place */
-  double *lam_G, *gamma, *F;    /* n_c x n_q, n_c, n_q */
-  double *M_chol, *Y, *GY;      /* n_q x n_q, n_c x n_q, n_c x n_c */
-  double *lambda;               /* n_c */
+  double *lam_G, *gamma, *F; /* n_c x n_q, n_c, n_q */
+  double *M_chol, *Y, *GY;   /* n_q x n_q, n_c x n_q, n_c x n_c */
+  double *lambda;            /* n_c */
 } sdae_mbs_query;
 
 void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a);

@@ -19,8 +19,8 @@
 
 #include "derive.h"
 
-void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn rate,
-                        void *ctx, sdae_arena *a) {
+void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn rate, void *ctx,
+                        sdae_arena *a) {
   d->n_xi = n_xi;
   d->n_mu = n_mu;
   d->rate = rate;
@@ -87,8 +87,8 @@ static int at_floor(const sdae_derive *d, const double *xi, size_t i) {
   return d->floor && fabs(xi[i]) <= d->floor[i];
 }
 
-int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu,
-                         double *Qxi, double *qnorm2) {
+int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu, double *Qxi,
+                         double *qnorm2) {
   size_t first = 0;
   int rc;
   while (first < d->n_xi && at_floor(d, xi, first)) first++;

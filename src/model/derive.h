@@ -12,8 +12,7 @@
 #include "core/callback.h"
 
 /* G(t, xi, mu) into out (n_mu values): an sdae_status */
-typedef int (*sdae__rate_fn)(void *ctx, double t, const double *xi, const double *mu,
-                             double *out);
+typedef int (*sdae__rate_fn)(void *ctx, double t, const double *xi, const double *mu, double *out);
 
 typedef struct sdae_derive {
   size_t n_xi, n_mu;
@@ -32,15 +31,15 @@ typedef struct sdae_derive {
 } sdae_derive;
 
 /* its arrays (counted, or handed out), wired to the rate G */
-void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn rate,
-                        void *ctx, sdae_arena *a);
+void sdae__derive_carve(sdae_derive *d, size_t n_xi, size_t n_mu, sdae__rate_fn rate, void *ctx,
+                        sdae_arena *a);
 /* forgets the G(0, mu) kept from the last call: after anything that changes G (a chart) */
 void sdae__derive_forget(sdae_derive *d);
 /* q0(t, mu) = G(t, 0, mu) */
 int sdae__derive_q0(sdae_derive *d, double t, const double *mu, double *out);
 /* Q(t, xi, mu) xi and the squared column norms ||q_i||^2, as the model's Q_apply; no evaluation
  * at all when every xi_i is at its floor */
-int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu,
-                         double *Qxi, double *qnorm2);
+int sdae__derive_Q_apply(sdae_derive *d, double t, const double *xi, const double *mu, double *Qxi,
+                         double *qnorm2);
 
 #endif /* STABDAE_SRC_MODEL_DERIVE_H */

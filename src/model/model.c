@@ -29,8 +29,8 @@ static void reduce_dense_Q(const sdae_model *m, const double *Q, const double *x
   }
 }
 
-int sdae__eval_Q(const sdae_model *m, double *Q_dense, double t, const double *xi,
-                 const double *mu, double *Qxi, double *qnorm2) {
+int sdae__eval_Q(const sdae_model *m, double *Q_dense, double t, const double *xi, const double *mu,
+                 double *Qxi, double *qnorm2) {
   int rc;
   if (m->Q) {
     rc = sdae__status_of_callback(m->Q(t, xi, mu, Q_dense, m->params));

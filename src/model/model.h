@@ -17,14 +17,14 @@ static inline int sdae__banded(const sdae_model *m, const sdae_options *o) {
 /* calls a user callback of the (t, mu, out) form with the model's params, then checks it;
  * inline: the discrete gradient makes four such calls per evaluation */
 static inline int sdae__call_checked(int (*cb)(double, const double *, double *, void *),
-                                     const sdae_model *m, double t, const double *mu,
-                                     double *out, size_t n_out) {
+                                     const sdae_model *m, double t, const double *mu, double *out,
+                                     size_t n_out) {
   return sdae__callback_checked(cb(t, mu, out, m->params), out, n_out);
 }
 int sdae__eval_q0(const sdae_model *m, double t, const double *mu, double *out);
 int sdae__eval_q0_jac(const sdae_model *m, double t, const double *mu, double *out);
 /* Q(xi, mu) xi into Qxi and ||q_i||^2 into qnorm2; Q_dense: n_mu x n_xi scratch for a dense Q */
-int sdae__eval_Q(const sdae_model *m, double *Q_dense, double t, const double *xi,
-                 const double *mu, double *Qxi, double *qnorm2);
+int sdae__eval_Q(const sdae_model *m, double *Q_dense, double t, const double *xi, const double *mu,
+                 double *Qxi, double *qnorm2);
 
 #endif /* STABDAE_SRC_MODEL_MODEL_H */

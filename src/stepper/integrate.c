@@ -38,8 +38,8 @@ static int observe(void *ctx, size_t i, double t) {
   return r->obs(i, t, r->xi, r->mu, r->data);
 }
 
-int sdae_integrate(sdae_stepper *s, double t0, double T, size_t nsteps, size_t every,
-                   double *xi, double *mu, sdae_observer obs, void *data, size_t *steps_done) {
+int sdae_integrate(sdae_stepper *s, double t0, double T, size_t nsteps, size_t every, double *xi,
+                   double *mu, sdae_observer obs, void *data, size_t *steps_done) {
   run r = {s, xi, mu, obs, data};
   sdae_drive d = {step, obs ? observe : NULL, &r};
   if (steps_done) *steps_done = 0;

@@ -64,7 +64,6 @@ static void carve(sdae_stepper *s, sdae_arena *a) {
                        s->opt.newton_tol, s->opt.newton_max_iter, a);
 }
 
-
 /* the stepper's parts wired to its model and options, arrays not yet handed out */
 static void wire(sdae_stepper *s, const sdae_model *m, const sdae_options *o) {
   memset(s, 0, sizeof *s);
@@ -192,8 +191,7 @@ int sdae_step(sdae_stepper *s, double t, double T, double *xi, double *mu) {
   return SDAE_OK;
 }
 
-int sdae_stepper_gains(sdae_stepper *s, double t, const double *xi, const double *mu,
-                       double *k) {
+int sdae_stepper_gains(sdae_stepper *s, double t, const double *xi, const double *mu, double *k) {
   int rc = call_status(s, t, xi, mu);
   if (rc != SDAE_OK) return rc;
   if (!k) return SDAE_ERR_NULL;
@@ -210,9 +208,7 @@ void sdae_stepper_reset_stats(sdae_stepper *s) {
 
 const sdae_model *sdae__stepper_model(const sdae_stepper *s) { return &s->model; }
 
-const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s) {
-  return &s->block.allocator;
-}
+const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s) { return &s->block.allocator; }
 
 void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats) { s->stats = *stats; }
 

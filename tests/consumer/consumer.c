@@ -21,7 +21,9 @@
 #define STABDAE_VIA "?"
 #endif
 
-typedef struct linear { double a, c; } linear;
+typedef struct linear {
+  double a, c;
+} linear;
 
 static int q0(double t, const double *mu, double *out, void *params) {
   const linear *p = params;
@@ -68,8 +70,8 @@ int main(void) {
   int ok = rel_err(xi, xi_ref) <= 1e-13 && rel_err(mu, mu_ref) <= 1e-13;
   printf("consumer (%s, stabdae %d.%d.%d): xi_%d = %.17g (closed form %.17g), "
          "mu_%d = %.17g (closed form %.17g)\n",
-         STABDAE_VIA, SDAE_VERSION_MAJOR, SDAE_VERSION_MINOR, SDAE_VERSION_PATCH, n, xi, xi_ref,
-         n, mu, mu_ref);
+         STABDAE_VIA, SDAE_VERSION_MAJOR, SDAE_VERSION_MINOR, SDAE_VERSION_PATCH, n, xi, xi_ref, n,
+         mu, mu_ref);
 
   double xi_before = xi, mu_before = mu;
   rc = sdae_step(s, n * T, -T, &xi, &mu);

@@ -22,12 +22,12 @@
 #include "certify_cli.h"
 #include "cli.h"
 
-#define REQUIRE(cond)                                                                      \
-  do {                                                                                     \
-    if (!(cond)) {                                                                         \
-      fprintf(stderr, "fuzz_cli: contract broken at line %d: %s\n", __LINE__, #cond);     \
-      abort();                                                                             \
-    }                                                                                      \
+#define REQUIRE(cond)                                                                              \
+  do {                                                                                             \
+    if (!(cond)) {                                                                                 \
+      fprintf(stderr, "fuzz_cli: contract broken at line %d: %s\n", __LINE__, #cond);              \
+      abort();                                                                                     \
+    }                                                                                              \
   } while (0)
 
 #define MAX_ARGS 64
@@ -54,8 +54,13 @@ typedef struct args {
 static void table(args *a) {
   *a = (args){.k = 2.0,
               .x0 = {0.1, 0.6, 0.0, 0.0},
-              .run = {.delta = 2.0, .eps = 1.0, .T = 0.001, .tf = 50.0,
-                          .scheme = 1, .map = sdae_map_euler, .every = 1},
+              .run = {.delta = 2.0,
+                      .eps = 1.0,
+                      .T = 0.001,
+                      .tf = 50.0,
+                      .scheme = 1,
+                      .map = sdae_map_euler,
+                      .every = 1},
               .cert = {.grid = 41, .lo = {-0.7, 0.0, -0.9, -0.9}, .hi = {0.7, 0.0, 0.9, 0.9}}};
   const cli_flag model[MODEL_NFLAGS] = {
       {"k", CLI_REAL, &a->k, NULL, 0, "a real"},

@@ -29,21 +29,21 @@
 
 #include "quartic.h"
 
-#define REQUIRE(cond)                                                                      \
-  do {                                                                                     \
-    if (!(cond)) {                                                                         \
-      fprintf(stderr, "fuzz_step: contract broken at line %d: %s\n", __LINE__, #cond);    \
-      abort();                                                                             \
-    }                                                                                      \
+#define REQUIRE(cond)                                                                              \
+  do {                                                                                             \
+    if (!(cond)) {                                                                                 \
+      fprintf(stderr, "fuzz_step: contract broken at line %d: %s\n", __LINE__, #cond);             \
+      abort();                                                                                     \
+    }                                                                                              \
   } while (0)
 
 enum choice {
-  EXPLICIT = 1 << 0,       /* scheme 11 instead of 15 */
-  MAP = 3 << 1,            /* euler, midpoint, dgrad, user */
-  STABILIZER = 3 << 3,     /* paper, none, Baumgarte, paper */
-  JACOBIAN = 1 << 5,       /* q0_jac (midpoint) and user_phi_jac (user) given */
-  CALLER_BLOCK = 1 << 6,   /* also step a stepper in a stale caller's block and compare */
-  Q_APPLY = 1 << 7         /* the model gives Q_apply instead of Q */
+  EXPLICIT = 1 << 0,     /* scheme 11 instead of 15 */
+  MAP = 3 << 1,          /* euler, midpoint, dgrad, user */
+  STABILIZER = 3 << 3,   /* paper, none, Baumgarte, paper */
+  JACOBIAN = 1 << 5,     /* q0_jac (midpoint) and user_phi_jac (user) given */
+  CALLER_BLOCK = 1 << 6, /* also step a stepper in a stale caller's block and compare */
+  Q_APPLY = 1 << 7       /* the model gives Q_apply instead of Q */
 };
 
 enum choice2 {
@@ -74,8 +74,8 @@ static double take_double(const uint8_t **p, size_t *n) {
 static void read_numbers(const uint8_t *p, size_t n, numbers *x) {
   double v[N_NUMBERS];
   for (int i = 0; i < N_NUMBERS; i++) v[i] = take_double(&p, &n);
-  *x = (numbers){v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], {v[9], v[10]},
-                 {v[11], v[12]}};
+  *x = (numbers){v[0], v[1], v[2], v[3],          v[4],          v[5],
+                 v[6], v[7], v[8], {v[9], v[10]}, {v[11], v[12]}};
 }
 
 static int positive_finite(double v) { return isfinite(v) && v > 0.0; }
@@ -86,12 +86,11 @@ static int all_finite(const double *v, int n) {
   return 1;
 }
 
-static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x,
-                      quartic *osc, sdae_model *m, sdae_options *o) {
+static void configure(uint8_t c, uint8_t c2, unsigned max_iter, const numbers *x, quartic *osc,
+                      sdae_model *m, sdae_options *o) {
   static const sdae_stabilizer stabilizers[4] = {SDAE_STAB_PAPER, SDAE_STAB_NONE,
                                                  SDAE_STAB_BAUMGARTE, SDAE_STAB_PAPER};
-  const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad,
-                                  sdae_map_user};
+  const sdae_map_type *maps[4] = {sdae_map_euler, sdae_map_midpoint, sdae_map_dgrad, sdae_map_user};
   *osc = (quartic){x->k, x->d, 0, 0};
   *m = quartic_model(osc);
   if (c & Q_APPLY) m->Q = NULL, m->Q_apply = quartic_Q_apply;
@@ -134,8 +133,8 @@ static int argument_status(double t, double T, const double *xi, const double *m
 }
 
 /* The xi rows of eq. 11 and 15 against the gains the stepper reports at the old state. */
-static void check_xi_update(const sdae_options *o, const double *k, double T,
-                            const double *xi_old, const double *xi) {
+static void check_xi_update(const sdae_options *o, const double *k, double T, const double *xi_old,
+                            const double *xi) {
   for (int i = 0; i < 2; i++) {
     REQUIRE(k[i] <= -o->epsilon); /* eq. 6 */
     if (o->scheme == SDAE_SCHEME_SEMI_IMPLICIT) {
@@ -147,8 +146,8 @@ static void check_xi_update(const sdae_options *o, const double *k, double T,
   }
 }
 
-static void one_step(sdae_stepper *s, sdae_stepper *twin, const sdae_options *o, double t,
-                     double T, double *xi, double *mu, unsigned long *good) {
+static void one_step(sdae_stepper *s, sdae_stepper *twin, const sdae_options *o, double t, double T,
+                     double *xi, double *mu, unsigned long *good) {
   double xi_old[2], mu_old[2], xi_twin[2], mu_twin[2], k[2];
   int want = argument_status(t, T, xi, mu);
   int gains_ok = want == SDAE_OK && o->stabilizer == SDAE_STAB_PAPER &&

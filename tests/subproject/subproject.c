@@ -28,7 +28,9 @@
 #define SUBPROJECT_HOW "?"
 #endif
 
-typedef struct linear2 { double a, c[2]; } linear2;
+typedef struct linear2 {
+  double a, c[2];
+} linear2;
 
 static int q0(double t, const double *mu, double *out, void *params) {
   const linear2 *p = params;

@@ -18,8 +18,8 @@
  *
  * CSV (%.17g): problem,solver,setting,param,steps,evals,rhs,newton,reps,cpu_s,err_q,err_v,
  * status; rhs counts the evaluations of the discretized dynamics (stabdae's map phi, IDA's
- * residual, those for its difference-quotient Jacobian included), each of which costs callbacks; newton is stabdae's Newton iterations (the stages'
- * included) or IDA's nonlinear iterations;
+ * residual, those for its difference-quotient Jacobian included), each of which costs callbacks;
+ * newton is stabdae's Newton iterations (the stages' included) or IDA's nonlinear iterations;
  * status is ok or why a run failed (a failed run is a point, not the end of the study). Bad
  * input: one line on stderr, exit 2, no file. */
 #include <math.h>
@@ -46,32 +46,27 @@ typedef struct counted {
   unsigned long calls;
 } counted;
 
-#define FORWARD(name, sig, args)                                                               \
-  static int counted_##name sig {                                                              \
-    counted *k = params;                                                                       \
-    k->calls++;                                                                                \
-    return k->inner.name args;                                                                 \
+#define FORWARD(name, sig, args)                                                                   \
+  static int counted_##name sig {                                                                  \
+    counted *k = params;                                                                           \
+    k->calls++;                                                                                    \
+    return k->inner.name args;                                                                     \
   }
-FORWARD(mass, (double t, const double *q, double *M, void *params),
-        (t, q, M, k->inner.params))
+FORWARD(mass, (double t, const double *q, double *M, void *params), (t, q, M, k->inner.params))
 FORWARD(force, (double t, const double *q, const double *v, double *F, void *params),
         (t, q, v, F, k->inner.params))
 FORWARD(constraint, (double t, const double *q, double *c, void *params),
         (t, q, c, k->inner.params))
-FORWARD(jacobian, (double t, const double *q, double *G, void *params),
-        (t, q, G, k->inner.params))
+FORWARD(jacobian, (double t, const double *q, double *G, void *params), (t, q, G, k->inner.params))
 FORWARD(constraint_t, (double t, const double *q, double *ct, void *params),
         (t, q, ct, k->inner.params))
-FORWARD(potential, (double t, const double *q, double *V, void *params),
-        (t, q, V, k->inner.params))
-FORWARD(damping, (double t, const double *q, double *D, void *params),
-        (t, q, D, k->inner.params))
+FORWARD(potential, (double t, const double *q, double *V, void *params), (t, q, V, k->inner.params))
+FORWARD(damping, (double t, const double *q, double *D, void *params), (t, q, D, k->inner.params))
 FORWARD(mass_dot_v, (double t, const double *q, const double *v, double *out, void *params),
         (t, q, v, out, k->inner.params))
 FORWARD(jacobian_dot, (double t, const double *q, const double *v, double *Gdot, void *params),
         (t, q, v, Gdot, k->inner.params))
-FORWARD(constraint_t_dot,
-        (double t, const double *q, const double *v, double *out, void *params),
+FORWARD(constraint_t_dot, (double t, const double *q, const double *v, double *out, void *params),
         (t, q, v, out, k->inner.params))
 #undef FORWARD
 
@@ -98,8 +93,8 @@ static sdae_mbs counting(counted *k) {
 typedef struct problem {
   const char *name;
   double tf;
-  double n_first, n_last;       /* the sweep of steps per unit time: T = 1/n .. */
-  const char *const *maps;      /* the suitable maps, by the library's names */
+  double n_first, n_last;  /* the sweep of steps per unit time: T = 1/n .. */
+  const char *const *maps; /* the suitable maps, by the library's names */
   union {
     bench_slider_crank slider_crank;
     bench_car_axis car_axis;
@@ -196,8 +191,7 @@ static int stabdae_run(void *ctx) {
   return rc != SDAE_OK;
 }
 
-static int keep_last(double t, const double *q, const double *v, const double *lambda,
-                     void *ctx) {
+static int keep_last(double t, const double *q, const double *v, const double *lambda, void *ctx) {
   trial *tr = ctx;
   size_t n = tr->pb->sys.n_q;
   (void)t, (void)lambda;
@@ -254,9 +248,9 @@ static double point(const settings *s, trial *tr, const char *solver, const char
   int ok = strcmp(tr->o.status, "ok") == 0;
   double eq = ok ? relative_error(tr->o.q, tr->pb->q_ref, n) : NAN;
   double ev = ok ? relative_error(tr->o.v, tr->pb->v_ref, n) : NAN;
-  fprintf(s->out, "%s,%s,%s,%.17g,%ld,%lu,%lu,%lu,%d,%.17g,%.17g,%.17g,%s\n", tr->pb->name,
-          solver, setting, tr->param, tr->o.steps, tr->o.evals, tr->o.rhs, tr->o.newton, reps,
-          *cpu, eq, ev, tr->o.status);
+  fprintf(s->out, "%s,%s,%s,%.17g,%ld,%lu,%lu,%lu,%d,%.17g,%.17g,%.17g,%s\n", tr->pb->name, solver,
+          setting, tr->param, tr->o.steps, tr->o.evals, tr->o.rhs, tr->o.newton, reps, *cpu, eq, ev,
+          tr->o.status);
   fflush(s->out);
   fprintf(stderr, "%s: %s %s %g: error %.3g, %.3g s CPU (%d reps)%s%s\n", tr->pb->name, solver,
           setting, tr->param, eq, *cpu, reps, ok ? "" : ", ", ok ? "" : tr->o.status);
@@ -323,15 +317,19 @@ static int ode_reference(problem *pb) {
   }
   memcpy(pb->q_ref, y, n * sizeof *y);
   memcpy(pb->v_ref, y + n, n * sizeof *y);
-  fprintf(stderr, "%s: reference rk8pd at 1e-14; IDA index1 at rtol 1e-12 differs by %.3g (q), "
-                  "%.3g (v), relative\n",
+  fprintf(stderr,
+          "%s: reference rk8pd at 1e-14; IDA index1 at rtol 1e-12 differs by %.3g (q), "
+          "%.3g (v), relative\n",
           pb->name, relative_error(ida.o.q, pb->q_ref, n), relative_error(ida.o.v, pb->v_ref, n));
   return 0;
 }
 
 static int study(const settings *s, const problem_def *def) {
-  problem pb = {.name = def->name, .tf = def->tf, .n_first = def->n_first,
-                .n_last = def->n_last, .maps = def->maps};
+  problem pb = {.name = def->name,
+                .tf = def->tf,
+                .n_first = def->n_first,
+                .n_last = def->n_last,
+                .maps = def->maps};
   def->setup(&pb);
   if (strcmp(def->name, "slider_crank") == 0 && ode_reference(&pb)) return -1;
   for (const char *const *m = pb.maps; *m; m++) stabdae_sweep(s, &pb, *m);

@@ -43,8 +43,7 @@ int wp_bad(const char *prog, const char *what, const char *arg) {
   return 2;
 }
 
-int wp_parse_positive(const char *prog, const char *flag, const char *v, double max,
-                      double *out) {
+int wp_parse_positive(const char *prog, const char *flag, const char *v, double max, double *out) {
   char *end;
   errno = 0;
   *out = strtod(v, &end);

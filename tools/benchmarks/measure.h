@@ -18,7 +18,6 @@ int wp_repeat(int reps, double budget, int (*run)(void *ctx), void *ctx, double 
 int wp_bad(const char *prog, const char *what, const char *arg);
 
 /* A number in (0, max] from the value of flag; 0, or wp_bad's 2. */
-int wp_parse_positive(const char *prog, const char *flag, const char *v, double max,
-                      double *out);
+int wp_parse_positive(const char *prog, const char *flag, const char *v, double max, double *out);
 
 #endif

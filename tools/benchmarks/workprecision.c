@@ -88,7 +88,7 @@ static point measure(const study_case *c, const settings *s, run_fn run, const v
 
 typedef struct stab_map {
   const sdae_map_type *const *map; /* its setting in the CSV is the library's name for it */
-  double n_first, n_last; /* the sweep of step counts per unit of tf: T = 1/n .. */
+  double n_first, n_last;          /* the sweep of step counts per unit of tf: T = 1/n .. */
 } stab_map;
 
 static void stabdae_run(const study_case *c, const void *setting, double T, outcome *o) {
@@ -156,8 +156,8 @@ static void write_point(const settings *s, const study_case *c, const point *p) 
           p->setting, p->param, p->o.steps, p->reps, p->cpu, p->error, p->o.status);
   fflush(s->out);
   fprintf(stderr, "d = %g: %s %s %g: error %.3g, %.3g s CPU (%d reps)%s%s\n", c->d, p->solver,
-          p->setting, p->param, p->error, p->cpu, p->reps,
-          strcmp(p->o.status, "ok") ? ", " : "", strcmp(p->o.status, "ok") ? p->o.status : "");
+          p->setting, p->param, p->error, p->cpu, p->reps, strcmp(p->o.status, "ok") ? ", " : "",
+          strcmp(p->o.status, "ok") ? p->o.status : "");
 }
 
 /* the sweep stops once the error is at rounding level, or after a failure at a fine setting */
@@ -183,13 +183,9 @@ static void ida_sweep(const settings *s, const study_case *c, const ida_form *f)
 
 /* The sweeps, from coarse to fine: per unit of time, 1/T from n_first to n_last. */
 static const stab_map maps[] = {
-    {&sdae_map_euler, 10.0, 1e4},
-    {&sdae_map_midpoint, 10.0, 1e4},
-    {&sdae_map_dgrad, 10.0, 1e4},
+    {&sdae_map_euler, 10.0, 1e4}, {&sdae_map_midpoint, 10.0, 1e4}, {&sdae_map_dgrad, 10.0, 1e4},
     {&sdae_map_user, 10.0, 1e4}, /* the oscillator's user map: the paper's Section IV map */
-    {&sdae_map_dg4, 1.0, 1e3},
-    {&sdae_map_dg6, 1.0, 1e3},
-    {&sdae_map_rk4, 1.0, 1e3},
+    {&sdae_map_dg4, 1.0, 1e3},    {&sdae_map_dg6, 1.0, 1e3},       {&sdae_map_rk4, 1.0, 1e3},
     {&sdae_map_rk8, 1.0, 1e3},
 };
 

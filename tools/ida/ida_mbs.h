@@ -39,8 +39,8 @@ typedef int (*idambs_row_fn)(double t, const double *q, const double *v, const d
 /* The constraint forces at (t, q, v): (G M^-1 G^T) lambda = G M^-1 F + gamma, and the
  * acceleration v' = M^-1 (F - G^T lambda) (vdot may be NULL). Returns 0, or -1 when a callback
  * fails or a matrix is not positive definite (lambda, vdot then undefined). */
-int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *v,
-                  double *lambda, double *vdot);
+int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *v, double *lambda,
+                  double *vdot);
 
 /* Integrates from (q0, v0) at t0, which must satisfy c = 0 and G v + dc/dt = 0 (lambda and v'
  * are computed, nu = 0), to o->tf (>= t0) with rows at t0, t0 + DT, ... and tf, each hit

@@ -33,9 +33,9 @@ enum { IDAREF_X, IDAREF_Y, IDAREF_XDOT, IDAREF_YDOT, IDAREF_LAMBDA, IDAREF_NU };
 
 typedef struct idaref_model {
   idaref_kind kind;
-  double k, d;   /* oscillator: cubic spring and damping */
-  double L;      /* pendulum: length */
-  double m, ga;  /* both: mass and gravity */
+  double k, d;  /* oscillator: cubic spring and damping */
+  double L;     /* pendulum: length */
+  double m, ga; /* both: mass and gravity */
 } idaref_model;
 
 /* The models' defaults of models.md. */

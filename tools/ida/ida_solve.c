@@ -25,8 +25,7 @@ typedef struct run {
   idaref_ida ida;
 } run;
 
-static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *user_data)
-{
+static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *user_data) {
   const problem *pb = user_data;
   (void)t;
   idaref_residual(pb->model, pb->form, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
@@ -38,8 +37,7 @@ static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *
 }
 
 static int jacobian_cb(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
-                       SUNMatrix Jac, void *user_data, N_Vector t1, N_Vector t2, N_Vector t3)
-{
+                       SUNMatrix Jac, void *user_data, N_Vector t1, N_Vector t2, N_Vector t3) {
   const problem *pb = user_data;
   size_t n = idaref_dim(pb->form);
   double J[IDAREF_MAX_DIM * IDAREF_MAX_DIM];
@@ -52,22 +50,17 @@ static int jacobian_cb(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vect
 }
 
 void idaref_error_handler(int code, const char *module, const char *function, char *msg,
-                          void *data)
-{
+                          void *data) {
   idaref_result *res = data;
   (void)module;
-  if (code >= 0)
-    return;
+  if (code >= 0) return;
   snprintf(res->message, sizeof res->message, "%s: %s", function, msg);
   for (char *c = res->message; *c; c++)
-    if (*c == '\n' || *c == '\r')
-      *c = ' ';
+    if (*c == '\n' || *c == '\r') *c = ' ';
 }
 
-int idaref_failed(idaref_result *res, int flag, const char *function)
-{
-  if (flag >= 0)
-    return 0;
+int idaref_failed(idaref_result *res, int flag, const char *function) {
+  if (flag >= 0) return 0;
   char *name = IDAGetReturnFlagName(flag); /* malloc'd by IDA */
   res->ida_flag = flag;
   res->function = function;
@@ -76,11 +69,9 @@ int idaref_failed(idaref_result *res, int flag, const char *function)
   return -1;
 }
 
-int idaref_ida_create(idaref_ida *r, size_t n, idaref_result *res)
-{
+int idaref_ida_create(idaref_ida *r, size_t n, idaref_result *res) {
   sunindextype len = (sunindextype)n;
-  if (idaref_failed(res, SUNContext_Create(NULL, &r->ctx), "SUNContext_Create"))
-    return -1;
+  if (idaref_failed(res, SUNContext_Create(NULL, &r->ctx), "SUNContext_Create")) return -1;
   r->mem = IDACreate(r->ctx);
   r->yy = N_VNew_Serial(len, r->ctx);
   r->yp = N_VNew_Serial(len, r->ctx);
@@ -92,8 +83,7 @@ int idaref_ida_create(idaref_ida *r, size_t n, idaref_result *res)
   return r->ls ? 0 : idaref_failed(res, IDA_MEM_FAIL, "SUNLinSol_Dense");
 }
 
-void idaref_ida_destroy(idaref_ida *r)
-{
+void idaref_ida_destroy(idaref_ida *r) {
   IDAFree(&r->mem);
   SUNLinSolFree(r->ls);
   SUNMatDestroy(r->A);
@@ -108,12 +98,10 @@ void idaref_ida_destroy(idaref_ida *r)
  * so largest on the tiny first steps); --atol on it makes the Newton test fail on that noise
  * (IDA_CONV_FAIL at rtol 1e-10, atol 1e-12 for the pendulum). Its effect on q, G^T nu / cj, is
  * still held to q's own tolerance. */
-static int set_tolerances(run *r, const idaref_options *o)
-{
+static int set_tolerances(run *r, const idaref_options *o) {
   N_Vector atol = N_VClone(r->ida.yy);
   int flag;
-  if (!atol)
-    return IDA_MEM_FAIL;
+  if (!atol) return IDA_MEM_FAIL;
   for (size_t i = 0; i < idaref_dim(r->pb.form); i++)
     N_VGetArrayPointer(atol)[i] = i == IDAREF_NU ? 1.0 : o->atol;
   flag = IDASVtolerances(r->ida.mem, o->rtol, atol);
@@ -124,8 +112,7 @@ static int set_tolerances(run *r, const idaref_options *o)
 /* IDAInit from (y, y') and the options: tolerances, the dense solver with the analytic matrix,
  * the id vector, and for GGL the algebraic variables out of the error test. */
 static int configure(run *r, const double *y, const double *yp, const idaref_options *o,
-                     idaref_result *res)
-{
+                     idaref_result *res) {
   void *mem = r->ida.mem;
   size_t n = idaref_dim(r->pb.form);
   memcpy(N_VGetArrayPointer(r->ida.yy), y, n * sizeof *y);
@@ -153,8 +140,7 @@ static int configure(run *r, const double *y, const double *yp, const idaref_opt
  * the same one (hdd = 0 holds along any solution with h = 0), with nu = 0 and q' = v.
  * y and yp have IDAREF_MAX_DIM entries; nu and nu' are left 0. */
 static int consistent_start(const idaref_model *p, const double *x0, const idaref_options *o,
-                            double *y, double *yp, idaref_result *res)
-{
+                            double *y, double *yp, idaref_result *res) {
   run r = {.pb = {.model = p, .form = IDAREF_INDEX1}};
   double t1;
   int status = -1;
@@ -176,10 +162,8 @@ static int consistent_start(const idaref_model *p, const double *x0, const idare
   return status;
 }
 
-void idaref_collect_stats(void *mem, idaref_stats *s)
-{
-  if (!mem)
-    return;
+void idaref_collect_stats(void *mem, idaref_stats *s) {
+  if (!mem) return;
   IDAGetNumSteps(mem, &s->steps);
   IDAGetNumResEvals(mem, &s->res_evals);
   IDAGetNumLinResEvals(mem, &s->lin_res_evals);
@@ -189,8 +173,7 @@ void idaref_collect_stats(void *mem, idaref_stats *s)
   IDAGetNumNonlinSolvIters(mem, &s->nonlin_iters);
 }
 
-void idaref_write_stats(FILE *f, const idaref_stats *s)
-{
+void idaref_write_stats(FILE *f, const idaref_stats *s) {
   fprintf(f, "# steps: %ld\n", s->steps);
   fprintf(f, "# residual evaluations: %ld\n", s->res_evals);
   fprintf(f, "# residual evaluations for the Jacobian: %ld\n", s->lin_res_evals);
@@ -201,22 +184,18 @@ void idaref_write_stats(FILE *f, const idaref_stats *s)
 }
 
 /* The k-th output time from t0: t0 + k DT, the last one tf itself. */
-static int output_time(double t0, double tf, double dt, double k, double *t)
-{
+static int output_time(double t0, double tf, double dt, double k, double *t) {
   double s;
-  if (idaref_output_time(tf - t0, dt, k, &s) != 0)
-    return -1;
+  if (idaref_output_time(tf - t0, dt, k, &s) != 0) return -1;
   *t = s == tf - t0 ? tf : t0 + s;
   return 0;
 }
 
-int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row,
-                 void *ctx, idaref_result *res)
-{
+int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row, void *ctx,
+                 idaref_result *res) {
   double t;
   res->t_reached = t0;
-  if (row(t0, N_VGetArrayPointer(r->yy), ctx) != 0)
-    return IDAREF_OUTPUT_FAILED;
+  if (row(t0, N_VGetArrayPointer(r->yy), ctx) != 0) return IDAREF_OUTPUT_FAILED;
   for (double k = 1.0; output_time(t0, o->tf, o->dt, k, &t) == 0; k += 1.0) {
     realtype tret = res->t_reached;
     if (idaref_failed(res, IDASetStopTime(r->mem, t), "IDASetStopTime") ||
@@ -225,8 +204,7 @@ int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_f
       return IDAREF_IDA_FAILED;
     }
     res->t_reached = tret;
-    if (row(tret, N_VGetArrayPointer(r->yy), ctx) != 0)
-      return IDAREF_OUTPUT_FAILED;
+    if (row(tret, N_VGetArrayPointer(r->yy), ctx) != 0) return IDAREF_OUTPUT_FAILED;
   }
   return IDAREF_OK;
 }
@@ -234,8 +212,7 @@ int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_f
 /* Output k (k >= 1) lies strictly inside (0, tf), short of tf by more than rounding. */
 static int before_tf(double tf, double dt, double k) { return k * dt < tf - 1e-9 * dt; }
 
-int idaref_output_time(double tf, double dt, double k, double *t)
-{
+int idaref_output_time(double tf, double dt, double k, double *t) {
   if (k == 0.0 || before_tf(tf, dt, k)) {
     *t = k * dt;
     return 0;
@@ -247,17 +224,14 @@ int idaref_output_time(double tf, double dt, double k, double *t)
   return -1;
 }
 
-int idaref_solve(const idaref_model *p, idaref_form form, const double *x0,
-                 const idaref_options *o, idaref_row_fn row, void *ctx, idaref_result *res)
-{
+int idaref_solve(const idaref_model *p, idaref_form form, const double *x0, const idaref_options *o,
+                 idaref_row_fn row, void *ctx, idaref_result *res) {
   run r = {.pb = {.model = p, .form = form}};
   double y[IDAREF_MAX_DIM], yp[IDAREF_MAX_DIM];
   int status = IDAREF_IDA_FAILED;
   memset(res, 0, sizeof *res);
-  if (consistent_start(p, x0, o, y, yp, res) != 0)
-    return status;
-  if (idaref_ida_create(&r.ida, idaref_dim(form), res) == 0 &&
-      configure(&r, y, yp, o, res) == 0)
+  if (consistent_start(p, x0, o, y, yp, res) != 0) return status;
+  if (idaref_ida_create(&r.ida, idaref_dim(form), res) == 0 && configure(&r, y, yp, o, res) == 0)
     status = idaref_march(&r.ida, 0.0, o, row, ctx, res);
   idaref_collect_stats(r.ida.mem, &res->stats);
   idaref_ida_destroy(&r.ida);

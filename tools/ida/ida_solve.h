@@ -12,9 +12,9 @@
 #include "ida_models.h"
 
 typedef struct idaref_options {
-  double rtol, atol;  /* IDASStolerances */
-  double tf, dt;      /* final time (>= 0) and output spacing (> 0) */
-  long max_steps;     /* IDASetMaxNumSteps: steps allowed per output interval */
+  double rtol, atol; /* IDASStolerances */
+  double tf, dt;     /* final time (>= 0) and output spacing (> 0) */
+  long max_steps;    /* IDASetMaxNumSteps: steps allowed per output interval */
 } idaref_options;
 
 typedef struct idaref_stats {
@@ -29,12 +29,12 @@ typedef int (*idaref_row_fn)(double t, const double *y, void *ctx);
 enum { IDAREF_OK = 0, IDAREF_IDA_FAILED = -1, IDAREF_OUTPUT_FAILED = -2 };
 
 typedef struct idaref_result {
-  int ida_flag;          /* IDA's return flag of the failing call (0 when the run succeeded) */
-  char flag_name[32];    /* its name (IDAGetReturnFlagName), e.g. "IDA_CONV_FAIL" */
-  const char *function;  /* name of the failing SUNDIALS call, or NULL */
-  double t_reached;      /* time of the last state IDA holds */
-  char message[512];     /* IDA's own error message, one line (empty when none) */
-  idaref_stats stats;    /* solver counters (also on failure) */
+  int ida_flag;         /* IDA's return flag of the failing call (0 when the run succeeded) */
+  char flag_name[32];   /* its name (IDAGetReturnFlagName), e.g. "IDA_CONV_FAIL" */
+  const char *function; /* name of the failing SUNDIALS call, or NULL */
+  double t_reached;     /* time of the last state IDA holds */
+  char message[512];    /* IDA's own error message, one line (empty when none) */
+  idaref_stats stats;   /* solver counters (also on failure) */
 } idaref_result;
 
 /* The k-th output time (k = 0, 1, ...): k DT while short of tf by more than 1e-9 DT, then tf.
@@ -43,8 +43,8 @@ int idaref_output_time(double tf, double dt, double k, double *t);
 
 /* Integrates from x0 (which must satisfy h = hdot = 0; lambda comes from IDACalcIC). Returns
  * IDAREF_OK, IDAREF_IDA_FAILED (details in *res) or IDAREF_OUTPUT_FAILED. */
-int idaref_solve(const idaref_model *p, idaref_form form, const double *x0,
-                 const idaref_options *o, idaref_row_fn row, void *ctx, idaref_result *res);
+int idaref_solve(const idaref_model *p, idaref_form form, const double *x0, const idaref_options *o,
+                 idaref_row_fn row, void *ctx, idaref_result *res);
 
 /* ---- shared by the drivers (this one and ida_mbs.c) ---------------------------------------- */
 
@@ -76,7 +76,7 @@ void idaref_write_stats(FILE *f, const idaref_stats *s);
 /* From the configured run at t0: row(t, y) at t0, then IDASolve to t0 + DT, t0 + 2 DT, ... and
  * o->tf, each hit exactly through tstop. IDAREF_OK, IDAREF_IDA_FAILED or IDAREF_OUTPUT_FAILED;
  * res->t_reached the time of the last state IDA holds. */
-int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row,
-                 void *ctx, idaref_result *res);
+int idaref_march(idaref_ida *r, double t0, const idaref_options *o, idaref_row_fn row, void *ctx,
+                 idaref_result *res);
 
 #endif

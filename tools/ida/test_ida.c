@@ -20,8 +20,7 @@
 
 /* Oscillator with d = 0 on the manifold: X'' = -(k/m) X^3, X(0) = A, X'(0) = 0 is solved by
  * X = A cn(w t | 1/2), w = A sqrt(k/m) (parameter m = 1/2); X' = -A w sn dn. */
-static void oscillator_exact(const idaref_model *p, double A, double t, double *X, double *Xdot)
-{
+static void oscillator_exact(const idaref_model *p, double A, double t, double *X, double *Xdot) {
   double w = A * sqrt(p->k / p->m), sn, cn, dn;
   ck_assert_int_eq(gsl_sf_elljac_e(w * t, 0.5, &sn, &cn, &dn), GSL_SUCCESS);
   *X = A * cn;
@@ -32,8 +31,7 @@ static void oscillator_exact(const idaref_model *p, double A, double t, double *
  * w = sqrt(ga/L). GSL: ellint_Kcomp takes the modulus s, elljac the parameter s^2.
  * theta' = -2 s w cn dn / cos(theta/2). */
 static void pendulum_exact(const idaref_model *p, double theta0, double t, double *theta,
-                           double *thetadot)
-{
+                           double *thetadot) {
   double s = sin(0.5 * theta0), w = sqrt(p->ga / p->L), sn, cn, dn;
   double K = gsl_sf_ellint_Kcomp(s, GSL_PREC_DOUBLE);
   ck_assert_int_eq(gsl_sf_elljac_e(K - w * t, s * s, &sn, &cn, &dn), GSL_SUCCESS);
@@ -45,19 +43,18 @@ static void pendulum_exact(const idaref_model *p, double theta0, double t, doubl
 
 typedef struct recorder {
   const idaref_model *p;
-  double A, theta0;         /* the starts of the exact solutions */
+  double A, theta0; /* the starts of the exact solutions */
   size_t rows;
   double t_first, t_last;
-  double err_pos, err_vel;  /* max |position error|, max |velocity error| */
+  double err_pos, err_vel; /* max |position error|, max |velocity error| */
   double lambda_first, err_lambda;
-  double max_h, max_hdot;   /* max |h| (pendulum: |X^2 + Y^2 - L^2| = 2|h|), max |hdot| */
+  double max_h, max_hdot;      /* max |h| (pendulum: |X^2 + Y^2 - L^2| = 2|h|), max |hdot| */
   double E0, max_dE, max_rise; /* energy drift, largest increase between outputs */
   double E_prev;
-  int fail_at_row;          /* make the row callback fail at this row (0: never) */
+  int fail_at_row; /* make the row callback fail at this row (0: never) */
 } recorder;
 
-static void record_energy(recorder *r, const double *y)
-{
+static void record_energy(recorder *r, const double *y) {
   double E = idaref_energy(r->p, y);
   if (r->rows == 1) {
     r->E0 = r->E_prev = E;
@@ -68,8 +65,7 @@ static void record_energy(recorder *r, const double *y)
   r->E_prev = E;
 }
 
-static void record_exact(recorder *r, double t, const double *y)
-{
+static void record_exact(recorder *r, double t, const double *y) {
   const idaref_model *p = r->p;
   double lambda_exact;
   if (p->kind == IDAREF_OSCILLATOR) {
@@ -81,8 +77,8 @@ static void record_exact(recorder *r, double t, const double *y)
   } else {
     double th, thd;
     pendulum_exact(p, r->theta0, t, &th, &thd);
-    r->err_pos = fmax(r->err_pos, fmax(fabs(y[IDAREF_X] - p->L * sin(th)),
-                                       fabs(y[IDAREF_Y] + p->L * cos(th))));
+    r->err_pos = fmax(r->err_pos,
+                      fmax(fabs(y[IDAREF_X] - p->L * sin(th)), fabs(y[IDAREF_Y] + p->L * cos(th))));
     r->err_vel = fmax(r->err_vel, fmax(fabs(y[IDAREF_XDOT] - p->L * cos(th) * thd),
                                        fabs(y[IDAREF_YDOT] - p->L * sin(th) * thd)));
     /* tension lambda L = m (L theta'^2 + ga cos theta), theta'^2 = 2 (ga/L)(cos th - cos th0) */
@@ -91,12 +87,10 @@ static void record_exact(recorder *r, double t, const double *y)
   r->err_lambda = fmax(r->err_lambda, fabs(y[IDAREF_LAMBDA] - lambda_exact));
 }
 
-static int record(double t, const double *y, void *ctx)
-{
+static int record(double t, const double *y, void *ctx) {
   recorder *r = ctx;
   r->rows++;
-  if (r->fail_at_row && (int)r->rows == r->fail_at_row)
-    return -1;
+  if (r->fail_at_row && (int)r->rows == r->fail_at_row) return -1;
   if (r->rows == 1) {
     r->t_first = t;
     r->lambda_first = y[IDAREF_LAMBDA];
@@ -105,21 +99,17 @@ static int record(double t, const double *y, void *ctx)
   r->max_h = fmax(r->max_h, fabs(idaref_h(r->p, y)));
   r->max_hdot = fmax(r->max_hdot, fabs(idaref_hdot(r->p, y)));
   record_energy(r, y);
-  if (r->A != 0.0 || r->theta0 != 0.0)
-    record_exact(r, t, y);
+  if (r->A != 0.0 || r->theta0 != 0.0) record_exact(r, t, y);
   return 0;
 }
 
-static idaref_options options(double rtol, double tf, double dt)
-{
-  idaref_options o = {.rtol = rtol, .atol = rtol / 100.0, .tf = tf, .dt = dt,
-                      .max_steps = 100000};
+static idaref_options options(double rtol, double tf, double dt) {
+  idaref_options o = {.rtol = rtol, .atol = rtol / 100.0, .tf = tf, .dt = dt, .max_steps = 100000};
   return o;
 }
 
 static void solve_ok(const idaref_model *p, idaref_form form, const double *x0,
-                     const idaref_options *o, recorder *r, idaref_result *res)
-{
+                     const idaref_options *o, recorder *r, idaref_result *res) {
   int status = idaref_solve(p, form, x0, o, record, r, res);
   ck_assert_msg(status == IDAREF_OK, "%s failed with %s at t = %g: %s", res->function,
                 res->flag_name, res->t_reached, res->message);
@@ -130,8 +120,7 @@ static const char *form_name(idaref_form form) { return form == IDAREF_GGL ? "gg
 /* ---- residual and iteration matrix ---------------------------------------------------------- */
 
 /* dF/dy + cj dF/dy' against central differences of the residual at an arbitrary point. */
-START_TEST(jacobian_matches_differences)
-{
+START_TEST(jacobian_matches_differences) {
   idaref_kind kind = _i / 2 ? IDAREF_PENDULUM : IDAREF_OSCILLATOR;
   idaref_form form = _i % 2 ? IDAREF_GGL : IDAREF_INDEX1;
   idaref_model p = idaref_model_default(kind);
@@ -158,8 +147,7 @@ START_TEST(jacobian_matches_differences)
 END_TEST
 
 /* The index-1 residual vanishes on the pendulum's exact motion (checks hdd and lambda). */
-START_TEST(index1_residual_zero_on_exact_motion)
-{
+START_TEST(index1_residual_zero_on_exact_motion) {
   idaref_model p = idaref_model_default(IDAREF_PENDULUM);
   p.L = 1.4, p.m = 0.6;
   for (double t = 0.0; t < 3.0; t += 0.37) {
@@ -172,16 +160,14 @@ START_TEST(index1_residual_zero_on_exact_motion)
     const double yp[5] = {y[2], y[3], p.L * (cos(th) * thdd - sin(th) * thd * thd),
                           p.L * (sin(th) * thdd + cos(th) * thd * thd), 0.0};
     idaref_residual(&p, IDAREF_INDEX1, y, yp, r);
-    for (int i = 0; i < 5; i++)
-      ck_assert_msg(fabs(r[i]) < 1e-12, "t = %g: r[%d] = %g", t, i, r[i]);
+    for (int i = 0; i < 5; i++) ck_assert_msg(fabs(r[i]) < 1e-12, "t = %g: r[%d] = %g", t, i, r[i]);
   }
 }
 END_TEST
 
 /* ---- IDA against the exact solutions ------------------------------------------------------- */
 
-START_TEST(oscillator_matches_cn)
-{
+START_TEST(oscillator_matches_cn) {
   idaref_form form = _i ? IDAREF_GGL : IDAREF_INDEX1;
   idaref_model p = idaref_model_default(IDAREF_OSCILLATOR);
   const double A = 0.8, x0[4] = {A, 0.0, 0.0, 0.0};
@@ -192,9 +178,8 @@ START_TEST(oscillator_matches_cn)
   solve_ok(&p, form, x0, &o, &r, &res);
   printf("oscillator %-6s rtol 1e-10: max |X - A cn| %.2e, |Xdot - exact| %.2e, "
          "|lambda + m ga| %.2e; steps %ld, res %ld, jac %ld, etf %ld, ncf %ld\n",
-         form_name(form), r.err_pos, r.err_vel, r.err_lambda, res.stats.steps,
-         res.stats.res_evals, res.stats.jac_evals, res.stats.err_test_fails,
-         res.stats.nonlin_conv_fails);
+         form_name(form), r.err_pos, r.err_vel, r.err_lambda, res.stats.steps, res.stats.res_evals,
+         res.stats.jac_evals, res.stats.err_test_fails, res.stats.nonlin_conv_fails);
   ck_assert_double_eq(r.t_last, 10.0);
   ck_assert_double_le(r.err_pos, 1e-6);
   ck_assert_double_le(r.err_vel, 1e-6);
@@ -203,8 +188,7 @@ START_TEST(oscillator_matches_cn)
 }
 END_TEST
 
-START_TEST(pendulum_matches_sn)
-{
+START_TEST(pendulum_matches_sn) {
   idaref_form form = _i ? IDAREF_GGL : IDAREF_INDEX1;
   idaref_model p = idaref_model_default(IDAREF_PENDULUM);
   const double theta0 = 0.5;
@@ -239,8 +223,7 @@ END_TEST
  * error of at most about rtol |y| (atol is rtol/100), and these add up at most linearly, so with
  * E quartic (|dE|/E <= 4 |dy|/|y|) the relative drift is below 4 rtol per step taken. The
  * drift must also follow the tolerance: at least 10 times smaller when rtol is 100 times. */
-START_TEST(oscillator_energy_drift)
-{
+START_TEST(oscillator_energy_drift) {
   idaref_form form = _i ? IDAREF_GGL : IDAREF_INDEX1;
   idaref_model p = idaref_model_default(IDAREF_OSCILLATOR);
   const double x0[4] = {1.0, 0.0, 0.0, 0.0};
@@ -252,19 +235,17 @@ START_TEST(oscillator_energy_drift)
     idaref_result res;
     solve_ok(&p, form, x0, &o, &r, &res);
     drift[i] = r.max_dE / r.E0;
-    printf("oscillator %-6s rtol %.0e: relative energy drift %.2e (%ld steps)\n",
-           form_name(form), rtol, drift[i], res.stats.steps);
+    printf("oscillator %-6s rtol %.0e: relative energy drift %.2e (%ld steps)\n", form_name(form),
+           rtol, drift[i], res.stats.steps);
     ck_assert_double_eq_tol(r.E0, p.k / 4.0, 1e-15);
     ck_assert_double_le(drift[i], 4.0 * rtol * (double)res.stats.steps);
-    if (i > 0)
-      ck_assert_double_le(drift[i], drift[i - 1] / 10.0);
+    if (i > 0) ck_assert_double_le(drift[i], drift[i - 1] / 10.0);
   }
 }
 END_TEST
 
 /* With d > 0 the energy only decreases: dE/dt = -d Xdot^2 (up to the tolerance). */
-START_TEST(damped_oscillator_dissipates)
-{
+START_TEST(damped_oscillator_dissipates) {
   idaref_form form = _i ? IDAREF_GGL : IDAREF_INDEX1;
   idaref_model p = idaref_model_default(IDAREF_OSCILLATOR);
   const double x0[4] = {1.0, 0.0, 0.0, 0.0};
@@ -280,8 +261,7 @@ END_TEST
 
 /* ---- consistent initial values --------------------------------------------------------------- */
 
-START_TEST(projection_onto_manifold)
-{
+START_TEST(projection_onto_manifold) {
   idaref_model pend = idaref_model_default(IDAREF_PENDULUM), osc;
   double x[4] = {2.0, 1.0, 0.3, 0.4}, origin[4] = {0.0, 0.0, 1.0, 2.0};
   double t[2] = {-1.0, 2.0}; /* tangent at the direction (2, 1) */
@@ -309,8 +289,7 @@ END_TEST
 
 /* ---- output times and failures ------------------------------------------------------------- */
 
-START_TEST(output_times)
-{
+START_TEST(output_times) {
   double t, k;
   /* tf a multiple of DT up to rounding: 0, 0.1, ..., 10 with the last one exactly tf */
   for (k = 0.0; idaref_output_time(10.0, 0.1, k, &t) == 0; k += 1.0)
@@ -334,8 +313,7 @@ START_TEST(output_times)
 }
 END_TEST
 
-START_TEST(rows_hit_output_times_exactly)
-{
+START_TEST(rows_hit_output_times_exactly) {
   idaref_model p = idaref_model_default(IDAREF_PENDULUM);
   const double x0[4] = {sin(0.5), -cos(0.5), 0.0, 0.0};
   idaref_options o = options(1e-8, 1.05, 0.1);
@@ -348,8 +326,7 @@ START_TEST(rows_hit_output_times_exactly)
 }
 END_TEST
 
-START_TEST(too_much_work_is_reported)
-{
+START_TEST(too_much_work_is_reported) {
   idaref_model p = idaref_model_default(IDAREF_PENDULUM);
   const double x0[4] = {sin(0.5), -cos(0.5), 0.0, 0.0};
   idaref_options o = options(1e-10, 10.0, 1.0);
@@ -369,22 +346,19 @@ START_TEST(too_much_work_is_reported)
 }
 END_TEST
 
-START_TEST(output_failure_stops_the_run)
-{
+START_TEST(output_failure_stops_the_run) {
   idaref_model p = idaref_model_default(IDAREF_OSCILLATOR);
   const double x0[4] = {0.5, 0.0, 0.0, 0.0};
   idaref_options o = options(1e-8, 5.0, 1.0);
   recorder r = {.p = &p, .fail_at_row = 3};
   idaref_result res;
-  ck_assert_int_eq(idaref_solve(&p, IDAREF_INDEX1, x0, &o, record, &r, &res),
-                   IDAREF_OUTPUT_FAILED);
+  ck_assert_int_eq(idaref_solve(&p, IDAREF_INDEX1, x0, &o, record, &r, &res), IDAREF_OUTPUT_FAILED);
   ck_assert_uint_eq(r.rows, 3);
   ck_assert_double_eq(res.t_reached, 2.0);
 }
 END_TEST
 
-static Suite *ida_suite(void)
-{
+static Suite *ida_suite(void) {
   Suite *s = suite_create("ida");
   TCase *model = tcase_create("model");
   TCase *exact = tcase_create("exact");
@@ -407,8 +381,7 @@ static Suite *ida_suite(void)
   return s;
 }
 
-int main(void)
-{
+int main(void) {
   SRunner *sr = srunner_create(ida_suite());
   int failed;
   gsl_set_error_handler_off(); /* GSL statuses are asserted instead of aborting */

@@ -21,33 +21,29 @@
 
 static const char *form_name(idambs_form form) { return form == IDAMBS_GGL ? "ggl" : "index1"; }
 
-static idaref_options options(double rtol, double tf, double dt)
-{
-  return (idaref_options){.rtol = rtol, .atol = rtol / 100.0, .tf = tf, .dt = dt,
-                          .max_steps = 100000};
+static idaref_options options(double rtol, double tf, double dt) {
+  return (idaref_options){
+      .rtol = rtol, .atol = rtol / 100.0, .tf = tf, .dt = dt, .max_steps = 100000};
 }
 
 static void solve_ok(const sdae_mbs *sys, idambs_form form, const double *q0, const double *v0,
-                     const idaref_options *o, idambs_row_fn row, void *ctx, idaref_result *res)
-{
+                     const idaref_options *o, idambs_row_fn row, void *ctx, idaref_result *res) {
   int status = idambs_solve(sys, form, 0.0, q0, v0, o, row, ctx, res);
   ck_assert_msg(status == IDAREF_OK, "%s failed with %s at t = %g: %s", res->function,
                 res->flag_name, res->t_reached, res->message);
 }
 
-static void print_stats(const char *what, idambs_form form, const idaref_result *res)
-{
+static void print_stats(const char *what, idambs_form form, const idaref_result *res) {
   const idaref_stats *s = &res->stats;
   printf("  %-6s steps %ld, res %ld, jac %ld, nonlinear iterations %ld, etf %ld, ncf %ld (%s)\n",
-         form_name(form), s->steps, s->res_evals, s->jac_evals, s->nonlin_iters,
-         s->err_test_fails, s->nonlin_conv_fails, what);
+         form_name(form), s->steps, s->res_evals, s->jac_evals, s->nonlin_iters, s->err_test_fails,
+         s->nonlin_conv_fails, what);
 }
 
 /* IDA keeps each step's local error near rtol |y| (atol = rtol/100), and on these bounded,
  * non-chaotic motions the local errors add up at most linearly, so the global error of a
  * quantity of size `scale` stays below steps * rtol * scale. */
-static double global_bound(const idaref_options *o, const idaref_result *res, double scale)
-{
+static double global_bound(const idaref_options *o, const idaref_result *res, double scale) {
   return (double)res->stats.steps * o->rtol * scale;
 }
 
@@ -57,8 +53,7 @@ static double global_bound(const idaref_options *o, const idaref_result *res, do
  * GSL's ellint_Kcomp takes the modulus s, elljac the parameter s^2;
  * theta' = -2 s w cn dn / cos(theta/2). */
 static void pendulum_exact(const mech_pendulum *p, double theta0, double t, double *theta,
-                           double *thetadot)
-{
+                           double *thetadot) {
   double s = sin(0.5 * theta0), w = sqrt(p->ga / p->L), sn, cn, dn;
   double K = gsl_sf_ellint_Kcomp(s, GSL_PREC_DOUBLE);
   ck_assert_int_eq(gsl_sf_elljac_e(K - w * t, s * s, &sn, &cn, &dn), GSL_SUCCESS);
@@ -68,8 +63,7 @@ static void pendulum_exact(const mech_pendulum *p, double theta0, double t, doub
 
 /* The rod tension of c = (|q|^2 - L^2)/2, M = m I, F = (0, -m ga): twice differentiating
  * |q|^2 = L^2 gives q.v' + |v|^2 = 0 with m v' = F - lambda q, so lambda = m (|v|^2 - ga y)/L^2. */
-static double tension(const mech_pendulum *p, const double *q, const double *v)
-{
+static double tension(const mech_pendulum *p, const double *q, const double *v) {
   return p->m * (v[0] * v[0] + v[1] * v[1] - p->ga * q[1]) / (p->L * p->L);
 }
 
@@ -80,25 +74,23 @@ typedef struct pendulum_rec {
 } pendulum_rec;
 
 static int pendulum_row(double t, const double *q, const double *v, const double *lambda,
-                        void *ctx)
-{
+                        void *ctx) {
   pendulum_rec *r = ctx;
   const mech_pendulum *p = r->p;
   double th, thd;
   pendulum_exact(p, r->theta0, t, &th, &thd);
   r->err_q = fmax(r->err_q, fmax(fabs(q[0] - p->L * sin(th)), fabs(q[1] + p->L * cos(th))));
-  r->err_v = fmax(r->err_v, fmax(fabs(v[0] - p->L * cos(th) * thd),
-                                 fabs(v[1] - p->L * sin(th) * thd)));
+  r->err_v =
+      fmax(r->err_v, fmax(fabs(v[0] - p->L * cos(th) * thd), fabs(v[1] - p->L * sin(th) * thd)));
   /* lambda L^2 = m (L^2 theta'^2 + ga L cos theta), theta'^2 = 2 (ga/L)(cos th - cos th0) */
   r->err_lambda = fmax(r->err_lambda, fabs(lambda[0] - p->m * p->ga / p->L *
-                                                       (3.0 * cos(th) - 2.0 * cos(r->theta0))));
+                                                           (3.0 * cos(th) - 2.0 * cos(r->theta0))));
   r->lambda_vs_state = fmax(r->lambda_vs_state, fabs(lambda[0] - tension(p, q, v)));
   r->max_c = fmax(r->max_c, fabs(q[0] * q[0] + q[1] * q[1] - p->L * p->L) / 2.0);
   return 0;
 }
 
-START_TEST(pendulum_matches_elliptic_solution)
-{
+START_TEST(pendulum_matches_elliptic_solution) {
   idambs_form form = _i ? IDAMBS_GGL : IDAMBS_INDEX1;
   mech_pendulum p = {.L = 1.3, .m = 0.7, .ga = 9.81};
   const double theta0 = 0.8, q0[2] = {p.L * sin(theta0), -p.L * cos(theta0)}, v0[2] = {0, 0};
@@ -127,13 +119,11 @@ END_TEST
 
 /* The tension at arbitrary states on the manifold, from the callbacks with the jacobian and by
  * differences of c alone (fourth order: about 1e-10 relative). */
-START_TEST(lambda_is_the_rod_tension)
-{
+START_TEST(lambda_is_the_rod_tension) {
   mech_pendulum p = {.L = 1.7, .m = 2.3, .ga = 9.81};
   sdae_mbs sys;
   mech_pendulum_system(&sys, &p);
-  if (_i)
-    sys.jacobian = NULL, sys.jacobian_dot = NULL; /* differences: Gdot needs G */
+  if (_i) sys.jacobian = NULL, sys.jacobian_dot = NULL; /* differences: Gdot needs G */
   for (double th = -2.9; th < 3.0; th += 0.7) {
     const double q[2] = {p.L * sin(th), -p.L * cos(th)};
     const double w = 1.5 - th, v[2] = {p.L * w * cos(th), p.L * w * sin(th)};
@@ -153,8 +143,7 @@ END_TEST
 /* Lagrange's equations in the angles a_i from the downward vertical (d = a1 - a2):
  * (m1 + m2) L1 a1'' + m2 L2 cos d a2'' = -m2 L2 a2'^2 sin d - (m1 + m2) ga sin a1,
  * L1 cos d a1'' + L2 a2'' = L1 a1'^2 sin d - ga sin a2. */
-static int double_pendulum_ode(double t, const double *y, double *dy, void *params)
-{
+static int double_pendulum_ode(double t, const double *y, double *dy, void *params) {
   const mech_double_pendulum *p = params;
   double d = y[0] - y[1], m = p->m1 + p->m2;
   double a11 = m * p->L1, a12 = p->m2 * p->L2 * cos(d), a21 = p->L1 * cos(d), a22 = p->L2;
@@ -171,11 +160,10 @@ static int double_pendulum_ode(double t, const double *y, double *dy, void *para
 
 /* y (n values) from t = 0 to t1 by rk8pd at 1e-13 */
 static void rk8pd(int (*f)(double, const double *, double *, void *), void *params, size_t n,
-                  double t1, double *y)
-{
+                  double t1, double *y) {
   gsl_odeiv2_system ode = {f, NULL, n, params};
-  gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3,
-                                                       1e-13, 1e-13);
+  gsl_odeiv2_driver *d =
+      gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3, 1e-13, 1e-13);
   double t = 0.0;
   ck_assert_ptr_nonnull(d);
   ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &t, t1, y), GSL_SUCCESS);
@@ -187,8 +175,7 @@ typedef struct last_row {
   double t, q[8], v[8], lambda[8];
 } last_row;
 
-static int keep_last(double t, const double *q, const double *v, const double *lambda, void *ctx)
-{
+static int keep_last(double t, const double *q, const double *v, const double *lambda, void *ctx) {
   last_row *r = ctx;
   r->t = t;
   memcpy(r->q, q, r->n_q * sizeof *q);
@@ -197,8 +184,7 @@ static int keep_last(double t, const double *q, const double *v, const double *l
   return 0;
 }
 
-START_TEST(double_pendulum_matches_angle_equations)
-{
+START_TEST(double_pendulum_matches_angle_equations) {
   idambs_form form = _i ? IDAMBS_GGL : IDAMBS_INDEX1;
   mech_double_pendulum p = {.L1 = 1.0, .L2 = 0.8, .m1 = 1.0, .m2 = 0.6, .ga = 9.81};
   double a[4] = {0.9, -0.4, 0.0, 1.5}, q0[4], v0[4], q[4], v[4], err_q = 0.0, err_v = 0.0;
@@ -233,30 +219,25 @@ typedef struct fourbar_rec {
 } fourbar_rec;
 
 static int fourbar_row(double t, const double *q, const double *v, const double *lambda,
-                       void *ctx)
-{
+                       void *ctx) {
   fourbar_rec *r = ctx;
   const mech_fourbar *p = r->p;
   double V, E;
   (void)lambda;
   ck_assert_int_eq(r->sys->potential(t, q, &V, r->sys->params), 0);
   E = 0.5 * (p->mB * (v[0] * v[0] + v[1] * v[1]) + p->mC * (v[2] * v[2] + v[3] * v[3])) + V;
-  if (r->rows++ == 0)
-    r->E0 = E;
+  if (r->rows++ == 0) r->E0 = E;
   r->max_dE = fmax(r->max_dE, fabs(E - r->E0));
   r->max_c = fmax(r->max_c, mech_max_abs_c(r->sys, t, q));
   return 0;
 }
 
-static mech_fourbar fourbar_default(void)
-{
-  return (mech_fourbar){.a = 1.0, .b = 4.0, .e = 3.0, .d = 4.5, .mB = 1.0, .mC = 1.0,
-                        .ga = 9.81};
+static mech_fourbar fourbar_default(void) {
+  return (mech_fourbar){.a = 1.0, .b = 4.0, .e = 3.0, .d = 4.5, .mB = 1.0, .mC = 1.0, .ga = 9.81};
 }
 
 /* Conservative (gravity, ideal joints): the energy is constant; 3 s are about two crank turns. */
-START_TEST(fourbar_conserves_energy)
-{
+START_TEST(fourbar_conserves_energy) {
   idambs_form form = _i ? IDAMBS_GGL : IDAMBS_INDEX1;
   mech_fourbar p = fourbar_default();
   double q0[4], v0[4];
@@ -282,8 +263,7 @@ END_TEST
  * steps at order k, at most 1000^(1/2) ~ 32 (order 1), and at least more steps; one output at
  * tf, so the count is IDA's own. (Measured: about 2.5 to 2.9, below order 5's 3.2: at rtol 1e-6
  * the steps are limited by Newton and error test failures as much as by accuracy.) */
-START_TEST(fourbar_work_follows_tolerance)
-{
+START_TEST(fourbar_work_follows_tolerance) {
   idambs_form form = _i ? IDAMBS_GGL : IDAMBS_INDEX1;
   mech_fourbar p = fourbar_default();
   double q0[4], v0[4], rtol[2] = {1e-6, 1e-9};
@@ -314,30 +294,26 @@ typedef struct moving_pivot {
   double L, m, ga, a, w;
 } moving_pivot;
 
-static void pivot(const moving_pivot *p, double t, double *P, double *Pdot)
-{
+static void pivot(const moving_pivot *p, double t, double *P, double *Pdot) {
   P[0] = p->a * sin(p->w * t), P[1] = 0.0;
   Pdot[0] = p->a * p->w * cos(p->w * t), Pdot[1] = 0.0;
 }
 
-static int mp_mass(double t, const double *q, double *M, void *params)
-{
+static int mp_mass(double t, const double *q, double *M, void *params) {
   const moving_pivot *p = params;
   (void)t, (void)q;
   M[0] = M[3] = p->m, M[1] = M[2] = 0.0;
   return 0;
 }
 
-static int mp_force(double t, const double *q, const double *v, double *F, void *params)
-{
+static int mp_force(double t, const double *q, const double *v, double *F, void *params) {
   const moving_pivot *p = params;
   (void)t, (void)q, (void)v;
   F[0] = 0.0, F[1] = -p->m * p->ga;
   return 0;
 }
 
-static int mp_constraint(double t, const double *q, double *c, void *params)
-{
+static int mp_constraint(double t, const double *q, double *c, void *params) {
   const moving_pivot *p = params;
   double P[2], Pd[2];
   pivot(p, t, P, Pd);
@@ -345,16 +321,14 @@ static int mp_constraint(double t, const double *q, double *c, void *params)
   return 0;
 }
 
-static int mp_jacobian(double t, const double *q, double *G, void *params)
-{
+static int mp_jacobian(double t, const double *q, double *G, void *params) {
   double P[2], Pd[2];
   pivot(params, t, P, Pd);
   G[0] = q[0] - P[0], G[1] = q[1] - P[1];
   return 0;
 }
 
-static int mp_constraint_t(double t, const double *q, double *ct, void *params)
-{
+static int mp_constraint_t(double t, const double *q, double *ct, void *params) {
   double P[2], Pd[2];
   pivot(params, t, P, Pd);
   ct[0] = -(q[0] - P[0]) * Pd[0] - (q[1] - P[1]) * Pd[1];
@@ -364,8 +338,7 @@ static int mp_constraint_t(double t, const double *q, double *ct, void *params)
 /* theta from the downward vertical, q = p + L (sin th, -cos th): the tangential part of
  * m q'' = F - lambda (q - p), with p'' = (-a w^2 sin w t, 0), is
  * L theta'' = -ga sin theta + a w^2 sin(w t) cos theta. */
-static int moving_pivot_ode(double t, const double *y, double *dy, void *params)
-{
+static int moving_pivot_ode(double t, const double *y, double *dy, void *params) {
   const moving_pivot *p = params;
   dy[0] = y[1];
   dy[1] = (-p->ga * sin(y[0]) + p->a * p->w * p->w * sin(p->w * t) * cos(y[0])) / p->L;
@@ -378,23 +351,22 @@ typedef struct pivot_rec {
   double err_q, err_v;
 } pivot_rec;
 
-static int pivot_row(double t, const double *q, const double *v, const double *lambda, void *ctx)
-{
+static int pivot_row(double t, const double *q, const double *v, const double *lambda, void *ctx) {
   pivot_rec *r = ctx;
   const moving_pivot *p = r->p;
   double P[2], Pd[2], th = r->y[0], thd = r->y[1];
   (void)lambda;
   if (t > r->t) { /* rk8pd from the last row on: a restart from 0 each time would cost more */
     gsl_odeiv2_system ode = {moving_pivot_ode, NULL, 2, r->p};
-    gsl_odeiv2_driver *d = gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3,
-                                                         1e-13, 1e-13);
+    gsl_odeiv2_driver *d =
+        gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3, 1e-13, 1e-13);
     ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &r->t, t, r->y), GSL_SUCCESS);
     gsl_odeiv2_driver_free(d);
     th = r->y[0], thd = r->y[1];
   }
   pivot(p, t, P, Pd);
-  r->err_q = fmax(r->err_q, fmax(fabs(q[0] - P[0] - p->L * sin(th)),
-                                 fabs(q[1] - P[1] + p->L * cos(th))));
+  r->err_q =
+      fmax(r->err_q, fmax(fabs(q[0] - P[0] - p->L * sin(th)), fabs(q[1] - P[1] + p->L * cos(th))));
   r->err_v = fmax(r->err_v, fmax(fabs(v[0] - Pd[0] - p->L * cos(th) * thd),
                                  fabs(v[1] - Pd[1] - p->L * sin(th) * thd)));
   return 0;
@@ -404,24 +376,27 @@ static int pivot_row(double t, const double *q, const double *v, const double *l
  * GGL from differences runs at rtol 1e-8: its rows c = 0 and G v + dc/dt = 0 then carry
  * rounding noise of about 1e-13 relative (eps / step of the differences), which its index-2
  * Newton amplifies as 1/h^2; at rtol 1e-10 IDA fails at t = 0 (IDA_CONV_FAIL). */
-START_TEST(moving_pivot_matches_angle_equation)
-{
+START_TEST(moving_pivot_matches_angle_equation) {
   idambs_form form = _i & 1 ? IDAMBS_GGL : IDAMBS_INDEX1;
   moving_pivot p = {.L = 1.0, .m = 1.5, .ga = 9.81, .a = 0.1, .w = 5.0};
-  sdae_mbs sys = {.n_q = 2, .n_c = 1, .mass = mp_mass, .force = mp_force,
-                  .constraint = mp_constraint, .jacobian = mp_jacobian,
-                  .constraint_t = mp_constraint_t, .params = &p};
+  sdae_mbs sys = {.n_q = 2,
+                  .n_c = 1,
+                  .mass = mp_mass,
+                  .force = mp_force,
+                  .constraint = mp_constraint,
+                  .jacobian = mp_jacobian,
+                  .constraint_t = mp_constraint_t,
+                  .params = &p};
   const double theta0 = 0.3;
   /* at rest relative to the pivot, which starts at the origin moving at a w */
   const double q0[2] = {p.L * sin(theta0), -p.L * cos(theta0)}, v0[2] = {p.a * p.w, 0.0};
   idaref_options o = options(_i == 3 ? 1e-8 : 1e-10, 4.0, 0.1);
   pivot_rec r = {.p = &p, .y = {theta0, 0.0}};
   idaref_result res;
-  if (_i & 2)
-    sys.jacobian = NULL, sys.constraint_t = NULL;
+  if (_i & 2) sys.jacobian = NULL, sys.constraint_t = NULL;
   solve_ok(&sys, form, q0, v0, &o, pivot_row, &r, &res);
-  printf("moving pivot%s: |q - rk8pd| %.2e, |v - rk8pd| %.2e\n",
-         _i & 2 ? " (differences)" : "", r.err_q, r.err_v);
+  printf("moving pivot%s: |q - rk8pd| %.2e, |v - rk8pd| %.2e\n", _i & 2 ? " (differences)" : "",
+         r.err_q, r.err_v);
   print_stats(o.rtol == 1e-8 ? "moving pivot rtol 1e-8" : "moving pivot rtol 1e-10", form, &res);
   ck_assert_double_eq(r.t, 4.0);
   ck_assert_double_le(r.err_q, global_bound(&o, &res, p.L));
@@ -432,11 +407,14 @@ END_TEST
 /* ---- the driver ----------------------------------------------------------------------------- */
 
 /* The rows sit at t0 + k DT and tf exactly, from a t0 other than 0 (a time-dependent c). */
-START_TEST(rows_hit_output_times_from_t0)
-{
+START_TEST(rows_hit_output_times_from_t0) {
   moving_pivot p = {.L = 1.0, .m = 1.0, .ga = 9.81, .a = 0.1, .w = 5.0};
-  sdae_mbs sys = {.n_q = 2, .n_c = 1, .mass = mp_mass, .force = mp_force,
-                  .constraint = mp_constraint, .params = &p};
+  sdae_mbs sys = {.n_q = 2,
+                  .n_c = 1,
+                  .mass = mp_mass,
+                  .force = mp_force,
+                  .constraint = mp_constraint,
+                  .params = &p};
   const double t0 = 0.7, P[2] = {p.a * sin(p.w * t0), 0.0}, Pd = p.a * p.w * cos(p.w * t0);
   const double q0[2] = {P[0], -p.L}, v0[2] = {Pd, 0.0}; /* hanging, moving with the pivot */
   idaref_options o = options(1e-8, 1.75, 0.25);
@@ -449,15 +427,13 @@ START_TEST(rows_hit_output_times_from_t0)
 }
 END_TEST
 
-static int fail_on_second(double t, const double *q, const double *v, const double *l, void *ctx)
-{
+static int fail_on_second(double t, const double *q, const double *v, const double *l, void *ctx) {
   int *rows = ctx;
   (void)t, (void)q, (void)v, (void)l;
   return ++*rows == 2;
 }
 
-START_TEST(failures_are_reported)
-{
+START_TEST(failures_are_reported) {
   mech_pendulum p = {.L = 1.0, .m = 1.0, .ga = 9.81};
   const double q0[2] = {sin(0.5), -cos(0.5)}, v0[2] = {0.0, 0.0}, origin[2] = {0.0, 0.0};
   idaref_options o = options(1e-10, 10.0, 1.0);
@@ -473,12 +449,13 @@ START_TEST(failures_are_reported)
   ck_assert_int_eq(rows, 1);
   o.max_steps = 100000;
   rows = 0;
-  ck_assert_int_eq(idambs_solve(&sys, IDAMBS_INDEX1, 0.0, q0, v0, &o, fail_on_second, &rows,
-                                &res), IDAREF_OUTPUT_FAILED);
+  ck_assert_int_eq(idambs_solve(&sys, IDAMBS_INDEX1, 0.0, q0, v0, &o, fail_on_second, &rows, &res),
+                   IDAREF_OUTPUT_FAILED);
   ck_assert_double_eq(res.t_reached, 1.0);
   /* at the pivot G = q = 0: G M^-1 G^T is singular */
-  ck_assert_int_eq(idambs_solve(&sys, IDAMBS_INDEX1, 0.0, origin, v0, &o, fail_on_second, &rows,
-                                &res), IDAMBS_START_FAILED);
+  ck_assert_int_eq(
+      idambs_solve(&sys, IDAMBS_INDEX1, 0.0, origin, v0, &o, fail_on_second, &rows, &res),
+      IDAMBS_START_FAILED);
   ck_assert_str_eq(res.function, "idambs_lambda");
 }
 END_TEST
@@ -486,8 +463,7 @@ END_TEST
 /* ---- the slider crank: stabdae's front-end meets IDA ---------------------------------------- */
 
 /* (q, v) at t = 10 by the front-end (scheme 15, dg4) from idaSlCrank_dns's start */
-static void slider_crank_stabdae(double T, double *y)
-{
+static void slider_crank_stabdae(double T, double *y) {
   bench_slider_crank p = bench_slider_crank_default();
   sdae_mbs sys;
   sdae_options o;
@@ -502,11 +478,9 @@ static void slider_crank_stabdae(double T, double *y)
   sdae_mbs_stepper_free(s);
 }
 
-static double max_diff(const double *a, const double *b, size_t n)
-{
+static double max_diff(const double *a, const double *b, size_t n) {
   double d = 0.0;
-  for (size_t i = 0; i < n; i++)
-    d = fmax(d, fabs(a[i] - b[i]));
+  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i]));
   return d;
 }
 
@@ -514,8 +488,7 @@ static double max_diff(const double *a, const double *b, size_t n)
  * dg4 at T = 0.01 is off its limit by about |y_0.02 - y_0.01| / 15 (Richardson, order 4), IDA
  * by at most its global bound (steps times the tolerance, about 5e-9 here); the two must agree
  * within the sum (measured 1.5e-10 in q and v; the bound 3.3e-9). */
-START_TEST(slider_crank_stabdae_meets_ida)
-{
+START_TEST(slider_crank_stabdae_meets_ida) {
   bench_slider_crank p = bench_slider_crank_default();
   sdae_mbs sys;
   double q0[3], v0[3], coarse[6], fine[6];
@@ -537,8 +510,7 @@ START_TEST(slider_crank_stabdae_meets_ida)
 }
 END_TEST
 
-static Suite *ida_mbs_suite(void)
-{
+static Suite *ida_mbs_suite(void) {
   Suite *s = suite_create("ida_mbs");
   TCase *exact = tcase_create("exact");
   TCase *driver = tcase_create("driver");
@@ -557,11 +529,10 @@ static Suite *ida_mbs_suite(void)
   return s;
 }
 
-int main(void)
-{
+int main(void) {
   SRunner *sr = srunner_create(ida_mbs_suite());
   int failed;
-  gsl_set_error_handler_off(); /* GSL statuses are asserted instead of aborting */
+  gsl_set_error_handler_off();      /* GSL statuses are asserted instead of aborting */
   setvbuf(stdout, NULL, _IOLBF, 0); /* the measurements survive a failing (forked) test */
   srunner_run_all(sr, CK_NORMAL);
   failed = srunner_ntests_failed(sr);
