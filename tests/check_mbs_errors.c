@@ -619,6 +619,9 @@ enum {
   CB_CONSTRAINT_T,
   CB_POTENTIAL,
   CB_DAMPING,
+  CB_MASS_DOT_V,
+  CB_JACOBIAN_DOT,
+  CB_CONSTRAINT_T_DOT,
   CB_COUNT
 };
 enum { FAIL_FATAL, FAIL_RECOVERABLE, FAIL_NAN, FAIL_INF, FAIL_COUNT };
@@ -683,7 +686,28 @@ static int f_damping(double t, const double *q, double *D, void *params) {
   return inject(f, CB_DAMPING, D, 4);
 }
 
-/* the derivatives along the motion are left out: every callback here can be made to fail */
+static int f_mass_dot_v(double t, const double *q, const double *v, double *out, void *params) {
+  faulty *f = params;
+  mech_pendulum_mass_dot_v(t, q, v, out, &f->p);
+  return inject(f, CB_MASS_DOT_V, out, 2);
+}
+
+static int f_jacobian_dot(double t, const double *q, const double *v, double *Gdot, void *params) {
+  faulty *f = params;
+  mech_pendulum_jacobian_dot(t, q, v, Gdot, &f->p);
+  return inject(f, CB_JACOBIAN_DOT, Gdot, 2);
+}
+
+static int f_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                              void *params) {
+  faulty *f = params;
+  (void)t, (void)q, (void)v;
+  out[0] = 0.0;
+  return inject(f, CB_CONSTRAINT_T_DOT, out, 1);
+}
+
+/* the derivatives along the motion are left out (their stencils run): every callback here can
+ * be made to fail; faulty_mbs_dot gives them too */
 static sdae_mbs faulty_mbs(faulty *f) {
   return (sdae_mbs){.n_q = 2,
                     .n_c = 1,
@@ -695,6 +719,13 @@ static sdae_mbs faulty_mbs(faulty *f) {
                     .potential = f_potential,
                     .damping = f_damping,
                     .params = f};
+}
+
+static sdae_mbs faulty_mbs_dot(faulty *f) {
+  sdae_mbs sys = faulty_mbs(f);
+  sys.mass_dot_v = f_mass_dot_v, sys.jacobian_dot = f_jacobian_dot;
+  sys.constraint_t_dot = f_constraint_t_dot;
+  return sys;
 }
 
 static const int want_status[FAIL_COUNT] = {SDAE_ERR_CALLBACK_FATAL, SDAE_ERR_CALLBACK_RECOVERABLE,
@@ -709,7 +740,7 @@ static void expect_failures(int which, int differences) {
   for (int how = 0; how < FAIL_COUNT; how++) {
     long calls_in_step, tries[4];
     faulty f = {{.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.2}, which, how, 0, 0};
-    sdae_mbs sys = faulty_mbs(&f);
+    sdae_mbs sys = which >= CB_MASS_DOT_V ? faulty_mbs_dot(&f) : faulty_mbs(&f);
     if (differences) sys.jacobian = NULL, sys.constraint_t = NULL;
     sdae_options o = options(sdae_map_dgrad);
     sdae_mbs_stepper *s;
@@ -762,6 +793,33 @@ START_TEST(potential_fails) { expect_callback_failures(CB_POTENTIAL); }
 END_TEST
 
 START_TEST(damping_fails) { expect_callback_failures(CB_DAMPING); }
+END_TEST
+
+/* the derivatives along the motion, given: each one failing fails the step, nothing changed */
+START_TEST(mass_dot_v_fails) { expect_callback_failures(CB_MASS_DOT_V); }
+END_TEST
+
+START_TEST(jacobian_dot_fails) { expect_callback_failures(CB_JACOBIAN_DOT); }
+END_TEST
+
+/* constraint_t_dot enters lambda's gamma alone (the mu-dynamics need Gdot and Mdot v) */
+START_TEST(constraint_t_dot_fails) {
+  for (int how = 0; how < FAIL_COUNT; how++) {
+    faulty f = {{.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.2}, CB_CONSTRAINT_T_DOT, how, 0, 1};
+    sdae_mbs sys = faulty_mbs_dot(&f);
+    sdae_options o = options(sdae_map_dgrad);
+    sdae_mbs_stepper *s;
+    double q[2], v[2], lambda = 7.0;
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
+    ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), want_status[how]);
+    ck_assert_double_eq(lambda, 7.0);
+    f.fail_at = 0;
+    ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_OK);
+    ck_assert_double_eq_tol(lambda, mech_pendulum_lambda(&f.p, 0.3, 0.5), 1e-12);
+    sdae_mbs_stepper_free(s);
+  }
+}
 END_TEST
 
 /* lambda, xi and the energy: a callback they call failing at its first call fails them, the
@@ -1000,6 +1058,9 @@ int main(void) {
   ADD_CASE(s, constraint_t_fails);
   ADD_CASE(s, potential_fails);
   ADD_CASE(s, damping_fails);
+  ADD_CASE(s, mass_dot_v_fails);
+  ADD_CASE(s, jacobian_dot_fails);
+  ADD_CASE(s, constraint_t_dot_fails);
   ADD_CASE(s, queries_report_callback_failures);
   ADD_CASE(s, nonfinite_state);
   ADD_CASE(s, queries_report_overflow);
