@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* What a mechanical step costs (DESIGN.md, the price of zero drift), counted callback by
+/* What a mechanical step costs (docs/front-ends.md, the cost of a step), counted callback by
  * callback on mechanisms whose every callback counts its calls: the derivatives along the
  * motion a mechanism gives replace the difference stencils (no stencil runs when all are
  * given). */
@@ -261,8 +261,8 @@ START_TEST(step_calls_on_the_manifold) {
 END_TEST
 
 /* The next step starts where the last one's Phi^-1 ended: G, dc/dt and M kept from there, c
- * evaluated for xi (DESIGN, the price of zero drift). The euler step then calls each callback
- * once but c, which its Phi^-1 at t + T calls once per chord iteration and the start once:
+ * evaluated for xi (docs/front-ends.md, the cost of a step). The euler step then calls each
+ * callback once but c, which its Phi^-1 at t + T calls once per chord iteration and the start once:
  * 3 + iters + 1 calls against the 16 of a classical RK4 step on the index-1 form. */
 START_TEST(step_calls_from_the_last_end) {
   counted k;

@@ -45,9 +45,9 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
 int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y);
 /* The same, for a system whose matrix dR/dy is built by differences (sys->jacobian unused) and
  * has the form I - coeff J: the factored matrix of an earlier solve is used while it serves
- * (DESIGN, the price of zero drift; CVODE's rules), rebuilt at the iterate when the estimated
- * rate of convergence is slow, when coeff differs from the one it was built for by more than
- * 30 %, after NEWTON_KEEP_SOLVES solves, after a failed solve and after sdae__newton_forget.
+ * (docs/front-ends.md, the cost of a step; CVODE's rules), rebuilt at the iterate when the
+ * estimated rate of convergence is slow, when coeff differs from the one it was built for by more
+ * than 30 %, after NEWTON_KEEP_SOLVES solves, after a failed solve and after sdae__newton_forget.
  * With a kept matrix the iteration is a chord: it stops when the update is below tol
  * (1 + ||y||) and at rounding of y, or when the rate predicts what is left far below rounding,
  * so that what the chord leaves (of one sign solve after solve) does not accumulate. */
