@@ -168,6 +168,11 @@ static int failing(double t, const double *q, const double *v, double *out, void
   return -1;
 }
 
+static int failing_force(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)F, (void)params;
+  return 1;
+}
+
 static int nan_out(double t, const double *q, const double *v, double *out, void *params) {
   (void)t, (void)q, (void)v, (void)params;
   out[0] = out[1] = NAN;
@@ -191,6 +196,8 @@ START_TEST(bad_input_is_a_status) {
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_DIM);
   bad = sys, bad.mass_dot_v = failing;
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_CALLBACK_FATAL);
+  bad = sys, bad.force = failing_force; /* checked against Lagrange's equations */
+  ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_CALLBACK_RECOVERABLE);
   bad = sys, bad.mass_dot_v = nan_out;
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_NONFINITE);
   ck_assert_int_eq(r.worst, 77);
