@@ -296,19 +296,6 @@ END_TEST
 /* the car axis has no potential (its road moves): its force is not checked */
 #define ALL_BUT_FORCE (ALL_DERIVATIVES & ~(1u << SDAE_MBS_FORCE))
 
-/* every derivative given agrees with the check's fourth-order differences (good to about 1e-9
- * relative; measured at most 9e-9, the car axis' dc/dt at t = 3, where the check's step in t
- * grows with |t| while the road keeps its period 2 pi / w = 0.63), far inside tol = 1e-6 that
- * a wrong term would exceed */
-static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q, const double *v,
-                                     unsigned given) {
-  sdae_mbs_check_report r;
-  ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
-  ck_assert_uint_eq(r.checked, given);
-  ck_assert_int_eq(r.consistent, 1);
-  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
-}
-
 /* The slider crank from its start moved off it (no angle a multiple of pi/4), every rate
  * non-zero; its force is -grad V - D v (M constant: no velocity terms) */
 START_TEST(test_derivatives_slider_crank) {
@@ -318,9 +305,9 @@ START_TEST(test_derivatives_slider_crank) {
   bench_slider_crank_initial(&b.crank, q, v);
   q[0] += 0.3, q[1] += 0.1, q[2] -= 0.2;
   v[0] = 1.3, v[1] = -0.7, v[2] = 0.45;
-  assert_derivatives_exact(&b.sys[0], 0.0, q, v, ALL_DERIVATIVES);
+  tu_assert_derivatives_exact(&b.sys[0], 0.0, q, v, ALL_DERIVATIVES);
   const double q2[3] = {-1.1, 1.2, 0.4}, v2[3] = {-0.8, 0.35, 1.6};
-  assert_derivatives_exact(&b.sys[0], 0.0, q2, v2, ALL_DERIVATIVES);
+  tu_assert_derivatives_exact(&b.sys[0], 0.0, q2, v2, ALL_DERIVATIVES);
 }
 END_TEST
 
@@ -333,10 +320,10 @@ START_TEST(test_derivatives_car_axis) {
   bench_car_axis_initial(&b.car, q, v);
   q[0] += 0.05, q[1] -= 0.03, q[2] += 0.02, q[3] += 0.04;
   v[1] = 0.2, v[3] = -0.3;
-  assert_derivatives_exact(&b.sys[1], 0.37, q, v, ALL_BUT_FORCE);
-  assert_derivatives_exact(&b.sys[1], 2.1, q, v, ALL_BUT_FORCE);
+  tu_assert_derivatives_exact(&b.sys[1], 0.37, q, v, ALL_BUT_FORCE);
+  tu_assert_derivatives_exact(&b.sys[1], 2.1, q, v, ALL_BUT_FORCE);
   bench_car_axis_reference(q, v, lambda);
-  assert_derivatives_exact(&b.sys[1], 3.0, q, v, ALL_BUT_FORCE);
+  tu_assert_derivatives_exact(&b.sys[1], 3.0, q, v, ALL_BUT_FORCE);
 }
 END_TEST
 
@@ -352,9 +339,9 @@ START_TEST(test_derivatives_andrews) {
   const double rates[7] = {13, -21, 4, 9, -7, 11, -5};
   bench_andrews_initial(q, v);
   for (int i = 0; i < 7; i++) q[i] += dq[i], v[i] = rates[i];
-  assert_derivatives_exact(&b.sys[2], 0.0, q, v, ALL_DERIVATIVES);
+  tu_assert_derivatives_exact(&b.sys[2], 0.0, q, v, ALL_DERIVATIVES);
   bench_andrews_reference(q, v, lambda);
-  assert_derivatives_exact(&b.sys[2], 0.03, q, v, ALL_DERIVATIVES);
+  tu_assert_derivatives_exact(&b.sys[2], 0.03, q, v, ALL_DERIVATIVES);
 }
 END_TEST
 

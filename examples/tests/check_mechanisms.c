@@ -150,18 +150,6 @@ END_TEST
 static const unsigned point_masses_given = 1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V |
                                            1u << SDAE_MBS_JACOBIAN_DOT | 1u << SDAE_MBS_FORCE;
 
-/* every derivative given agrees with the check's fourth-order differences, which are good to
- * about 1e-9 relative (c is quadratic and M constant here: to rounding, measured <= 2.1e-13),
- * far inside tol = 1e-6 that a wrong term would exceed */
-static void assert_derivatives_exact(const sdae_mbs *s, double t, const double *q, const double *v,
-                                     unsigned given) {
-  sdae_mbs_check_report r;
-  ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
-  ck_assert_uint_eq(r.checked, given);
-  ck_assert_int_eq(r.consistent, 1);
-  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
-}
-
 /* states away from symmetries: no angle a multiple of pi/4, every velocity non-zero, the
  * pendulum's also off its circle (the check needs no consistent state) */
 START_TEST(test_derivatives_pendulum) {
@@ -169,15 +157,15 @@ START_TEST(test_derivatives_pendulum) {
   all_mechanisms(&m);
   double q[2], v[2];
   mech_pendulum_state(&m.pend, 0.7, -1.9, q, v);
-  assert_derivatives_exact(&m.sys[0], 0.3, q, v, point_masses_given);
+  tu_assert_derivatives_exact(&m.sys[0], 0.3, q, v, point_masses_given);
   const double q_off[2] = {0.93, -0.71}, v_off[2] = {0.37, 1.21};
-  assert_derivatives_exact(&m.sys[0], 0.3, q_off, v_off, point_masses_given);
+  tu_assert_derivatives_exact(&m.sys[0], 0.3, q_off, v_off, point_masses_given);
   /* with damping the force gains -d v, checked against -D v */
   mech_pendulum damped = m.pend;
   sdae_mbs sys;
   damped.d = 0.4;
   mech_pendulum_system(&sys, &damped);
-  assert_derivatives_exact(&sys, 0.3, q_off, v_off, point_masses_given);
+  tu_assert_derivatives_exact(&sys, 0.3, q_off, v_off, point_masses_given);
 }
 END_TEST
 
@@ -188,7 +176,7 @@ START_TEST(test_derivatives_double_pendulum) {
   double q[4], v[4];
   for (int k = 0; k < 2; k++) {
     mech_double_pendulum_state(&m.dpend, a[k], w[k], q, v);
-    assert_derivatives_exact(&m.sys[1], 0.0, q, v, point_masses_given);
+    tu_assert_derivatives_exact(&m.sys[1], 0.0, q, v, point_masses_given);
   }
 }
 END_TEST
@@ -200,7 +188,7 @@ START_TEST(test_derivatives_fourbar) {
   double q[4], v[4];
   for (int k = 0; k < 2; k++) {
     ck_assert_int_eq(mech_fourbar_state(&m.fourbar, theta[k], omega[k], q, v), 0);
-    assert_derivatives_exact(&m.sys[2], 0.0, q, v, point_masses_given);
+    tu_assert_derivatives_exact(&m.sys[2], 0.0, q, v, point_masses_given);
   }
 }
 END_TEST

@@ -1,4 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
+#include <check.h>
+
 #include "test_util.h"
 
 #include <gsl/gsl_randist.h>
@@ -25,4 +27,13 @@ int tu_integrate(const sdae_model *m, const sdae_options *o, double T, size_t ns
   status = sdae_integrate(s, 0.0, T, nsteps, nsteps, xi, mu, NULL, NULL, NULL);
   sdae_stepper_free(s);
   return status;
+}
+
+void tu_assert_derivatives_exact(const sdae_mbs *s, double t, const double *q, const double *v,
+                                 unsigned given) {
+  sdae_mbs_check_report r;
+  ck_assert_int_eq(sdae_mbs_check(s, t, q, v, 1e-6, &r), SDAE_OK);
+  ck_assert_uint_eq(r.checked, given);
+  ck_assert_int_eq(r.consistent, 1);
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++) ck_assert_double_lt(r.mismatch[d], 1e-7);
 }
