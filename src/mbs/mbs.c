@@ -186,7 +186,7 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
   if (at_floors(s) && (rc = sdae__mbs_coords_seed(&s->coords, t, q, v, s->mu)) != SDAE_OK)
     return rc;
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
-  return sdae__mbs_phi_inv(&s->coords, t + T, s->xi, s->mu);
+  return sdae__mbs_phi_inv_state(&s->coords, t + T, s->xi, s->mu);
 }
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {

@@ -296,12 +296,39 @@ static int same_configuration(const sdae_mbs_coords *co, double t, const double 
 
 /* q where the chord iteration converged, and there G (once), the chart's factors and W, dc/dt,
  * M and the reduced mass; the point becomes the next solve's base */
-static int configuration(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
+/* The state's configuration (the step's end, whose c the next step measures as xi_c) is
+ * finished by one step of Newton from q_D moved by DITHER of 1 + |q_D|, with G_D's factors at
+ * the converged q. The chord's last corrections are computed within an ulp or two of the root,
+ * where the rounding of c is set by the root's place among the doubles: of one sign step after
+ * step as xi_c moves slowly, and xi_c sums it (the double pendulum's max |c| reached 1.4e-13 at
+ * T = 1e-5, against 1.1e-14 with Newton from the step's start). From 1e-12 away the rounding
+ * of c is unrelated to the root's, and the step of Newton leaves (K/2) 1e-24; it lands within
+ * an ulp of the converged q, so G, W and the factors there serve to rounding. One call of c. */
+#define DITHER 0x1p-40
+static int finish(sdae_mbs_coords *co, double t, const double *xi) {
+  const sdae_mbs_atlas *ch = co->chart;
+  size_t n_c = co->n_c;
+  int rc;
+  for (size_t j = 0; j < n_c; j++) {
+    double *qd = &co->q[ch->dep[j]];
+    *qd += DITHER * (1.0 + fabs(*qd));
+  }
+  if ((rc = sdae__mbs_constraint(co->eval, t, co->q, co->c)) != SDAE_OK) return rc;
+  for (size_t j = 0; j < n_c; j++) co->res[j] = co->c[j] - xi[2 * j];
+  sdae__mbs_gd_solve(ch, co->res, co->dq_D);
+  co->phi_inv_iters++;
+  for (size_t j = 0; j < n_c; j++) co->q[ch->dep[j]] -= co->dq_D[j];
+  return sdae__all_finite(co->q, co->n_q) ? SDAE_OK : SDAE_ERR_PHI_INV;
+}
+
+static int configuration(sdae_mbs_coords *co, double t, const double *xi, const double *mu,
+                         int state) {
   int rc;
   co->base_here = 0;
   if ((rc = solve_q(co, t, xi, mu)) != SDAE_OK) return rc;
   if ((rc = sdae__mbs_jacobian(co->eval, t, co->q, co->G)) != SDAE_OK) return rc;
   if (sdae__mbs_chart_factor(co->chart, co->G, NULL) != SDAE_OK) return SDAE_ERR_PHI_INV;
+  if (state && (rc = finish(co, t, xi)) != SDAE_OK) return rc;
   if ((rc = sdae__mbs_constraint_t(co->eval, t, co->q, co->ct)) != SDAE_OK ||
       (rc = sdae__mbs_mass(co->eval, t, co->q, co->M)) != SDAE_OK ||
       (rc = reduced_mass(co)) != SDAE_OK)
@@ -329,11 +356,11 @@ int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const 
   return SDAE_OK;
 }
 
-int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
+static int phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu, int state) {
   int rc;
   if (same_point(co, t, xi, mu)) return SDAE_OK;
   co->valid = 0;
-  if (!same_configuration(co, t, xi, mu) && (rc = configuration(co, t, xi, mu)) != SDAE_OK)
+  if (!same_configuration(co, t, xi, mu) && (rc = configuration(co, t, xi, mu, state)) != SDAE_OK)
     return rc;
   if ((rc = solve_v(co, xi, mu)) != SDAE_OK) return rc;
   memcpy(co->key, xi, 2 * co->n_c * sizeof *xi);
@@ -341,6 +368,14 @@ int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const dou
   co->key_t = t;
   co->valid = 1;
   return SDAE_OK;
+}
+
+int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
+  return phi_inv(co, t, xi, mu, 0);
+}
+
+int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
+  return phi_inv(co, t, xi, mu, 1);
 }
 
 /* co->dW = X^T (M v)_D with X = G_D^-1 (dG/dt) W: minus the term (dW/dt)^T M v */

@@ -75,6 +75,10 @@ int sdae__mbs_coords_seed(sdae_mbs_coords *co, double t, const double *q, const 
                           const double *mu);
 /* the point's q, v = Phi^-1(t, xi, mu), with G, M and the chart's W there */
 int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
+/* the same for the state handed to the user (the step's end): its q_D finished by a step of
+ * Newton from 1e-12 away, so that the rounding left in c does not keep one sign step after
+ * step (one more call of c) */
+int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
 /* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */
 int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out);
 /* forgets the configuration kept: another start of Phi^-1, another chart */
