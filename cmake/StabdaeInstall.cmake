@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # What `cmake --install` puts under the prefix besides the libraries (src/CMakeLists.txt):
 # the headers (the generated version.h among them), the CMake package (stabdaeConfig.cmake,
-# its version file, the exported targets) and stabdae.pc. Off with STABDAE_INSTALL=OFF.
+# its version file, the exported targets, StabdaeGenerate.cmake), the generator stabdae_gen
+# (share/stabdae/python) and stabdae.pc. Off with STABDAE_INSTALL=OFF.
 include(CMakePackageConfigHelpers)
 
 set(STABDAE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/stabdae)
@@ -14,9 +15,16 @@ install(FILES ${PROJECT_BINARY_DIR}/include/stabdae/version.h
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stabdae)
 
 install(EXPORT stabdaeTargets NAMESPACE stabdae:: DESTINATION ${STABDAE_CMAKE_DIR})
+# the generator (Python, run at the user's build time by stabdae_generate_mbs) and its function
+set(STABDAE_GEN_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/stabdae/python)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/stabdae_gen
+  DESTINATION ${STABDAE_GEN_INSTALL_DIR}
+  FILES_MATCHING PATTERN "*.py" PATTERN "tests" EXCLUDE PATTERN "__pycache__" EXCLUDE)
+install(FILES ${PROJECT_SOURCE_DIR}/cmake/StabdaeGenerate.cmake DESTINATION ${STABDAE_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/stabdaeConfig.cmake.in
   ${PROJECT_BINARY_DIR}/stabdaeConfig.cmake
-  INSTALL_DESTINATION ${STABDAE_CMAKE_DIR})
+  INSTALL_DESTINATION ${STABDAE_CMAKE_DIR}
+  PATH_VARS STABDAE_GEN_INSTALL_DIR)
 # The SONAME carries the major version, so the package promises the same.
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/stabdaeConfigVersion.cmake
   COMPATIBILITY SameMajorVersion)

@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+# stabdae_generate_mbs(NAME MODEL.py [OUTPUT_DIR DIR])
+#
+# Generates NAME.h and NAME.c from MODEL.py (its mechanism() names the mechanism NAME) with
+# the generator stabdae_gen (tools/mbsgen), again whenever MODEL.py or the generator changes,
+# and adds them as the static library NAME (PUBLIC: the directory of NAME.h,
+# stabdae::stabdae, libm). Use: target_link_libraries(app PRIVATE NAME), #include "NAME.h".
+# OUTPUT_DIR defaults to ${CMAKE_CURRENT_BINARY_DIR}/NAME.
+#
+# The generator needs Python 3 with sympy (tools/requirements.txt pins the version): the
+# interpreter is STABDAE_GEN_PYTHON if set, else Python3_EXECUTABLE (find_package(Python3)).
+# The same file serves the source tree and an install: who includes it sets STABDAE_GEN_PATH,
+# the directory holding the package stabdae_gen (tools/ in the tree, share/stabdae/python once
+# installed), kept in a global property for the calls from any directory.
+if(NOT STABDAE_GEN_PATH OR NOT EXISTS "${STABDAE_GEN_PATH}/stabdae_gen/__init__.py")
+  message(FATAL_ERROR "StabdaeGenerate.cmake: STABDAE_GEN_PATH '${STABDAE_GEN_PATH}' holds no "
+                      "stabdae_gen")
+endif()
+set_property(GLOBAL PROPERTY STABDAE_GEN_PATH "${STABDAE_GEN_PATH}")
+
+function(stabdae_generate_mbs name model)
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "OUTPUT_DIR" "")
+  if(arg_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "stabdae_generate_mbs(${name} ...): unknown arguments "
+                        "${arg_UNPARSED_ARGUMENTS} (NAME MODEL.py [OUTPUT_DIR DIR])")
+  endif()
+  if(NOT name MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
+    message(FATAL_ERROR "stabdae_generate_mbs: NAME '${name}' is not a C identifier")
+  endif()
+  get_filename_component(model "${model}" ABSOLUTE)
+  if(NOT EXISTS "${model}")
+    message(FATAL_ERROR "stabdae_generate_mbs(${name}): no file ${model}")
+  endif()
+  set(out "${CMAKE_CURRENT_BINARY_DIR}/${name}")
+  if(arg_OUTPUT_DIR)
+    get_filename_component(out "${arg_OUTPUT_DIR}" ABSOLUTE BASE_DIR
+                           "${CMAKE_CURRENT_BINARY_DIR}")
+  endif()
+  _stabdae_gen_python(python)
+  get_property(path GLOBAL PROPERTY STABDAE_GEN_PATH)
+  file(GLOB generator_sources "${path}/stabdae_gen/*.py")
+  add_custom_command(
+    OUTPUT "${out}/${name}.h" "${out}/${name}.c"
+    COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${path}"
+            "${python}" -m stabdae_gen "${model}" --out "${out}" --name ${name}
+    DEPENDS "${model}" ${generator_sources}
+    COMMENT "Generating the mechanism ${name} from ${model}"
+    VERBATIM)
+  add_library(${name} STATIC "${out}/${name}.c" "${out}/${name}.h")
+  target_include_directories(${name} PUBLIC "${out}")
+  target_link_libraries(${name} PUBLIC stabdae::stabdae m)
+endfunction()
+
+# The interpreter that runs the generator, checked once for sympy.
+function(_stabdae_gen_python var)
+  if(NOT STABDAE_GEN_PYTHON)
+    if(NOT Python3_EXECUTABLE)
+      find_package(Python3 COMPONENTS Interpreter)
+    endif()
+    set(STABDAE_GEN_PYTHON "${Python3_EXECUTABLE}")
+  endif()
+  if(NOT STABDAE_GEN_PYTHON_CHECKED STREQUAL STABDAE_GEN_PYTHON)
+    execute_process(COMMAND "${STABDAE_GEN_PYTHON}" -c "import sympy"
+                    RESULT_VARIABLE missing OUTPUT_QUIET ERROR_QUIET)
+    if(NOT STABDAE_GEN_PYTHON OR missing)
+      message(FATAL_ERROR
+        "stabdae_generate_mbs: no Python 3 with sympy ('${STABDAE_GEN_PYTHON}'): set "
+        "STABDAE_GEN_PYTHON or Python3_EXECUTABLE to one (pip install -r "
+        "tools/requirements.txt in a venv)")
+    endif()
+    set(STABDAE_GEN_PYTHON_CHECKED "${STABDAE_GEN_PYTHON}" CACHE INTERNAL "")
+  endif()
+  set(${var} "${STABDAE_GEN_PYTHON}" PARENT_SCOPE)
+endfunction()

@@ -1,0 +1,217 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A Mechanism as C99: name.h (the params struct and four functions) and name.c (the callbacks
+of sdae_mbs, each one's expressions with their common subexpressions eliminated by sympy's cse).
+No globals, no allocation; every argument a callback does not use is cast to void."""
+
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.codeprinter import PrintMethodNotImplementedError
+from sympy.printing.precedence import precedence
+
+from .errors import ModelError
+
+ARGUMENTS = {
+    "tq": "double t, const double *q",
+    "tqv": "double t, const double *q, const double *v",
+}
+# the order of sdae_mbs' fields
+FIELDS = ("mass", "force", "constraint", "jacobian", "constraint_t", "potential", "damping",
+          "mass_dot_v", "jacobian_dot", "constraint_t_dot")
+WHAT = {
+    "mass": "M(t, q), n_q x n_q",
+    "force": "F(t, q, v) = Q - dV/dq + dT/dq - (d2T/dv dq) v - d2T/dv dt - D v",
+    "constraint": "c(t, q)",
+    "jacobian": "G = dc/dq, n_c x n_q",
+    "constraint_t": "dc/dt",
+    "potential": "V(q)",
+    "damping": "D(q), n_q x n_q",
+    "mass_dot_v": "(d/ds M(t + s, q + s v)) v",
+    "jacobian_dot": "d/ds G(t + s, q + s v)",
+    "constraint_t_dot": "d/ds (dc/dt)(t + s, q + s v)",
+}
+
+
+class _Printer(C99CodePrinter):
+    """C99 with small integer powers as products (pow(x, 2) is not exact in every libm and is
+    slower where the compiler does not expand it), and square roots as sqrt."""
+
+    def __init__(self):
+        super().__init__({"strict": True})
+
+    def _print_Pow(self, expr):
+        base, e = expr.base, expr.exp
+        prec = precedence(expr)
+        b = self.parenthesize(base, prec)
+        if e.is_Integer and 2 <= abs(e) <= 4:
+            product = "*".join([b] * abs(int(e)))
+            return product if e > 0 else f"1.0/({product})"
+        if e == -1:
+            return f"1.0/{b}"
+        if e == sp.Rational(1, 2):
+            return f"sqrt({self._print(base)})"
+        if e == -sp.Rational(1, 2):
+            return f"1.0/sqrt({self._print(base)})"
+        return super()._print_Pow(expr)
+
+
+class _Names:
+    """The C spellings of t, q_i, v_i and the params, as Symbols whose names print as such."""
+
+    def __init__(self, mech):
+        self.t = sp.Symbol("t", real=True)
+        self.map = {mech.t: self.t}
+        self.q = [sp.Symbol(f"q[{i}]", real=True) for i in range(mech.n)]
+        self.v = [sp.Symbol(f"v[{i}]", real=True) for i in range(mech.n)]
+        self.p = [sp.Symbol(f"p->{s.name}", real=True) for s in mech.params]
+        self.map.update(zip(mech.q, self.q))
+        self.map.update(zip(mech.v, self.v))
+        self.map.update(zip(mech.params, self.p))
+
+    def uses(self, exprs):
+        """Which of t, q, v, p the expressions read."""
+        free = set().union(*(e.free_symbols for e in exprs)) if exprs else set()
+        return {
+            "t": self.t in free,
+            "q": any(s in free for s in self.q),
+            "v": any(s in free for s in self.v),
+            "p": any(s in free for s in self.p),
+        }
+
+
+def _body(printer, names, targets, exprs, what):
+    """The statements computing targets[k] = exprs[k] after cse, and what they read."""
+    exprs = [e.xreplace(names.map) for e in exprs]
+    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("w"), order="none")
+    uses = names.uses([e for _, e in temps] + list(reduced))
+    lines = []
+    try:
+        for sym, e in temps:
+            lines.append(f"  const double {sym} = {printer.doprint(e)};")
+        for target, e in zip(targets, reduced):
+            lines.append(f"  {target} = {printer.doprint(e)};")
+    except PrintMethodNotImplementedError as err:
+        raise ModelError(f"the {what}: {str(err).splitlines()[0]} (a function sympy cannot "
+                         "print in C)") from None
+    return lines, uses
+
+
+def _prologue(name, uses, args, pointer_type):
+    lines = []
+    if uses["p"]:
+        lines.append(f"  const {name}_params *p = {pointer_type};")
+    unused = [a for a in args if not uses[a]]
+    if not uses["p"]:
+        unused.append("params")
+    if unused:
+        lines.append("  " + ", ".join(f"(void){a}" for a in unused) + ";")
+    return lines
+
+
+def _callback(mech, printer, names, field, spec):
+    args, out, matrix = spec
+    targets = [f"{out}[{k}]" for k in range(len(matrix))]
+    lines, uses = _body(printer, names, targets, list(matrix), field.replace("_", " "))
+    signature = (f"static int {mech.name}_{field}({ARGUMENTS[args]}, double *{out}, "
+                 "void *params)")
+    head = [f"/* {WHAT[field]} */", signature + " {"]
+    head += _prologue(mech.name, uses, ["t", "q"] + (["v"] if args == "tqv" else []), "params")
+    return "\n".join(head + lines + ["  return 0;", "}"])
+
+
+def _start(mech, printer, names):
+    exprs = list(mech.q0) + list(mech.v0)
+    targets = [f"q0[{k}]" for k in range(mech.n)] + [f"v0[{k}]" for k in range(mech.n)]
+    body, uses = _body(printer, names, targets, exprs, "start state")
+    unused = [] if uses["p"] else ["p"]
+    pre = ["  " + ", ".join(f"(void){a}" for a in unused) + ";"] if unused else []
+    return "\n".join(
+        [f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0) {{"] + pre
+        + body + ["}"])
+
+
+def _params_default(mech, printer):
+    lines = [f"void {mech.name}_params_default({mech.name}_params *p) {{"]
+    if not mech.params:
+        lines.append("  p->none = 0;")
+    for s in mech.params:
+        lines.append(f"  p->{s.name} = {printer.doprint(sp.Float(mech.defaults[s], 17))};")
+    return "\n".join(lines + ["}"])
+
+
+def _coordinate_name(mech):
+    lines = [f"const char *{mech.name}_coordinate_name(size_t i) {{", "  switch (i) {"]
+    for i, s in enumerate(mech.coordinate_names):
+        lines.append(f'    case {i}: return "{s}";')
+    return "\n".join(lines + ["    default: return NULL;", "  }", "}"])
+
+
+def _system(mech, fields):
+    lines = [f"sdae_mbs {mech.name}_mbs({mech.name}_params *p) {{",
+             "  sdae_mbs sys = {0};",
+             f"  sys.n_q = {mech.n};",
+             f"  sys.n_c = {len(mech.c)};"]
+    for field in FIELDS:
+        if field in fields:
+            lines.append(f"  sys.{field} = {mech.name}_{field};")
+    return "\n".join(lines + ["  sys.params = p;", "  return sys;", "}"])
+
+
+def header(mech, banner):
+    guard = f"{mech.name.upper()}_H"
+    fields = [f"  double {s.name};" + (f" /* {mech.descriptions[s]} */"
+                                        if mech.descriptions[s] else "") for s in mech.params]
+    if not fields:
+        fields = ["  int none; /* the mechanism has no parameters */"]
+    N = mech.name.upper()
+    return "\n".join([
+        banner,
+        f"#ifndef {guard}",
+        f"#define {guard}",
+        "",
+        "#include <stddef.h>",
+        "",
+        "#include <stabdae/mbs.h>",
+        "",
+        "#ifdef __cplusplus",
+        'extern "C" {',
+        "#endif",
+        "",
+        f"#define {N}_N_Q {mech.n} /* coordinates */",
+        f"#define {N}_N_C {len(mech.c)} /* constraints */",
+        f"#define {N}_N_PARAMS {len(mech.params)} /* parameters, the fields of {mech.name}_params */",
+        "",
+        "typedef struct " + f"{mech.name}_params {{",
+        *fields,
+        f"}} {mech.name}_params;",
+        "",
+        "/* the defaults of the description */",
+        f"void {mech.name}_params_default({mech.name}_params *p);",
+        "/* the mechanism with its callbacks; p must outlive its use */",
+        f"sdae_mbs {mech.name}_mbs({mech.name}_params *p);",
+        "/* the start state at t = 0, n_q values each */",
+        f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0);",
+        "/* the name of coordinate i < n_q; NULL beyond */",
+        f"const char *{mech.name}_coordinate_name(size_t i);",
+        "",
+        "#ifdef __cplusplus",
+        "}",
+        "#endif",
+        "",
+        f"#endif /* {guard} */",
+        "",
+    ])
+
+
+def source(mech, banner):
+    printer = _Printer()
+    names = _Names(mech)
+    callbacks = mech.callbacks()
+    parts = [banner + f'#include "{mech.name}.h"\n\n#include <math.h>']
+    for field in FIELDS:
+        if field in callbacks:
+            parts.append(_callback(mech, printer, names, field, callbacks[field]))
+    parts.append(_params_default(mech, printer))
+    parts.append(_system(mech, callbacks))
+    parts.append(_start(mech, printer, names))
+    parts.append(_coordinate_name(mech))
+    return "\n\n".join(parts) + "\n"

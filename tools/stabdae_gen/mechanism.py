@@ -1,0 +1,340 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A mechanism's symbolic description and what the library's callbacks compute from it.
+
+Lagrange's equations for T(t, q, v) (at most quadratic in v), a potential V(q), other forces
+Q(t, q, v) and a damping D(q), with p = dT/dv:
+
+    d/dt p - dT/dq + dV/dq = Q - D v
+    M v' = Q - dV/dq + dT/dq - (dp/dq) v - dp/dt - D v = F,     M = d2T/dv2
+
+(dp/dt the partial derivative in t; 0 when T does not depend on t). Every callback of
+<stabdae/mbs.h> is an expression here; the derivatives along the motion are derivatives in s
+of (t + s, q + s v) at s = 0, v held fixed.
+"""
+
+import re
+
+import mpmath
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .errors import ModelError
+
+# C99 and C11 keywords, and the names a generated file declares for its own use
+C_KEYWORDS = frozenset(
+    """auto break case char const continue default do double else enum extern float for goto if
+    inline int long register restrict return short signed sizeof static struct switch typedef
+    union unsigned void volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic
+    _Imaginary _Noreturn _Static_assert _Thread_local""".split())
+C_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# the start state may violate the constraints by this much at most (absolute)
+START_TOL = 1e-10
+# digits of the checks at the start state
+CHECK_DPS = 30
+
+
+def check_identifier(name, what):
+    """A C identifier that is not a keyword, or ModelError naming `what`."""
+    if not isinstance(name, str) or not C_IDENTIFIER.match(name):
+        raise ModelError(f"{what} {name!r} is not a C identifier")
+    if name in C_KEYWORDS:
+        raise ModelError(f"{what} {name!r} is a C keyword")
+    return name
+
+
+def _symbols(seq, what):
+    try:
+        items = list(seq)
+    except TypeError:
+        raise ModelError(f"{what} must be a list of sympy Symbols") from None
+    for s in items:
+        if not isinstance(s, sp.Symbol):
+            raise ModelError(f"{what}: {s!r} is not a sympy Symbol")
+    return items
+
+
+def _vector(expr, n, what):
+    """expr as a column Matrix of n entries (a list, tuple or Matrix), or ModelError."""
+    try:
+        m = sp.Matrix(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    except (TypeError, ValueError, sp.SympifyError):
+        raise ModelError(f"{what} must be a list or Matrix of {n} expressions") from None
+    if m.shape not in ((n, 1), (1, n)):
+        raise ModelError(f"{what} has {len(m)} entries ({m.shape[0]} x {m.shape[1]}), "
+                         f"not {n} (one per coordinate)")
+    return m.reshape(n, 1)
+
+
+def _square(expr, n, what):
+    try:
+        m = sp.Matrix(expr)
+    except (TypeError, ValueError, sp.SympifyError):
+        raise ModelError(f"{what} must be an {n} x {n} Matrix") from None
+    if m.shape != (n, n):
+        raise ModelError(f"{what} is {m.shape[0]} x {m.shape[1]}, not {n} x {n}")
+    return m
+
+
+def _sympify(expr, what):
+    try:
+        return sp.sympify(expr)
+    except (sp.SympifyError, TypeError, ValueError):
+        raise ModelError(f"{what} is not a sympy expression: {expr!r}") from None
+
+
+class Mechanism:
+    """A mechanism M(t, q) v' = F(t, q, v) - G^T lambda, c(t, q) = 0, from its Lagrangian.
+
+    name: a C identifier, the generated files' stem and their functions' prefix.
+    t, q, v: sympy Symbols, time, coordinates q_1..q_n, velocities v_1..v_n.
+    kinetic: T(t, q, v), at most quadratic in v (M is its Hessian in v); or mass=M (n x n),
+      T = v^T M v / 2.
+    potential: V(q); forces -dV/dq.
+    force: other generalized forces Q(t, q, v), n entries.
+    damping: D(q), n x n: forces -D v.
+    constraints: c(t, q), n_c expressions, 1 <= n_c < n.
+    params: Symbol -> default value, or Symbol -> (default, description).
+    q0, v0: the start state at t = 0 (numbers or expressions of the params; None: zeros).
+    coordinate_names: n names (default: the names of q).
+
+    The library is told of the potential (and damping), which enables the discrete-gradient
+    maps, when every force is the Lagrangian's: no `force`, and T = v^T M v / 2 with M not
+    depending on t. Otherwise V and D v are part of F alone.
+    """
+
+    def __init__(self, name, t, q, v, kinetic=None, potential=0, force=None, damping=None,
+                 constraints=(), params=None, q0=None, v0=None, coordinate_names=None,
+                 mass=None):
+        self.name = check_identifier(name, "the name")
+        if not isinstance(t, sp.Symbol):
+            raise ModelError(f"t: {t!r} is not a sympy Symbol")
+        self.t = t
+        self.q = _symbols(q, "q")
+        self.v = _symbols(v, "v")
+        n = len(self.q)
+        if len(self.v) != n:
+            raise ModelError(f"q has {n} coordinates but v has {len(self.v)} velocities")
+        if n == 0:
+            raise ModelError("q is empty: a mechanism needs coordinates")
+        if len(set(self.q) | set(self.v) | {t}) != 2 * n + 1:
+            raise ModelError("t, q and v must be distinct Symbols")
+        self.n = n
+        self._params(params or {})
+        self._energy(kinetic, mass)
+        self.V = _sympify(potential, "potential")
+        self._forces(force, damping)
+        self._constraints(constraints)
+        self.coordinate_names = self._names(coordinate_names)
+        self.q0 = self._start(q0, "q0")
+        self.v0 = self._start(v0, "v0")
+        self._check_symbols()
+        self.lagrangian_forces = force is None and self.homogeneous and not self.M.has(t)
+        self._check_start()
+
+    # ---- the description, checked ---------------------------------------------------------
+
+    def _params(self, params):
+        if not isinstance(params, dict):
+            raise ModelError("params must be a dict Symbol -> value")
+        self.params, self.defaults, self.descriptions = [], {}, {}
+        seen = set()
+        for sym, value in params.items():
+            if not isinstance(sym, sp.Symbol):
+                raise ModelError(f"params: key {sym!r} is not a sympy Symbol")
+            check_identifier(sym.name, "the parameter")
+            if sym.name in seen:
+                raise ModelError(f"params: two parameters are named {sym.name!r}")
+            seen.add(sym.name)
+            description = ""
+            if isinstance(value, tuple):
+                if len(value) != 2 or not isinstance(value[1], str):
+                    raise ModelError(f"params: {sym.name} must be a value or (value, "
+                                     "description)")
+                value, description = value
+            number = _sympify(value, f"the value of {sym.name}")
+            if not number.is_number or not number.is_real or not number.is_finite:
+                raise ModelError(f"params: {sym.name} = {value!r} is not a finite real number")
+            self.params.append(sym)
+            self.defaults[sym] = number
+            self.descriptions[sym] = description
+
+    def _energy(self, kinetic, mass):
+        v = self.v
+        if (kinetic is None) == (mass is None):
+            raise ModelError("give exactly one of kinetic (T) and mass (M)")
+        if mass is not None:
+            M = _square(mass, self.n, "mass")
+            if M.has(*v):
+                raise ModelError("mass depends on v")
+            if any(sp.expand(M[i, j] - M[j, i]) != 0
+                   for i in range(self.n) for j in range(i + 1, self.n)):
+                raise ModelError("mass is not symmetric")
+            self.M = M
+            vv = sp.Matrix(v)
+            self.T = (vv.T * M * vv)[0, 0] / 2
+            self.homogeneous = True
+            return
+        T = _sympify(kinetic, "kinetic")
+        try:
+            poly = sp.Poly(T, *v)
+        except sp.PolynomialError:
+            poly = None
+        if poly is None or poly.total_degree() > 2 or any(
+                c.has(*v) for c in poly.coeffs()):
+            raise ModelError("the kinetic energy is not quadratic in v (a polynomial of degree "
+                             "at most 2 in the velocities)")
+        self.T = T
+        self.M = sp.hessian(T, v)
+        self.homogeneous = all(sum(m) == 2 for m in poly.monoms())
+
+    def _forces(self, force, damping):
+        if self.V.has(*self.v) or self.V.has(self.t):
+            raise ModelError("the potential depends on " +
+                             ("v" if self.V.has(*self.v) else "t") +
+                             ": V(q) only (give such forces as force=)")
+        self.Q = None if force is None else _vector(force, self.n, "force")
+        if damping is None:
+            self.D = None
+            return
+        D = _square(damping, self.n, "damping")
+        if D.has(*self.v) or D.has(self.t):
+            raise ModelError("damping depends on " + ("v" if D.has(*self.v) else "t") +
+                             ": D(q) only")
+        self.D = D
+
+    def _constraints(self, constraints):
+        try:
+            c = [_sympify(e, "a constraint") for e in constraints]
+        except TypeError:
+            raise ModelError("constraints must be a list of expressions") from None
+        if not 1 <= len(c) < self.n:
+            raise ModelError(f"{len(c)} constraints for {self.n} coordinates: the library "
+                             "needs 1 <= n_c < n_q")
+        for j, cj in enumerate(c):
+            if not cj.has(*self.q):
+                raise ModelError(f"constraint {j + 1} ({cj}) does not depend on q")
+            if cj.has(*self.v):
+                raise ModelError(f"constraint {j + 1} ({cj}) depends on v: c(t, q) only")
+        self.c = sp.Matrix(c)
+
+    def _names(self, names):
+        if names is None:
+            return [s.name for s in self.q]
+        names = list(names)
+        if len(names) != self.n or not all(isinstance(s, str) for s in names):
+            raise ModelError(f"coordinate_names must be {self.n} strings, one per coordinate")
+        for s in names:
+            if '"' in s or "\\" in s or not s.isprintable():
+                raise ModelError(f"coordinate name {s!r}: printable, without quotes or "
+                                 "backslashes")
+        return names
+
+    def _start(self, value, what):
+        if value is None:
+            return sp.zeros(self.n, 1)
+        m = _vector(value, self.n, what)
+        stray = m.free_symbols - set(self.params)
+        if stray:
+            raise ModelError(f"{what} depends on {_listing(stray)}: numbers or expressions of "
+                             "the params only")
+        return m
+
+    def _check_symbols(self):
+        known = set(self.q) | set(self.v) | {self.t} | set(self.params)
+        parts = [("kinetic energy", self.T), ("potential", self.V), ("constraints", self.c)]
+        if self.Q is not None:
+            parts.append(("force", self.Q))
+        if self.D is not None:
+            parts.append(("damping", self.D))
+        for what, expr in parts:
+            stray = expr.free_symbols - known
+            if stray:
+                raise ModelError(f"{_listing(stray)} in the {what} has no value in params")
+            undefined = list(expr.atoms(AppliedUndef))
+            if undefined:
+                raise ModelError(f"the {what} calls {undefined[0].func}, a function with no "
+                                 "definition (sympy cannot print it in C)")
+
+    def _numeric(self, expr):
+        """expr at t = 0, the start state and the defaults, to CHECK_DPS digits."""
+        subs = dict(self.defaults)
+        subs.update({self.t: 0})
+        for qi, vi, a, b in zip(self.q, self.v, self.q0, self.v0):
+            subs[qi] = a.xreplace(self.defaults)
+            subs[vi] = b.xreplace(self.defaults)
+        return expr.xreplace(subs).evalf(CHECK_DPS)
+
+    def _check_start(self):
+        with mpmath.workdps(CHECK_DPS):
+            M = self._numeric(self.M)
+            try:
+                mpmath.cholesky(mpmath.matrix(M.tolist()))
+            except (ValueError, ZeroDivisionError, TypeError):
+                raise ModelError("the mass matrix is not positive definite at the start state") \
+                    from None
+            for what, expr in (("c", self.c), ("G v + dc/dt", self.velocity_constraint())):
+                values = self._numeric(expr)
+                worst = max(range(len(values)), key=lambda j: abs(values[j]))
+                if not values[worst].is_number or abs(values[worst]) > START_TOL:
+                    raise ModelError(
+                        f"the start state violates the constraints: {what} = "
+                        f"{sp.N(values[worst], 3)} at constraint {worst + 1} (more than "
+                        f"{START_TOL:g})")
+
+    # ---- the callbacks' expressions ----------------------------------------------------------
+
+    def jacobian(self):
+        return self.c.jacobian(self.q)
+
+    def constraint_t(self):
+        return self.c.diff(self.t)
+
+    def velocity_constraint(self):
+        return self.jacobian() * sp.Matrix(self.v) + self.constraint_t()
+
+    def along(self, expr):
+        """d/ds expr(t + s, q + s v) at s = 0, v held fixed."""
+        out = expr.diff(self.t)
+        for qk, vk in zip(self.q, self.v):
+            out += expr.diff(qk) * vk
+        return out
+
+    def force(self):
+        """F = Q - dV/dq + dT/dq - (dp/dq) v - dp/dt - D v, p = dT/dv."""
+        q, v = self.q, self.v
+        vv = sp.Matrix(v)
+        p = sp.Matrix([self.T.diff(vi) for vi in v])
+        F = sp.Matrix([self.T.diff(qi) - self.V.diff(qi) for qi in q])
+        F -= p.jacobian(q) * vv + p.diff(self.t)
+        if self.Q is not None:
+            F += self.Q
+        if self.D is not None:
+            F -= self.D * vv
+        return F
+
+    def callbacks(self):
+        """The callbacks of sdae_mbs this description determines: field -> (arguments, output
+        array, expressions (a Matrix, row-major))."""
+        vv = sp.Matrix(self.v)
+        G = self.jacobian()
+        ct = self.constraint_t()
+        out = {
+            "mass": ("tq", "M", self.M),
+            "force": ("tqv", "F", self.force()),
+            "constraint": ("tq", "c", self.c),
+            "jacobian": ("tq", "G", G),
+            "constraint_t": ("tq", "ct", ct),
+            "mass_dot_v": ("tqv", "out", self.along(self.M * vv)),
+            "jacobian_dot": ("tqv", "Gdot", self.along(G)),
+            "constraint_t_dot": ("tqv", "out", self.along(ct)),
+        }
+        if self.lagrangian_forces:
+            out["potential"] = ("tq", "V", sp.Matrix([self.V]))
+            if self.D is not None:
+                out["damping"] = ("tq", "D", self.D)
+        return out
+
+
+def _listing(symbols):
+    names = sorted(s.name for s in symbols)
+    return ", ".join(names)
