@@ -278,7 +278,7 @@ class Mechanism:
                 if not values[worst].is_number or abs(values[worst]) > START_TOL:
                     raise ModelError(
                         f"the start state violates the constraints: {what} = "
-                        f"{sp.N(values[worst], 3)} at constraint {worst + 1} (more than "
+                        f"{_float(values[worst]):.3g} at constraint {worst + 1} (more than "
                         f"{START_TOL:g})")
 
     # ---- the callbacks' expressions ----------------------------------------------------------
@@ -333,6 +333,13 @@ class Mechanism:
             if self.D is not None:
                 out["damping"] = ("tq", "D", self.D)
         return out
+
+
+def _float(value):
+    try:
+        return float(value)
+    except TypeError:  # complex or not a number: say so
+        return float("nan")
 
 
 def _listing(symbols):

@@ -1,0 +1,116 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Every description the generator must refuse: one line naming the problem on stderr, exit
+status 2, and nothing written or changed in the output directory (which holds an older
+generation that must survive byte for byte)."""
+
+import math
+import os
+import re
+
+import pytest
+
+from conftest import PENDULUM, run_mbsgen
+
+# (test id, the change to PENDULUM's mechanism, words the one line must contain)
+CASES = [
+    ("kinetic_quartic", "args['kinetic'] = m * (vx**4 + vy**2) / 2", "not quadratic in v"),
+    ("kinetic_transcendental", "args['kinetic'] = m * sp.cos(vx) + vy**2",
+     "not quadratic in v"),
+    ("mass_not_positive", "args['kinetic'] = m * (vx**2 - vy**2) / 2",
+     "not positive definite at the start"),
+    ("mass_negative_param", "args['params'][m] = -1.0", "not positive definite at the start"),
+    ("constraint_without_q", "args['constraints'] = [L - 2]", "does not depend on q"),
+    ("potential_with_v", "args['potential'] = m * g * y + vx", "potential depends on v"),
+    ("potential_with_t", "args['potential'] = m * g * y * sp.cos(t)", "potential depends on t"),
+    ("sizes_q_v", "v = [vx]", "q has 2 coordinates but v has 1"),
+    ("sizes_force", "args['force'] = [0, 0, 1]", "force has 3 entries"),
+    ("sizes_q0", "args['q0'] = [1.0]", "q0 has 1 entries"),
+    ("sizes_v0", "args['v0'] = [0, 0, 0]", "v0 has 3 entries"),
+    ("free_symbol", "args['potential'] = m * g * y + sp.Symbol('k') * x**2",
+     "k in the potential has no value in params"),
+    ("free_symbol_start", "args['q0'] = [sp.Symbol('a'), -L]", "q0 depends on a"),
+    ("name_not_identifier", "name = '2pendulum'", "is not a C identifier"),
+    ("name_with_dash", "name = 'my-pendulum'", "is not a C identifier"),
+    ("name_keyword", "name = 'double'", "is a C keyword"),
+    ("param_keyword", "args['params'] = {m: 1.0, L: 2.0, sp.Symbol('int'): 1.0}",
+     "'int' is a C keyword"),
+    ("unprintable_function", "args['potential'] = m * g * y + sp.besselj(0, x)",
+     "cannot print in C"),
+    ("undefined_function", "args['potential'] = m * g * y + sp.Function('f')(x)",
+     "cannot print it in C"),
+    ("start_off_constraint", "args['q0'] = [L * sp.sin(0.3), -L * sp.cos(0.3) + 1e-6]",
+     "violates the constraints"),
+    ("start_off_velocity", "args['v0'] = [1, 1]", "violates the constraints: G v + dc/dt"),
+    ("no_constraints", "args['constraints'] = []", "needs 1 <= n_c < n_q"),
+    ("both_energies", "args['mass'] = sp.eye(2)", "exactly one of kinetic"),
+    ("damping_with_v", "args['damping'] = sp.eye(2) * vx", "damping depends on v"),
+    ("param_not_number", "args['params'][m] = 'heavy'", "not a finite real number"),
+]
+
+
+@pytest.mark.parametrize("change,words", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_refused(model, tmp_path, change, words):
+    path = model(PENDULUM + "name = 'pendulum'\n" + change + "\n"
+                 "return Mechanism(name, t, q, v, **args)\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    old = {"pendulum.h": "old header\n", "pendulum.c": "old source\n"}
+    for name, text in old.items():
+        (out / name).write_text(text)
+    rc, stdout, stderr = run_mbsgen(path, "--out", str(out))
+    assert rc == 2, stderr
+    lines = stderr.splitlines()
+    assert len(lines) == 1, stderr
+    assert lines[0].startswith("mbsgen: ") and words in lines[0], lines[0]
+    assert stdout == ""
+    assert sorted(os.listdir(out)) == sorted(old)
+    for name, text in old.items():
+        assert (out / name).read_text() == text
+
+
+def test_start_violation_says_by_how_much(model, tmp_path):
+    """y scaled by 1 + d/L, d = 1e-6: c = (|q|^2 - L^2) / 2 = (2 L d + d^2) cos^2(0.3) / 2."""
+    path = model(PENDULUM + "args['q0'] = [L * sp.sin(0.3), -(L + 1e-6) * sp.cos(0.3)]\n"
+                 "return Mechanism('pendulum', t, q, v, **args)\n")
+    rc, _, stderr = run_mbsgen(path, "--out", str(tmp_path / "out"))
+    assert rc == 2
+    said = float(re.search(r"c = (\S+) at constraint 1", stderr).group(1))
+    d = 1e-6
+    assert said == pytest.approx((4 * d + d * d) * math.cos(0.3)**2 / 2, rel=1e-2), stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_good_description_is_written(model, tmp_path):
+    """The same description unchanged: the control of the cases above."""
+    path = model(PENDULUM + "return Mechanism('pendulum', t, q, v, **args)\n")
+    rc, stdout, stderr = run_mbsgen(path, "--out", str(tmp_path / "out"))
+    assert rc == 0, stderr
+    assert sorted(os.listdir(tmp_path / "out")) == ["pendulum.c", "pendulum.h"]
+
+
+@pytest.mark.parametrize("body,words", [
+    ("raise RuntimeError('broken model')", "RuntimeError: broken model"),
+    ("return 42", "returned a int, not a stabdae_gen.Mechanism"),
+], ids=["raises", "wrong_type"])
+def test_model_file_errors(model, tmp_path, body, words):
+    rc, _, stderr = run_mbsgen(model(body), "--out", str(tmp_path / "out"))
+    assert rc == 2 and len(stderr.splitlines()) == 1 and words in stderr, stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_command_line_errors(model, tmp_path):
+    good = model(PENDULUM + "return Mechanism('pendulum', t, q, v, **args)\n")
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    for args, words in [
+        ([], "required"),
+        ([good], "--out"),
+        ([str(tmp_path / "missing.py"), "--out", str(tmp_path / "o")], "no such file"),
+        ([good, "--out", str(afile)], "not a directory"),
+        ([good, "--out", str(tmp_path / "o"), "--name", "other"],
+         "names its mechanism 'pendulum', not 'other'"),
+    ]:
+        rc, _, stderr = run_mbsgen(*args)
+        assert rc == 2 and len(stderr.splitlines()) == 1 and words in stderr, (args, stderr)
+    assert not (tmp_path / "o").exists()
+    assert afile.read_text() == "x"
