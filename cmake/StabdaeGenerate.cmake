@@ -1,11 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# stabdae_generate_mbs(NAME MODEL.py [TARGET TARGET] [OUTPUT_DIR DIR])
+# stabdae_generate_mbs(NAME MODEL.py [TARGET TARGET] [OUTPUT_DIR DIR] [LIBRARY LIB])
 #
 # Generates NAME.h and NAME.c from MODEL.py (its mechanism() names the mechanism NAME) with
 # the generator stabdae_gen (tools/mbsgen), again whenever MODEL.py or the generator changes,
-# and adds them as a static library (PUBLIC: the directory of NAME.h, stabdae::stabdae, libm)
-# named TARGET, by default NAME. Use: target_link_libraries(app PRIVATE NAME), and
-# #include "NAME.h". OUTPUT_DIR defaults to ${CMAKE_CURRENT_BINARY_DIR}/NAME.
+# and adds them as a static library (PUBLIC: the directory of NAME.h, stabdae, libm) named
+# TARGET, by default NAME. Use: target_link_libraries(app PRIVATE NAME), and #include "NAME.h".
+# OUTPUT_DIR defaults to ${CMAKE_CURRENT_BINARY_DIR}/NAME; LIBRARY, the stabdae it links, to
+# stabdae::stabdae (the shared library; stabdae::stabdae_static for the static one).
 #
 # The generator needs Python 3 with sympy (tools/requirements.txt pins the version): the
 # interpreter is STABDAE_GEN_PYTHON if set, else Python3_EXECUTABLE (find_package(Python3)).
@@ -19,14 +20,18 @@ endif()
 set_property(GLOBAL PROPERTY STABDAE_GEN_PATH "${STABDAE_GEN_PATH}")
 
 function(stabdae_generate_mbs name model)
-  cmake_parse_arguments(PARSE_ARGV 2 arg "" "TARGET;OUTPUT_DIR" "")
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "TARGET;OUTPUT_DIR;LIBRARY" "")
   if(arg_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "stabdae_generate_mbs(${name} ...): unknown arguments "
-                        "${arg_UNPARSED_ARGUMENTS} (NAME MODEL.py [TARGET T] [OUTPUT_DIR DIR])")
+                        "${arg_UNPARSED_ARGUMENTS} (NAME MODEL.py [TARGET T] [OUTPUT_DIR DIR] [LIBRARY LIB])")
   endif()
   set(target ${name})
   if(arg_TARGET)
     set(target ${arg_TARGET})
+  endif()
+  set(library stabdae::stabdae)
+  if(arg_LIBRARY)
+    set(library ${arg_LIBRARY})
   endif()
   if(NOT name MATCHES "^[A-Za-z_][A-Za-z0-9_]*$")
     message(FATAL_ERROR "stabdae_generate_mbs: NAME '${name}' is not a C identifier")
@@ -52,7 +57,7 @@ function(stabdae_generate_mbs name model)
     VERBATIM)
   add_library(${target} STATIC "${out}/${name}.c" "${out}/${name}.h")
   target_include_directories(${target} PUBLIC "${out}")
-  target_link_libraries(${target} PUBLIC stabdae::stabdae m)
+  target_link_libraries(${target} PUBLIC ${library} m)
 endfunction()
 
 # The interpreter that runs the generator, checked once for sympy.
