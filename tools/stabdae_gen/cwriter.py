@@ -129,12 +129,17 @@ def _start(mech, printer, names):
         + body + ["}"])
 
 
-def _params_default(mech, printer):
+def _c_double(value):
+    """The double nearest the number, in the shortest digits that read back as it."""
+    return repr(float(value))
+
+
+def _params_default(mech):
     lines = [f"void {mech.name}_params_default({mech.name}_params *p) {{"]
     if not mech.params:
         lines.append("  p->none = 0;")
     for s in mech.params:
-        lines.append(f"  p->{s.name} = {printer.doprint(sp.Float(mech.defaults[s], 17))};")
+        lines.append(f"  p->{s.name} = {_c_double(mech.defaults[s])};")
     return "\n".join(lines + ["}"])
 
 
@@ -154,6 +159,26 @@ def _system(mech, fields):
         if field in fields:
             lines.append(f"  sys.{field} = {mech.name}_{field};")
     return "\n".join(lines + ["  sys.params = p;", "  return sys;", "}"])
+
+
+def _c_string(text):
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _tables(mech):
+    """The parameters as an X-macro, X(field, default, "description") each, and the coordinates'
+    names as an initializer: tables for code that describes the mechanism generically (an
+    FMU's variables, a command line's flags) without the generator knowing it."""
+    N = mech.name.upper()
+    rows = [f"  X({s.name}, {_c_double(mech.defaults[s])}, "
+            f"{_c_string(mech.descriptions[s])})" for s in mech.params]
+    lines = ["/* the parameters: X(field, default, \"description\") for each field of "
+             f"{mech.name}_params */", f"#define {N}_PARAMETERS(X)" + (" \\" if rows else "")]
+    lines += [r + " \\" for r in rows[:-1]] + rows[-1:]
+    names = ", ".join(_c_string(s) for s in mech.coordinate_names)
+    lines += ["/* the coordinates' names, an initializer of n_q strings */",
+              f"#define {N}_COORDINATE_NAMES {{{names}}}"]
+    return lines
 
 
 def header(mech, banner):
@@ -179,6 +204,8 @@ def header(mech, banner):
         f"#define {N}_N_Q {mech.n} /* coordinates */",
         f"#define {N}_N_C {len(mech.c)} /* constraints */",
         f"#define {N}_N_PARAMS {len(mech.params)} /* parameters, the fields of {mech.name}_params */",
+        "",
+        *_tables(mech),
         "",
         "typedef struct " + f"{mech.name}_params {{",
         *fields,
@@ -210,7 +237,7 @@ def source(mech, banner):
     for field in FIELDS:
         if field in callbacks:
             parts.append(_callback(mech, printer, names, field, callbacks[field]))
-    parts.append(_params_default(mech, printer))
+    parts.append(_params_default(mech))
     parts.append(_system(mech, callbacks))
     parts.append(_start(mech, printer, names))
     parts.append(_coordinate_name(mech))
