@@ -11,8 +11,8 @@ DIR/name.c; docs/generator.md is the tutorial and the reference.
 """
 
 from .errors import ModelError
-from .mechanics import from_lagranges_method
+from .mechanics import from_lagranges_method, from_system
 from .mechanism import Mechanism
 
 __version__ = "0.1.0"  # the project's version (CMakeLists.txt), checked by the tests
-__all__ = ["Mechanism", "ModelError", "from_lagranges_method", "__version__"]
+__all__ = ["Mechanism", "ModelError", "from_lagranges_method", "from_system", "__version__"]

@@ -8,9 +8,10 @@ import random
 
 import pytest
 import sympy as sp
-from sympy.physics.mechanics import (LagrangesMethod, Point, ReferenceFrame, dynamicsymbols)
+from sympy.physics.mechanics import (LagrangesMethod, Particle, Point, ReferenceFrame, System,
+                                     dynamicsymbols)
 
-from stabdae_gen import Mechanism, ModelError, from_lagranges_method
+from stabdae_gen import Mechanism, ModelError, from_lagranges_method, from_system
 
 RNG = random.Random(7)
 
@@ -115,10 +116,15 @@ def test_derivatives_along_the_motion():
     assert_same(list(cb["constraint_t_dot"][2]), list(along(mech.c.diff(t))), symbols)
 
 
+PENDULUM_PARAMS = sp.symbols("m L g c")
+
+
 def cartesian_pendulum_lm(with_frame=True, nonholonomic=False):
+    """The pendulum as a LagrangesMethod: a bob at (x, y), gravity in the Lagrangian, a viscous
+    force -c v on it."""
     x, y = dynamicsymbols("x y")
     t = dynamicsymbols._t
-    m, L, g, c = sp.symbols("m L g c")
+    m, L, g, c = PENDULUM_PARAMS
     N = ReferenceFrame("N")
     P = Point("P")
     P.set_vel(N, x.diff(t) * N.x + y.diff(t) * N.y)
@@ -129,27 +135,94 @@ def cartesian_pendulum_lm(with_frame=True, nonholonomic=False):
         kw["frame"] = N
     if nonholonomic:
         kw["nonhol_coneqs"] = [x.diff(t) - y.diff(t)]
-    return LagrangesMethod(Lag, [x, y], **kw), (m, L, g, c)
+    return LagrangesMethod(Lag, [x, y], **kw), PENDULUM_PARAMS
+
+
+def direct_pendulum(adapted, params, start, potential=True):
+    """The Cartesian pendulum with a viscous force -c v on its bob, described directly in the
+    adapted mechanism's symbols; gravity as a potential, or as a force."""
+    m, L, g, c = PENDULUM_PARAMS
+    t, (x, y), (vx, vy) = adapted.t, adapted.q, adapted.v
+    if potential:
+        forces = dict(potential=m * g * y, force=[-c * vx, -c * vy])
+    else:
+        forces = dict(force=[-c * vx, -c * vy - m * g])
+    return Mechanism("pendulum", t, [x, y], [vx, vy], kinetic=m * (vx**2 + vy**2) / 2,
+                     constraints=[(x**2 + y**2 - L**2) / 2], params=params, **forces, **start)
+
+
+def assert_same_callbacks(a, b):
+    symbols = [a.t, *a.q, *a.v, *PENDULUM_PARAMS]
+    ca, cb = a.callbacks(), b.callbacks()
+    assert sorted(ca) == sorted(cb)
+    for field in ca:
+        assert_same(list(ca[field][2]), list(cb[field][2]), symbols)
+
+
+def pendulum_system(speed_scale=1, gravity_load=False, nonholonomic=False):
+    """The pendulum as a System: a Particle at (x, y) with speeds u = speed_scale q'."""
+    m, L, g, c = PENDULUM_PARAMS
+    x, y = dynamicsymbols("x y")
+    ux, uy = dynamicsymbols("ux uy")
+    N = ReferenceFrame("N")
+    O = Point("O")
+    P = Particle("P", Point("Pm"), m)
+    s = System(N, O)
+    s.q_ind = [x, y]
+    s.u_ind = [ux, uy]
+    s.kdes = [ux - speed_scale * x.diff(), uy - speed_scale * y.diff()]
+    P.masscenter.set_pos(O, x * N.x + y * N.y)
+    P.masscenter.set_vel(N, (ux * N.x + uy * N.y) / speed_scale)
+    s.add_bodies(P)
+    s.add_holonomic_constraints((x**2 + y**2 - L**2) / 2)
+    s.add_loads((P.masscenter, -c * P.masscenter.vel(N)))
+    if gravity_load:
+        s.apply_uniform_gravity(-g * N.y)
+    else:
+        P.potential_energy = m * g * y
+    if nonholonomic:
+        s.add_nonholonomic_constraints(ux - uy)
+    return s
+
+
+@pytest.mark.parametrize("speed_scale", [1, 2], ids=["u_is_qdot", "u_is_2qdot"])
+def test_system_adapter_equals_the_direct_description(speed_scale):
+    """The pendulum as a System (speeds u = q' or u = 2 q': the kinematic equations solved for
+    u), against the direct description."""
+    m, L, g, c = PENDULUM_PARAMS
+    params = {m: 1.5, L: 2.0, g: 9.81, c: 0.3}
+    start = dict(q0=[L * sp.sin(0.4), -L * sp.cos(0.4)], v0=[0, 0])
+    adapted = from_system(pendulum_system(speed_scale), "pendulum", params=params, **start)
+    assert_same_callbacks(adapted, direct_pendulum(adapted, params, start))
+    assert "potential" not in adapted.callbacks()  # the viscous load is a force Q
+
+
+def test_system_gravity_load_is_a_force():
+    m, L, g, c = PENDULUM_PARAMS
+    params = {m: 1.5, L: 2.0, g: 9.81, c: 0.3}
+    start = dict(q0=[L * sp.sin(0.4), -L * sp.cos(0.4)], v0=[0, 0])
+    adapted = from_system(pendulum_system(gravity_load=True), "pendulum", params=params,
+                          **start)
+    assert_same_callbacks(adapted, direct_pendulum(adapted, params, start, potential=False))
+
+
+def test_system_refusals():
+    m, L, g, c = PENDULUM_PARAMS
+    with pytest.raises(ModelError, match="nonholonomic"):
+        from_system(pendulum_system(nonholonomic=True), "p", params={m: 1, L: 1, g: 1, c: 1},
+                    q0=[0, -L])
+    with pytest.raises(ModelError, match="not a sympy.physics.mechanics System"):
+        from_system(object(), "p")
 
 
 def test_adapter_equals_the_direct_description():
-    """A Cartesian pendulum with a viscous force on its bob, through LagrangesMethod, against
-    the same mechanism written directly (the force's generalized force from the point's partial
-    velocities is -c v)."""
+    """The pendulum through LagrangesMethod (the force's generalized force from the point's
+    partial velocities is -c v) against the direct description."""
     lm, (m, L, g, c) = cartesian_pendulum_lm()
     params = {m: 1.5, L: 2.0, g: 9.81, c: 0.3}
     start = dict(q0=[L * sp.sin(0.4), -L * sp.cos(0.4)], v0=[0, 0])
     adapted = from_lagranges_method(lm, "pendulum", params=params, **start)
-    t, x, y = adapted.t, *adapted.q
-    vx, vy = adapted.v
-    direct = Mechanism("pendulum", t, [x, y], [vx, vy], kinetic=m * (vx**2 + vy**2) / 2,
-                       potential=m * g * y, force=[-c * vx, -c * vy],
-                       constraints=[(x**2 + y**2 - L**2) / 2], params=params, **start)
-    symbols = [t, x, y, vx, vy, m, L, g, c]
-    a, d = adapted.callbacks(), direct.callbacks()
-    assert sorted(a) == sorted(d)
-    for field in a:
-        assert_same(list(a[field][2]), list(d[field][2]), symbols)
+    assert_same_callbacks(adapted, direct_pendulum(adapted, params, start))
 
 
 def test_adapter_refusals():
