@@ -31,19 +31,24 @@ WHAT = {
 }
 
 
+# the powers written as products (of a temporary, where the base is not a symbol): pow(x, 2) is
+# not exact in every libm and is slower where the compiler does not expand it
+PRODUCT_POWERS = frozenset(sp.Rational(k, 2) for k in (4, 6, 8, 3, -4, -6, -8, -3))
+
+
 class _Printer(C99CodePrinter):
-    """C99 with small integer powers as products (pow(x, 2) is not exact in every libm and is
-    slower where the compiler does not expand it), and square roots as sqrt."""
+    """C99 with the powers of PRODUCT_POWERS as products, square roots as sqrt, and constants
+    such as pi as their doubles (<math.h>'s M_PI is not C99)."""
 
     def __init__(self):
-        super().__init__({"strict": True})
+        super().__init__({"strict": True, "math_macros": {}})
 
     def _print_Pow(self, expr):
         base, e = expr.base, expr.exp
-        prec = precedence(expr)
-        b = self.parenthesize(base, prec)
-        if e.is_Integer and 2 <= abs(e) <= 4:
-            product = "*".join([b] * abs(int(e)))
+        b = self.parenthesize(base, precedence(expr))
+        if e in PRODUCT_POWERS:
+            factors = [b] * int(abs(e)) + ([f"sqrt({b})"] if not e.is_Integer else [])
+            product = "*".join(factors)
             return product if e > 0 else f"1.0/({product})"
         if e == -1:
             return f"1.0/{b}"
@@ -52,6 +57,32 @@ class _Printer(C99CodePrinter):
         if e == -sp.Rational(1, 2):
             return f"1.0/sqrt({self._print(base)})"
         return super()._print_Pow(expr)
+
+    def _print_NumberSymbol(self, expr):
+        return _c_double(expr)
+
+    _print_Pi = _print_Exp1 = _print_GoldenRatio = _print_EulerGamma = _print_Catalan = \
+        _print_NumberSymbol
+
+
+def _name_bases(temps, reduced, symbols):
+    """cse's result with the base of every power written as a product (PRODUCT_POWERS) a
+    temporary of its own, unless it is a symbol: cse names only what occurs twice, and a
+    product repeats its base."""
+    named, out = {}, []
+
+    def name(expr):
+        def base_of(p):
+            if p.base not in named:
+                named[p.base] = next(symbols)
+                out.append((named[p.base], p.base))
+            return named[p.base] ** p.exp
+        return expr.replace(lambda x: x.is_Pow and x.exp in PRODUCT_POWERS and
+                            not x.base.is_Atom, base_of)
+    for sym, e in temps:
+        e = name(e)
+        out.append((sym, e))
+    return out, [name(e) for e in reduced]
 
 
 class _Names:
@@ -81,7 +112,9 @@ class _Names:
 def _body(printer, names, targets, exprs, what):
     """The statements computing targets[k] = exprs[k] after cse, and what they read."""
     exprs = [e.xreplace(names.map) for e in exprs]
-    temps, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("w"), order="none")
+    symbols = sp.numbered_symbols("w")
+    temps, reduced = sp.cse(exprs, symbols=symbols, order="none")
+    temps, reduced = _name_bases(temps, reduced, symbols)
     uses = names.uses([e for _, e in temps] + list(reduced))
     lines = []
     try:
