@@ -28,13 +28,14 @@ enum { FOURBAR, DPEND, CRANK, CAR, ANDREWS, MODELS };
 #define DPEND_FIELDS X(L1) X(L2) X(m1) X(m2) X(ga)
 #define CRANK_FIELDS X(a) X(J1) X(m2) X(J2) X(k) X(c) X(l0) X(F)
 #define CAR_FIELDS X(eps) X(mass) X(L) X(L0) X(r) X(w) X(g)
-#define ANDREWS_FIELDS                                                                             \
-  X(m1)                                                                                            \
-  X(m2)                                                                                            \
-  X(m3)                                                                                            \
-  X(m4) X(m5) X(m6) X(m7) X(xa) X(ya) X(xb) X(yb) X(xc) X(yc) X(c0) X(i1) X(i2) X(i3) X(i4) X(i5)  \
-      X(i6) X(i7) X(d) X(da) X(e) X(ea) X(rr) X(ra) X(l0) X(ss) X(sa) X(sb) X(sc) X(sd) X(ta)      \
-          X(tb) X(u) X(ua) X(ub) X(zf) X(zt) X(fa) X(mom)
+/* Andrews' 42 in bench_andrews' order, unformatted: clang-format reflows the list anew on
+ * every run */
+/* clang-format off */
+#define ANDREWS_FIELDS \
+  X(m1) X(m2) X(m3) X(m4) X(m5) X(m6) X(m7) X(xa) X(ya) X(xb) X(yb) X(xc) X(yc) X(c0) \
+  X(i1) X(i2) X(i3) X(i4) X(i5) X(i6) X(i7) X(d) X(da) X(e) X(ea) X(rr) X(ra) X(l0) \
+  X(ss) X(sa) X(sb) X(sc) X(sd) X(ta) X(tb) X(u) X(ua) X(ub) X(zf) X(zt) X(fa) X(mom)
+/* clang-format on */
 
 typedef struct models {
   gen_fourbar_params g_fourbar;
