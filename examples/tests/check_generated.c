@@ -6,6 +6,7 @@
  * wrong one caught), their defaults and starts, and their trajectories through
  * <stabdae/mbs.h> with the example programs' settings. */
 #include <check.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
@@ -204,7 +205,7 @@ static double callback_mismatch(const sdae_mbs *gen, const sdae_mbs *hand, int c
     ck_assert_int_eq(rh, 0);
   }
   for (size_t i = 0; i < rows; i++) {
-    double scale = 2.2250738585072014e-308;
+    double scale = DBL_MIN;
     for (size_t j = 0; j < cols; j++) scale = fmax(scale, fabs(h[i * cols + j]));
     for (size_t j = 0; j < cols; j++)
       worst = fmax(worst, fabs(g[i * cols + j] - h[i * cols + j]) / scale);
