@@ -1,22 +1,22 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The mechanisms stabdae_gen writes from the descriptions in examples/models/sym (generated as
- * gen_<model>) against the hand-written ones of models/mechanisms.c and models/benchmarks.c, which
- * they describe: every callback entry by entry at random states and times (where the hand-written
- * one omits a callback, against the mathematics), their derivatives by sdae_mbs_check (and a
- * wrong one caught), their defaults and starts, and their trajectories through
- * <stabdae/mbs.h> with the example programs' settings. */
+/* The mechanisms stabdae_gen writes from the descriptions in examples/models/sym (the libraries
+ * sym_<model> of examples/models) against the hand-written ones of models/mechanisms.c and
+ * models/benchmarks.c, which they describe: every callback entry by entry at random states and
+ * times (where the hand-written one omits a callback, against the mathematics), their derivatives
+ * by sdae_mbs_check (and a wrong one caught), their defaults and starts, and their trajectories
+ * through <stabdae/mbs.h> with the example programs' settings. */
 #include <check.h>
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 
+#include "andrews.h"
 #include "benchmarks.h"
-#include "gen_andrews.h"
-#include "gen_car_axis.h"
-#include "gen_double_pendulum.h"
-#include "gen_fourbar.h"
-#include "gen_slider_crank.h"
+#include "car_axis.h"
+#include "double_pendulum.h"
+#include "fourbar.h"
 #include "mechanisms.h"
+#include "slider_crank.h"
 #include "test_util.h"
 
 enum { FOURBAR, DPEND, CRANK, CAR, ANDREWS, MODELS };
@@ -39,11 +39,11 @@ enum { FOURBAR, DPEND, CRANK, CAR, ANDREWS, MODELS };
 /* clang-format on */
 
 typedef struct models {
-  gen_fourbar_params g_fourbar;
-  gen_double_pendulum_params g_dpend;
-  gen_slider_crank_params g_crank;
-  gen_car_axis_params g_car;
-  gen_andrews_params g_andrews;
+  fourbar_params g_fourbar;
+  double_pendulum_params g_dpend;
+  slider_crank_params g_crank;
+  car_axis_params g_car;
+  andrews_params g_andrews;
   mech_fourbar fourbar;
   mech_double_pendulum dpend;
   bench_slider_crank crank;
@@ -72,11 +72,11 @@ static void copy_params(models *m) {
 }
 
 static void build(models *m) {
-  m->gen[FOURBAR] = gen_fourbar_mbs(&m->g_fourbar);
-  m->gen[DPEND] = gen_double_pendulum_mbs(&m->g_dpend);
-  m->gen[CRANK] = gen_slider_crank_mbs(&m->g_crank);
-  m->gen[CAR] = gen_car_axis_mbs(&m->g_car);
-  m->gen[ANDREWS] = gen_andrews_mbs(&m->g_andrews);
+  m->gen[FOURBAR] = fourbar_mbs(&m->g_fourbar);
+  m->gen[DPEND] = double_pendulum_mbs(&m->g_dpend);
+  m->gen[CRANK] = slider_crank_mbs(&m->g_crank);
+  m->gen[CAR] = car_axis_mbs(&m->g_car);
+  m->gen[ANDREWS] = andrews_mbs(&m->g_andrews);
   mech_fourbar_system(&m->hand[FOURBAR], &m->fourbar);
   mech_double_pendulum_system(&m->hand[DPEND], &m->dpend);
   bench_slider_crank_system(&m->hand[CRANK], &m->crank);
@@ -87,11 +87,11 @@ static void build(models *m) {
 /* The example programs' parameters (examples/fourbar.c, double_pendulum.c: their defaults;
  * the benchmarks' published constants), the generated side from its own defaults */
 static void program_defaults(models *m) {
-  gen_fourbar_params_default(&m->g_fourbar);
-  gen_double_pendulum_params_default(&m->g_dpend);
-  gen_slider_crank_params_default(&m->g_crank);
-  gen_car_axis_params_default(&m->g_car);
-  gen_andrews_params_default(&m->g_andrews);
+  fourbar_params_default(&m->g_fourbar);
+  double_pendulum_params_default(&m->g_dpend);
+  slider_crank_params_default(&m->g_crank);
+  car_axis_params_default(&m->g_car);
+  andrews_params_default(&m->g_andrews);
   m->fourbar = (mech_fourbar){1.0, 4.0, 3.0, 4.5, 1.0, 1.0, 9.81};
   m->dpend = (mech_double_pendulum){1.0, 1.0, 1.0, 1.0, 9.81};
   m->crank = bench_slider_crank_default();
@@ -390,11 +390,11 @@ static void hand_start(const models *m, int k, double *q, double *v) {
 
 static void generated_start(const models *m, int k, double *q, double *v) {
   switch (k) {
-  case FOURBAR: gen_fourbar_start(&m->g_fourbar, q, v); break;
-  case DPEND: gen_double_pendulum_start(&m->g_dpend, q, v); break;
-  case CRANK: gen_slider_crank_start(&m->g_crank, q, v); break;
-  case CAR: gen_car_axis_start(&m->g_car, q, v); break;
-  default: gen_andrews_start(&m->g_andrews, q, v);
+  case FOURBAR: fourbar_start(&m->g_fourbar, q, v); break;
+  case DPEND: double_pendulum_start(&m->g_dpend, q, v); break;
+  case CRANK: slider_crank_start(&m->g_crank, q, v); break;
+  case CAR: car_axis_start(&m->g_car, q, v); break;
+  default: andrews_start(&m->g_andrews, q, v);
   }
 }
 

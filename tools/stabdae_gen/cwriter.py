@@ -48,8 +48,9 @@ class _Printer(C99CodePrinter):
         b = self.parenthesize(base, precedence(expr))
         if e in PRODUCT_POWERS:
             factors = [b] * int(abs(e)) + ([f"sqrt({b})"] if not e.is_Integer else [])
-            product = "*".join(factors)
-            return product if e > 0 else f"1.0/({product})"
+            # in parentheses: sympy prints a Mul's denominator as "/" and this, unbracketed
+            product = "(" + "*".join(factors) + ")"
+            return product if e > 0 else f"1.0/{product}"
         if e == -1:
             return f"1.0/{b}"
         if e == sp.Rational(1, 2):
