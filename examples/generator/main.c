@@ -8,6 +8,7 @@
  * to stdout, or to OUT.csv. The map is the discrete gradient ("dgrad"), which conserves the
  * energy v^T M v / 2 + V(q) to Newton's tolerance; --map=NAME takes any other map of the
  * library (midpoint, rk4, dg4, ...).
+ * A line on stderr tells the work done: steps, Newton iterations, chart switches.
  * Usage: cart [--map=NAME] [OUT.csv]; exit 0 on success, 1 when the run fails, 2 on bad
  * arguments. */
 #include <errno.h>
@@ -108,9 +109,15 @@ int main(int argc, char **argv) {
   header(f);
   rc = sdae_mbs_integrate(s, 0.0, STEP, STEPS, EVERY, q, v, row, &o, &done);
   if (rc == SDAE_STOPPED) rc = o.rc; /* the observer stopped the run: its reason */
-  if (rc != SDAE_OK)
-    fprintf(stderr, "cart: stopped after %zu steps (t = %g): %s\n", done, done * STEP,
+  if (rc != SDAE_OK) {
+    fprintf(stderr, "cart: stopped after %zu steps (t = %g): %s\n", done, (double)done * STEP,
             sdae_strerror(rc));
+  } else { /* the work, on stderr: the CSV stays the data alone */
+    const sdae_mbs_stats *st = sdae_mbs_stepper_stats(s);
+    fprintf(stderr, "cart: %lu steps with %s, %.2f Newton iterations a step, %lu chart switches\n",
+            st->step.steps, sdae_map_name(opt.map),
+            (double)st->step.newton_iters_total / (double)st->step.steps, st->chart_switches);
+  }
   sdae_mbs_stepper_free(s);
   if ((path && fclose(f) != 0) || (!path && fflush(f) != 0)) {
     fprintf(stderr, "cart: writing %s failed\n", path ? path : "stdout");
