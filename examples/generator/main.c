@@ -119,7 +119,10 @@ int main(int argc, char **argv) {
             (double)st->step.newton_iters_total / (double)st->step.steps, st->chart_switches);
   }
   sdae_mbs_stepper_free(s);
-  if ((path && fclose(f) != 0) || (!path && fflush(f) != 0)) {
+  /* a write that failed on the way (a full disk, a closed pipe) leaves the error flag set */
+  int failed = ferror(f) != 0;
+  if (path ? fclose(f) != 0 : fflush(f) != 0) failed = 1;
+  if (failed) {
     fprintf(stderr, "cart: writing %s failed\n", path ? path : "stdout");
     return 1;
   }
