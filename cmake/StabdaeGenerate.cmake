@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# stabdae_generate_mbs(NAME MODEL.py [TARGET TARGET] [OUTPUT_DIR DIR] [LIBRARY LIB])
+# stabdae_generate_mbs(NAME MODEL.py [TARGET TARGET] [OUTPUT_DIR DIR] [LIBRARY LIB]
+#                      [DEPENDS FILE...])
 #
 # Generates NAME.h and NAME.c from MODEL.py (its mechanism() names the mechanism NAME) with
 # the generator stabdae_gen (tools/mbsgen), again whenever MODEL.py or the generator changes,
 # and adds them as a static library (PUBLIC: the directory of NAME.h, stabdae, libm) named
 # TARGET, by default NAME. Use: target_link_libraries(app PRIVATE NAME), and #include "NAME.h".
 # OUTPUT_DIR defaults to ${CMAKE_CURRENT_BINARY_DIR}/NAME; LIBRARY, the stabdae it links, to
-# stabdae::stabdae (the shared library; stabdae::stabdae_static for the static one).
+# stabdae::stabdae (the shared library; stabdae::stabdae_static for the static one). DEPENDS
+# names the files MODEL.py imports (a helper module beside it), to regenerate when they change.
 #
 # The generator needs Python 3 with sympy (tools/requirements.txt pins the version): the
 # interpreter is STABDAE_GEN_PYTHON if set, else Python3_EXECUTABLE (find_package(Python3)).
@@ -20,10 +22,10 @@ endif()
 set_property(GLOBAL PROPERTY STABDAE_GEN_PATH "${STABDAE_GEN_PATH}")
 
 function(stabdae_generate_mbs name model)
-  cmake_parse_arguments(PARSE_ARGV 2 arg "" "TARGET;OUTPUT_DIR;LIBRARY" "")
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "TARGET;OUTPUT_DIR;LIBRARY" "DEPENDS")
   if(arg_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "stabdae_generate_mbs(${name} ...): unknown arguments "
-                        "${arg_UNPARSED_ARGUMENTS} (NAME MODEL.py [TARGET T] [OUTPUT_DIR DIR] [LIBRARY LIB])")
+                        "${arg_UNPARSED_ARGUMENTS} (NAME MODEL.py [TARGET T] [OUTPUT_DIR DIR] [LIBRARY LIB] [DEPENDS FILE...])")
   endif()
   set(target ${name})
   if(arg_TARGET)
@@ -52,7 +54,7 @@ function(stabdae_generate_mbs name model)
     OUTPUT "${out}/${name}.h" "${out}/${name}.c"
     COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${path}"
             "${python}" -m stabdae_gen "${model}" --out "${out}" --name ${name}
-    DEPENDS "${model}" ${generator_sources}
+    DEPENDS "${model}" ${arg_DEPENDS} ${generator_sources}
     COMMENT "Generating the mechanism ${name} from ${model}"
     VERBATIM)
   add_library(${target} STATIC "${out}/${name}.c" "${out}/${name}.h")

@@ -41,6 +41,17 @@ def load(path):
     """The Mechanism of the model file's mechanism()."""
     if not os.path.isfile(path):
         raise ModelError(f"{path}: no such file")
+    # the model's folder on the path while it runs, as for a script: it may import a helper
+    # module beside it
+    folder = os.path.dirname(os.path.abspath(path))
+    sys.path.insert(0, folder)
+    try:
+        return _run(path)
+    finally:
+        sys.path.remove(folder)
+
+
+def _run(path):
     try:
         scope = runpy.run_path(path, run_name="stabdae_gen_model")
     except ModelError:
@@ -81,7 +92,7 @@ def write(out, files):
     """Each file to a temporary one in out, then renamed over its name."""
     if os.path.exists(out) and not os.path.isdir(out):
         raise ModelError(f"--out {out}: not a directory")
-    staged = []
+    staged, created = [], not os.path.exists(out)
     try:
         os.makedirs(out, exist_ok=True)
         for name, text in files.items():
@@ -95,6 +106,8 @@ def write(out, files):
         for tmp, _ in staged:
             if os.path.exists(tmp):
                 os.remove(tmp)
+        if created and os.path.isdir(out) and not os.listdir(out):
+            os.rmdir(out)
         raise ModelError(f"--out {out}: {err.strerror or err}") from None
 
 
@@ -109,6 +122,7 @@ def main(argv):
     except ModelError as err:
         print(f"mbsgen: {err}", file=sys.stderr)
         return 2
-    print(f"mbsgen: {mech.name}: {mech.n} coordinates, {len(mech.c)} constraints -> "
+    n_c = len(mech.c)
+    print(f"mbsgen: {mech.name}: {mech.n} coordinates, {n_c} constraint{'s' * (n_c != 1)} -> "
           + ", ".join(os.path.join(args.out, name) for name in files))
     return 0

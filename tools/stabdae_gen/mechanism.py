@@ -27,6 +27,11 @@ C_KEYWORDS = frozenset(
     union unsigned void volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic
     _Imaginary _Noreturn _Static_assert _Thread_local""".split())
 C_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+# the stems of C11's standard headers: a generated name.h on the include path would hide one
+C_HEADERS = frozenset(
+    """assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal
+    stdalign stdarg stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath
+    threads time uchar wchar wctype""".split())
 # the start state may violate the constraints by this much at most (absolute)
 START_TOL = 1e-10
 # digits of the checks at the start state
@@ -106,6 +111,9 @@ class Mechanism:
                  constraints=(), params=None, q0=None, v0=None, coordinate_names=None,
                  mass=None):
         self.name = check_identifier(name, "the name")
+        if name in C_HEADERS:
+            raise ModelError(f"the name {name!r} would make {name}.h, which hides the C "
+                             f"standard header <{name}.h>")
         if not isinstance(t, sp.Symbol):
             raise ModelError(f"t: {t!r} is not a sympy Symbol")
         self.t = t
@@ -120,6 +128,9 @@ class Mechanism:
             raise ModelError("t, q and v must be distinct Symbols")
         self.n = n
         self._params(params or {})
+        both = set(self.params) & (set(self.q) | set(self.v) | {t})
+        if both:
+            raise ModelError(f"params: {_listing(both)} is also t, a coordinate or a velocity")
         self._energy(kinetic, mass)
         self.V = _sympify(potential, "potential")
         self._forces(force, damping)

@@ -32,6 +32,8 @@ CASES = [
     ("name_not_identifier", "name = '2pendulum'", "is not a C identifier"),
     ("name_with_dash", "name = 'my-pendulum'", "is not a C identifier"),
     ("name_keyword", "name = 'double'", "is a C keyword"),
+    ("name_standard_header", "name = 'math'", "hides the C standard header <math.h>"),
+    ("param_is_coordinate", "args['params'][x] = 0.0", "x is also t, a coordinate or a velocity"),
     ("param_keyword", "args['params'] = {m: 1.0, L: 2.0, sp.Symbol('int'): 1.0}",
      "'int' is a C keyword"),
     ("unprintable_function", "args['potential'] = m * g * y + sp.besselj(0, x)",
@@ -96,6 +98,17 @@ def test_model_file_errors(model, tmp_path, body, words):
     rc, _, stderr = run_mbsgen(model(body), "--out", str(tmp_path / "out"))
     assert rc == 2 and len(stderr.splitlines()) == 1 and words in stderr, stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_model_imports_a_module_beside_it(model, tmp_path):
+    """A model file runs as a script does: a helper module in its folder can be imported, at
+    load and inside mechanism()."""
+    (tmp_path / "helper.py").write_text("LENGTH = 2.0\n")
+    path = model(PENDULUM + "import helper\nargs['params'][L] = helper.LENGTH\n"
+                 "return Mechanism('pendulum', t, q, v, **args)\n")
+    rc, stdout, stderr = run_mbsgen(path, "--out", str(tmp_path / "out"))
+    assert rc == 0, stderr
+    assert "2 coordinates, 1 constraint ->" in stdout
 
 
 def test_command_line_errors(model, tmp_path):
