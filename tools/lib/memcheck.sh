@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# valgrind memcheck of every Check suite, every fuzz corpus replay and the FMUs through the FMI
-# importer of fmi/tests of a build: no error, no definite or indirect leak. CK_FORK=no keeps each test in valgrind's process. The alloc suite
-# defines its own malloc (forwarding to __libc_malloc) to count allocations; valgrind would
-# replace it too and bypass the count, so user-defined allocators are left alone
-# (somalloc=nouserintercepts): valgrind still sees every block through __libc_malloc, and the
-# suite's sweeps fail every malloc of the library in turn under memcheck (the suite says "not
-# checked" when its malloc was bypassed: that fails the run). A summary line per program; the
-# full logs are in BUILD/memcheck/.
+# valgrind memcheck of every Check suite, every fuzz corpus replay and the FMUs (through the
+# FMI importer of fmi/tests) of a build: no error, no definite or indirect leak. CK_FORK=no
+# keeps each test in valgrind's process. The alloc suite defines its own malloc (forwarding to
+# __libc_malloc) to count allocations; valgrind would replace it too and bypass the count, so
+# user-defined allocators are left alone (somalloc=nouserintercepts): valgrind still sees every
+# block through __libc_malloc, and the suite's sweeps fail every malloc of the library in turn
+# under memcheck (the suite says "not checked" when its malloc was bypassed: that fails the
+# run). A summary line per program; the full logs are in BUILD/memcheck/.
 # Usage: tools/lib/memcheck.sh [BUILD_DIR]   (default build/)
 set -euo pipefail
 source "$(dirname "$0")/setup.sh"
