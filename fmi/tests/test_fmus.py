@@ -9,6 +9,7 @@ build directory comes from STABDAE_BUILD (ctest sets it: fmi.fmpy, label fmi).
 import os
 import struct
 import subprocess
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -72,6 +73,30 @@ def test_validate(version, name):
 
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name", NAMES)
+def test_binary_stands_alone(version, name, tmp_path):
+    """the binary needs nothing outside libc and libm but what the FMU carries, and exports the
+    FMI functions only"""
+    platform = "x86_64-linux" if version == "fmi3" else "linux64"
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    binaries = tmp_path / "binaries" / platform
+    ldd = subprocess.run(["ldd", str(binaries / f"{name}.so")], check=True, capture_output=True,
+                         text=True).stdout
+    for line in ldd.splitlines():
+        lib = line.split()[0]
+        if lib.startswith(("linux-vdso", "/lib64/ld-linux", "libc.so", "libm.so")):
+            continue
+        assert "=>" in line and line.split("=>")[1].split()[0].startswith(str(binaries)), line
+    nm = subprocess.run(["nm", "-D", "--defined-only", str(binaries / f"{name}.so")],
+                        check=True, capture_output=True, text=True).stdout
+    exported = [line.split()[-1] for line in nm.splitlines()]
+    assert exported and all(sym.startswith(version) for sym in exported), exported
+    docs = {p.name for p in (tmp_path / "documentation").rglob("*")}
+    assert {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"} <= docs
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
 @pytest.mark.parametrize("k, tf", [(1, 0.2), (10, 2.0)])
 def test_matches_program(version, name, k, tf, tmp_path):
     """an output interval of k T: the program's rows every k steps, to 1e-14"""
@@ -82,6 +107,23 @@ def test_matches_program(version, name, k, tf, tmp_path):
     assert_close(res["time"], ref["t"], "time")
     for out, col in zip(outputs(name), program_columns(name)):
         assert_close(res[out], ref[col], f"{name} {version} {out}")
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_equal_substeps(version, tmp_path):
+    """a communication step h = 2.5 T, not a multiple of T: ceil(h / T) = 3 equal steps, the
+    program run with the step h / 3 (the four-bar does not depend on t: the same numbers)"""
+    name, h = "fourbar", 2.5 * T
+    ref_csv = tmp_path / "ref.csv"
+    subprocess.run([str(BUILD / "examples" / name), "--T", repr(h / 3), "--tf", "0.5",
+                    "--every", "3", "--out", str(ref_csv)], check=True)
+    ref = np.genfromtxt(ref_csv, delimiter=",", names=True)
+    res = simulate_fmu(fmu_path(version, name), stop_time=0.5, output_interval=h,
+                       output=outputs(name))
+    assert len(res) == len(ref)
+    for out, col in zip(outputs(name)[:8], program_columns(name)[:8]):
+        err = np.max(np.abs(res[out] - ref[col]))
+        assert err <= 1e-12, f"{out}: {err:.3g}"
 
 
 def slave(version, path, **kw):
