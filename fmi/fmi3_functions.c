@@ -65,7 +65,7 @@ fmi3Instance fmi3InstantiateCoSimulation(
   (void)requiredIntermediateVariables;
   if (eventModeUsed || nRequiredIntermediateVariables > 0) {
     log_fmi3(&e, FMU_ERROR, "logStatusError",
-         "instantiate: event mode and intermediate variables are not offered");
+             "instantiate: event mode and intermediate variables are not offered");
     return NULL;
   }
   if (!(h = malloc(sizeof *h))) {
