@@ -35,7 +35,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "usage: %s 3|2 modelDescription.xml page.html\n", argv[0]);
     return 1;
   }
-  version = atoi(argv[1]);
+  version = argv[1][0] - '0'; /* "3" or "2" */
   if (!(fi = fmu_instantiate(NULL, NULL, NULL, NULL, NULL, 0))) {
     fprintf(stderr, "describe: cannot instantiate the model\n");
     return 1;

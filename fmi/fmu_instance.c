@@ -251,20 +251,21 @@ fmu_status fmu_exit_init(fmu_instance *fi) {
 /* Steps of T from the grid t_grid + i T when h is a multiple of T, so that k T reproduces a
  * fixed-step run exactly; otherwise k equal steps of h / k (k = ceil(h / T)), all ending at
  * t + h, the grid starting anew there. */
-static int substeps(fmu_instance *fi, double t, double h, double *q, double *v, double *t_end) {
+static int substeps(fmu_instance *fi, double t, double h, unsigned long long k, double *q,
+                    double *v, double *t_end) {
   fmu_clock *c = &fi->clock;
   double T = fi->values[FMU_VR_T];
-  double k = ceil(h / T - 1e-9);
   int rc = SDAE_OK;
-  if (k < 1.0) k = 1.0;
-  if (fabs(h - k * T) <= 1e-9 * T) {
-    for (double i = 0; i < k && rc == SDAE_OK; i++, c->n_grid++)
+  if (fabs(h - (double)k * T) <= 1e-9 * T) {
+    for (unsigned long long i = 0; i < k && rc == SDAE_OK; i++) {
       rc = sdae_mbs_step(fi->stepper, c->t_grid + (double)c->n_grid * T, T, q, v);
+      if (rc == SDAE_OK) c->n_grid++;
+    }
     *t_end = c->t_grid + (double)c->n_grid * T;
   } else {
-    double Th = h / k;
-    for (double i = 0; i < k && rc == SDAE_OK; i++)
-      rc = sdae_mbs_step(fi->stepper, t + i * Th, Th, q, v);
+    double Th = h / (double)k;
+    for (unsigned long long i = 0; i < k && rc == SDAE_OK; i++)
+      rc = sdae_mbs_step(fi->stepper, t + (double)i * Th, Th, q, v);
     *t_end = t + h;
     c->t_grid = t + h;
     c->n_grid = 0;
@@ -272,10 +273,19 @@ static int substeps(fmu_instance *fi, double t, double h, double *q, double *v, 
   return rc;
 }
 
+/* k = ceil(h / T) steps (a hair below a multiple of T counts as it, as the programs' rule
+ * ceil(tf/T - 1e-9)); 0 when there would be more than 2^53 (h / T not a count of steps) */
+static unsigned long long steps_in(double h, double T) {
+  double k = ceil(h / T - 1e-9);
+  if (!(k <= 9007199254740992.0)) return 0;
+  return k < 1.0 ? 1 : (unsigned long long)k;
+}
+
 fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
   const fmu_layout *L = &fi->layout;
   double *q = fi->work, *v = fi->work + L->n_q, t_end;
   fmu_clock before = fi->clock;
+  unsigned long long k;
   int rc;
   if (fmu_allowed(fi, "doStep", FMU_IN(FMU_STEP_MODE)) != FMU_OK) return FMU_ERROR;
   if (!(isfinite(h) && h > 0.0)) {
@@ -287,9 +297,14 @@ fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
             fi->clock.t);
     return FMU_ERROR;
   }
+  if (!(k = steps_in(h, fi->values[FMU_VR_T]))) {
+    fmu_log(fi, FMU_ERROR, "doStep: the communication step %g is more than 2^53 steps of T = %g", h,
+            fi->values[FMU_VR_T]);
+    return FMU_ERROR;
+  }
   memcpy(q, fi->values + L->q, L->n_q * sizeof *q);
   memcpy(v, fi->values + L->v, L->n_q * sizeof *v);
-  rc = substeps(fi, t, h, q, v, &t_end);
+  rc = substeps(fi, t, h, k, q, v, &t_end);
   if (rc == SDAE_OK) rc = outputs(fi, t_end, q, v);
   if (rc != SDAE_OK) {
     /* the outputs stay those of t; nothing more until reset */

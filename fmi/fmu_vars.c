@@ -95,13 +95,13 @@ int fmu_var_at(const fmu_layout *L, size_t vr, fmu_var *var) {
 static uint64_t fnv(uint64_t h, const char *s) {
   for (; *s; s++) {
     h ^= (unsigned char)*s;
-    h *= 1099511628211u;
+    h *= 1099511628211U;
   }
   return h;
 }
 
 void fmu_token(const fmu_layout *L, char out[40]) {
-  uint64_t h1 = 14695981039346656037u, h2 = 0x6a09e667f3bcc908u;
+  uint64_t h1 = 14695981039346656037U, h2 = 0x6a09e667f3bcc908U;
   char buf[96];
   fmu_var var;
   snprintf(buf, sizeof buf, "%s %zu %zu %d", L->model->name, L->n_q, L->n_c, L->has_energy);
@@ -119,6 +119,6 @@ void fmu_token(const fmu_layout *L, char out[40]) {
            L->model->map ? L->model->map : "");
   h2 = fnv(h2, buf);
   snprintf(out, 40, "{%08x-%04x-%04x-%04x-%012llx}", (unsigned)(h1 >> 32),
-           (unsigned)(h1 >> 16) & 0xffffu, (unsigned)h1 & 0xffffu, (unsigned)(h2 >> 48),
-           (unsigned long long)(h2 & 0xffffffffffffull));
+           (unsigned)(h1 >> 16) & 0xffffU, (unsigned)h1 & 0xffffU, (unsigned)(h2 >> 48),
+           (unsigned long long)(h2 & 0xffffffffffffULL));
 }

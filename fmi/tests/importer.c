@@ -358,6 +358,8 @@ static void run(fmu *f, const vars *v) {
   refused(do_step(f, 0.0, 0.0), "h = 0");
   refused(do_step(f, 0.0, -1e-3), "h < 0");
   refused(do_step(f, 0.0, NAN), "h = NaN");
+  refused(do_step(f, 0.0, INFINITY), "h = Inf");
+  refused(do_step(f, 0.0, 1e300), "h of more than 2^53 steps of T");
   refused(do_step(f, 0.5, 1e-3), "a communication point that is not the FMU's time");
   for (int i = 0; i < 10; i++) CHECK(do_step(f, i * 1e-2, 1e-2) == 0);
   CHECK(do_step(f, 0.1, 0.0025) == 0); /* not a multiple of T = 1e-3: equal substeps */
