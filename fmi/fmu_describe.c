@@ -131,9 +131,8 @@ static void categories(FILE *out) {
 
 int fmu_describe_xml(const fmu_instance *fi, int version, const char *generator, FILE *out) {
   const sdae_fmu *m = fi->model;
-  char token[40];
+  const char *token = fi->token;
   fmu_var v;
-  fmu_token(&fi->layout, token);
   fprintf(out,
           "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription\n"
           "  fmiVersion=\"%s\"\n  modelName=\"%s\"\n  %s=\"%s\"\n  description=\"",

@@ -66,6 +66,19 @@ void fmu_mechanism(fmu_instance *fi) {
   fmu_forces_wrap(&fi->sys, &fi->forces);
 }
 
+/* the table's defaults into the user's params struct: from params_default when the table
+ * gives it, else from each parameter's start */
+static void fill_defaults(fmu_instance *fi) {
+  const sdae_fmu *m = fi->model;
+  if (m->params_default) {
+    memset(fi->params, 0, m->params_size);
+    m->params_default(fi->params);
+    return;
+  }
+  for (size_t i = 0; i < m->n_params; i++)
+    memcpy((char *)fi->params + m->params[i].offset, &m->params[i].start, sizeof(double));
+}
+
 /* the variables at their defaults: the table's, the solver's, the start state at the defaults */
 static void defaults(fmu_instance *fi) {
   const sdae_fmu *m = fi->model;
@@ -74,7 +87,10 @@ static void defaults(fmu_instance *fi) {
   fi->values[FMU_VR_T] = m->T;
   fi->values[FMU_VR_DELTA] = m->delta;
   fi->values[FMU_VR_EPSILON] = m->epsilon;
-  for (size_t i = 0; i < m->n_params; i++) fi->values[L->params + i] = m->params[i].start;
+  fill_defaults(fi);
+  for (size_t i = 0; i < m->n_params; i++)
+    memcpy(&fi->values[L->params + i], (const char *)fi->params + m->params[i].offset,
+           sizeof(double));
   fmu_mechanism(fi);
   /* the start state at the defaults (the describer writes the same into the XML); without one
    * at the defaults it stays 0 and the importer must give q0, v0 */
@@ -86,12 +102,10 @@ static void defaults(fmu_instance *fi) {
 /* the layout: the sizes from the mechanism at the table's defaults (they may not depend on the
  * parameters) */
 static void measure(fmu_instance *fi) {
-  const sdae_fmu *m = fi->model;
   sdae_mbs sys;
-  for (size_t i = 0; i < m->n_params; i++)
-    memcpy((char *)fi->params + m->params[i].offset, &m->params[i].start, sizeof(double));
-  sys = m->mbs(fi->params);
-  fmu_layout_make(&fi->layout, m, sys.n_q, sys.n_c, sys.potential != NULL);
+  fill_defaults(fi);
+  sys = fi->model->mbs(fi->params);
+  fmu_layout_make(&fi->layout, fi->model, sys.n_q, sys.n_c, sys.potential != NULL);
 }
 
 static size_t work_len(const fmu_layout *L) { return (2 * L->n_q + L->n_c) * sizeof(double); }
@@ -112,7 +126,6 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
   const sdae_allocator plain = {NULL, NULL, NULL};
   const fmu_instance quiet = {.log = log, .env = env}; /* for the messages before fi exists */
   const sdae_fmu *m = &sdae_fmu_model;
-  char mine[40];
   fmu_instance *fi = get_mem(a ? a : &plain, sizeof *fi);
   if (!fi) {
     fmu_log(&quiet, FMU_ERROR, "instantiate: out of memory");
@@ -126,16 +139,16 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
   if (!fi->name || !fi->params) goto nomem;
   memcpy(fi->name, name, strlen(name) + 1);
   measure(fi);
-  fmu_token(&fi->layout, mine);
-  if (token && strcmp(token, mine) != 0) {
-    fmu_log(fi, FMU_ERROR, "instantiate: the token %s is not this binary's %s", token, mine);
-    fmu_free(fi);
-    return NULL;
-  }
   fi->values = get_mem(&fi->alloc, fi->layout.count * sizeof *fi->values);
   fi->work = get_mem(&fi->alloc, work_len(&fi->layout));
   if (!fi->values || !fi->work) goto nomem;
   defaults(fi);
+  fmu_token(&fi->layout, fi->values, fi->token);
+  if (token && strcmp(token, fi->token) != 0) {
+    fmu_log(fi, FMU_ERROR, "instantiate: the token %s is not this binary's %s", token, fi->token);
+    fmu_free(fi);
+    return NULL;
+  }
   fmu_log(fi, FMU_OK, "instantiated %s (%zu coordinates, %zu constraints)", m->name, fi->layout.n_q,
           fi->layout.n_c);
   return fi;
@@ -228,20 +241,26 @@ fmu_status fmu_build(fmu_instance *fi, const char *call) {
   return FMU_OK;
 }
 
-fmu_status fmu_exit_init(fmu_instance *fi) {
+/* the start state (start at the parameters unless the importer set q0 or v0), the stepper and
+ * the outputs there: exitInitializationMode, and a get of an output in initialization mode */
+static fmu_status initial_state(fmu_instance *fi, const char *call) {
   const fmu_layout *L = &fi->layout;
   double *q0 = fi->values + L->q0, *v0 = fi->values + L->v0;
-  if (fmu_allowed(fi, "exitInitializationMode", FMU_IN(FMU_INIT_MODE)) != FMU_OK) return FMU_ERROR;
   fmu_mechanism(fi);
   if (!fi->clock.start_set && fi->model->start && fi->model->start(fi->params, q0, v0) != 0) {
     fmu_log(fi, FMU_ERROR,
-            "exitInitializationMode: the mechanism has no start state at these "
-            "parameters; set q0 and v0");
+            "%s: the mechanism has no start state at these parameters; set q0 and v0", call);
     return FMU_ERROR;
   }
   memcpy(fi->values + L->q, q0, L->n_q * sizeof *q0);
   memcpy(fi->values + L->v, v0, L->n_q * sizeof *v0);
-  if (fmu_build(fi, "exitInitializationMode") != FMU_OK) return FMU_ERROR;
+  return fmu_build(fi, call);
+}
+
+fmu_status fmu_exit_init(fmu_instance *fi) {
+  if (fmu_allowed(fi, "exitInitializationMode", FMU_IN(FMU_INIT_MODE)) != FMU_OK) return FMU_ERROR;
+  /* a new stepper even after a get in initialization mode: the run starts from its fresh state */
+  if (initial_state(fi, "exitInitializationMode") != FMU_OK) return FMU_ERROR;
   fi->clock.phase = FMU_STEP_MODE;
   return FMU_OK;
 }
@@ -352,8 +371,11 @@ fmu_status fmu_get_real(fmu_instance *fi, const unsigned *vr, size_t n, double *
   }
   for (size_t i = 0; i < n; i++) {
     if (lookup(fi, "getReal", vr[i], 0, &var) != FMU_OK) return FMU_ERROR;
-    if (var.role == FMU_OUTPUT && fi->stepper == NULL) {
-      fmu_log(fi, FMU_ERROR, "getReal: %s is computed at exitInitializationMode", var.name);
+    if (var.role == FMU_OUTPUT && !fi->stepper && fi->clock.phase == FMU_INIT_MODE &&
+        initial_state(fi, "getReal") != FMU_OK)
+      return FMU_ERROR;
+    if (var.role == FMU_OUTPUT && !fi->stepper) {
+      fmu_log(fi, FMU_ERROR, "getReal: %s is computed from initialization mode on", var.name);
       return FMU_ERROR;
     }
     value[i] = var.role == FMU_TIME ? fi->clock.t : fi->values[vr[i]];
@@ -399,6 +421,8 @@ fmu_status fmu_set_real(fmu_instance *fi, const unsigned *vr, size_t n, const do
     if (var.role == FMU_START) fi->clock.start_set = 1;
     fi->values[vr[i]] = value[i];
   }
+  /* outputs got in initialization mode came from the values before: computed anew when asked */
+  if (fi->clock.phase == FMU_INIT_MODE) fi->stepper = NULL;
   return FMU_OK;
 }
 
@@ -438,5 +462,6 @@ fmu_status fmu_set_string(fmu_instance *fi, const unsigned *vr, size_t n,
     }
   }
   for (size_t i = 0; i < n; i++) fi->clock.map = sdae_map_by_name(value[i]);
+  if (fi->clock.phase == FMU_INIT_MODE) fi->stepper = NULL; /* as in fmu_set_real */
   return FMU_OK;
 }

@@ -46,6 +46,7 @@ typedef struct fmu_instance {
   char *name;
   const sdae_fmu *model;
   fmu_layout layout;
+  char token[40]; /* the instantiation token / guid, from the defaults (fmu_token) */
   fmu_clock clock;
   double *values;    /* layout.count doubles by value reference (map's entry unused) */
   void *params;      /* the user's params struct, model->params_size bytes */

@@ -72,7 +72,7 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
   if (!s && !(s = state_alloc(fi, bytes))) return FMU_ERROR;
   s->magic = FMU_STATE_MAGIC;
   s->bytes = bytes;
-  fmu_token(&fi->layout, s->token);
+  memcpy(s->token, fi->token, sizeof s->token);
   s->clock = fi->clock;
   snprintf(s->map, sizeof s->map, "%s", sdae_map_name(fi->clock.map));
   s->count = fi->layout.count;
@@ -91,10 +91,8 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
 
 /* a state of this model, whole; FMU_ERROR with a message otherwise */
 static fmu_status check(fmu_instance *fi, const fmu_state *s, size_t len, const char *call) {
-  char mine[40];
-  fmu_token(&fi->layout, mine);
   if (!s || len < sizeof *s || s->magic != FMU_STATE_MAGIC || s->bytes != len ||
-      s->count != fi->layout.count || strcmp(s->token, mine) != 0 ||
+      s->count != fi->layout.count || strncmp(s->token, fi->token, sizeof s->token) != 0 ||
       len != header_bytes() + s->count * sizeof(double) + (s->have_stepper ? s->block_len : 0) ||
       !sdae_map_by_name(s->map)) {
     fmu_log(fi, FMU_ERROR, "%s: not a state of this model", call);

@@ -100,24 +100,22 @@ static uint64_t fnv(uint64_t h, const char *s) {
   return h;
 }
 
-void fmu_token(const fmu_layout *L, char out[40]) {
+void fmu_token(const fmu_layout *L, const double *defaults, char out[40]) {
   uint64_t h1 = 14695981039346656037U, h2 = 0x6a09e667f3bcc908U;
   char buf[96];
   fmu_var var;
-  snprintf(buf, sizeof buf, "%s %zu %zu %d", L->model->name, L->n_q, L->n_c, L->has_energy);
+  snprintf(buf, sizeof buf, "%s %zu %zu %d %s", L->model->name, L->n_q, L->n_c, L->has_energy,
+           L->model->map ? L->model->map : "");
   h1 = fnv(h1, buf);
   h2 = fnv(h2, buf);
   for (size_t vr = 0; fmu_var_at(L, vr, &var) == 0; vr++) {
     h1 = fnv(h1, var.name);
     h2 = fnv(h2, var.description);
+    if (var.role == FMU_SOLVER || var.role == FMU_PARAM || var.role == FMU_START) {
+      snprintf(buf, sizeof buf, "%.17g", defaults[vr]);
+      h1 = fnv(h1, buf);
+    }
   }
-  for (size_t i = 0; i < L->model->n_params; i++) {
-    snprintf(buf, sizeof buf, "%.17g", L->model->params[i].start);
-    h1 = fnv(h1, buf);
-  }
-  snprintf(buf, sizeof buf, "%.17g %.17g %.17g %s", L->model->T, L->model->delta, L->model->epsilon,
-           L->model->map ? L->model->map : "");
-  h2 = fnv(h2, buf);
   snprintf(out, 40, "{%08x-%04x-%04x-%04x-%012llx}", (unsigned)(h1 >> 32),
            (unsigned)(h1 >> 16) & 0xffffU, (unsigned)h1 & 0xffffU, (unsigned)(h2 >> 48),
            (unsigned long long)(h2 & 0xffffffffffffULL));

@@ -44,8 +44,9 @@ void fmu_layout_make(fmu_layout *L, const sdae_fmu *model, size_t n_q, size_t n_
 /* the variable at value reference vr; -1 when there is none */
 int fmu_var_at(const fmu_layout *L, size_t vr, fmu_var *var);
 
-/* The instantiation token (FMI 3.0) / guid (FMI 2.0): a digest of the model's name, sizes and
- * variables, so that a binary and a modelDescription.xml of another table never match. */
-void fmu_token(const fmu_layout *L, char out[40]);
+/* The instantiation token (FMI 3.0) / guid (FMI 2.0): a digest of the model's name, sizes,
+ * variables and their defaults (by value reference), so that a binary and a
+ * modelDescription.xml of another table never match. */
+void fmu_token(const fmu_layout *L, const double *defaults, char out[40]);
 
 #endif /* STABDAE_FMI_FMU_VARS_H */

@@ -221,8 +221,8 @@ static status_t free_state(fmu *f, void **state) {
   return ((fmi2FreeFMUstateTYPE *)SYM(f, "fmi2FreeFMUstate"))(f->instance, state);
 }
 
-/* the state serialized and read back into *out (a new state) */
-static status_t round_trip(fmu *f, void *state, void **out) {
+/* the state serialized by f and read back by g (f itself, or another instance) into *out */
+static status_t round_trip(fmu *f, fmu *g, void *state, void **out) {
   size_t size = 0;
   unsigned char *bytes;
   status_t rc;
@@ -234,7 +234,7 @@ static status_t round_trip(fmu *f, void *state, void **out) {
     rc = ((fmi3SerializeFMUStateTYPE *)SYM(f, "fmi3SerializeFMUState"))(f->instance, state, bytes,
                                                                         size);
     if (rc == fmi3OK)
-      rc = ((fmi3DeserializeFMUStateTYPE *)SYM(f, "fmi3DeserializeFMUState"))(f->instance, bytes,
+      rc = ((fmi3DeserializeFMUStateTYPE *)SYM(g, "fmi3DeserializeFMUState"))(g->instance, bytes,
                                                                               size, out);
   } else {
     if (((fmi2SerializedFMUstateSizeTYPE *)SYM(f, "fmi2SerializedFMUstateSize"))(f->instance, state,
@@ -244,8 +244,8 @@ static status_t round_trip(fmu *f, void *state, void **out) {
     rc = ((fmi2SerializeFMUstateTYPE *)SYM(f, "fmi2SerializeFMUstate"))(f->instance, state,
                                                                         (fmi2Byte *)bytes, size);
     if (rc == fmi2OK)
-      rc = ((fmi2DeSerializeFMUstateTYPE *)SYM(f, "fmi2DeSerializeFMUstate"))(
-          f->instance, (const fmi2Byte *)bytes, size, out);
+      rc = ((fmi2DeSerializeFMUstateTYPE *)SYM(g, "fmi2DeSerializeFMUstate"))(
+          g->instance, (const fmi2Byte *)bytes, size, out);
   }
   free(bytes);
   return rc;
@@ -301,6 +301,35 @@ static void outputs(fmu *f, const vars *v, double *x) {
   CHECK(get_real(f, v->out, v->n_out, x) == 0);
 }
 
+/* f's state, serialized, into a second instance g: g continues from the same point with a
+ * stepper of its own, its next step agreeing with f's to Newton's tolerance (1e-12 on mu); the
+ * state's time and variables come along bit for bit */
+static void another_instance(fmu *f, const vars *v) {
+  fmu g = *f;
+  void *state = NULL, *copy = NULL;
+  double a[MAXOUT], b[MAXOUT], t, t_g;
+  CHECK(get_real(f, &v->time, 1, &t) == 0);
+  CHECK(get_state(f, &state) == 0);
+  CHECK((g.instance = instantiate(&g, g.token)) != NULL);
+  if (!g.instance) return;
+  CHECK(enter_init(&g) == 0);
+  CHECK(exit_init(&g) == 0);
+  CHECK(round_trip(f, &g, state, &copy) == 0);
+  CHECK(set_state(&g, copy) == 0);
+  CHECK(get_real(&g, &v->time, 1, &t_g) == 0 && t_g == t);
+  outputs(f, v, a);
+  outputs(&g, v, b);
+  CHECK(memcmp(a, b, v->n_out * sizeof *a) == 0);
+  CHECK(do_step(f, t, 1e-2) == 0);
+  CHECK(do_step(&g, t, 1e-2) == 0);
+  outputs(f, v, a);
+  outputs(&g, v, b);
+  for (size_t i = 0; i < v->n_out; i++) CHECK(fabs(a[i] - b[i]) <= 1e-8 * (1.0 + fabs(a[i])));
+  CHECK(free_state(f, &state) == 0);
+  CHECK(free_state(&g, &copy) == 0);
+  free_instance(&g);
+}
+
 /* get the state, step, set it back, step again: the same bits; through serialization too */
 static void roll_back(fmu *f, const vars *v, double t, double h) {
   double a[MAXOUT], b[MAXOUT], c[MAXOUT];
@@ -312,7 +341,7 @@ static void roll_back(fmu *f, const vars *v, double t, double h) {
   CHECK(do_step(f, t, h) == 0);
   outputs(f, v, b);
   CHECK(memcmp(a, b, v->n_out * sizeof *a) == 0);
-  CHECK(round_trip(f, state, &copy) == 0);
+  CHECK(round_trip(f, f, state, &copy) == 0);
   CHECK(set_state(f, copy) == 0);
   CHECK(do_step(f, t, h) == 0);
   outputs(f, v, c);
@@ -340,7 +369,7 @@ static void failure(fmu *f, const vars *v, double t) {
 }
 
 static void run(fmu *f, const vars *v) {
-  double x[MAXOUT];
+  double x[MAXOUT], y[MAXOUT];
   void *none;
   errors_logged = 0;
   /* a token that is not the binary's */
@@ -353,7 +382,10 @@ static void run(fmu *f, const vars *v) {
   wrong_states(f);
   bad_parameters(f, v);
   CHECK(enter_init(f) == 0);
+  outputs(f, v, x); /* initialization mode: the outputs at the start, as after it */
   CHECK(exit_init(f) == 0);
+  outputs(f, v, y);
+  CHECK(memcmp(x, y, v->n_out * sizeof *x) == 0);
   refused(set_real(f, v->T, 2e-3), "a fixed parameter in step mode");
   refused(do_step(f, 0.0, 0.0), "h = 0");
   refused(do_step(f, 0.0, -1e-3), "h < 0");
@@ -366,7 +398,8 @@ static void run(fmu *f, const vars *v) {
   outputs(f, v, x);
   for (size_t i = 0; i < v->n_out; i++) CHECK(isfinite(x[i]));
   roll_back(f, v, 0.1025, 1e-2);
-  failure(f, v, 0.1125);
+  another_instance(f, v);
+  failure(f, v, 0.1225);
   CHECK(terminate(f) == 0);
   CHECK(reset(f) == 0);
   free_instance(f);

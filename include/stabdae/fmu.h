@@ -29,7 +29,7 @@ extern "C" {
  * (offsetof(my_params, name)). */
 typedef struct sdae_fmu_param {
   const char *name;        /* the FMU's variable name: letters, digits, '_' */
-  double start;            /* its default */
+  double start;            /* its default (unused when the table gives params_default) */
   const char *description; /* one line, or NULL */
   size_t offset;           /* offsetof in the params struct */
 } sdae_fmu_param;
@@ -40,6 +40,10 @@ typedef struct sdae_fmu {
   size_t params_size;      /* sizeof the params struct; its doubles are set from the table */
   const sdae_fmu_param *params;
   size_t n_params;
+  /* optional: the defaults written into a zeroed params struct (the generator's
+   * NAME_params_default); then the table's start values are not used, the parameters'
+   * defaults are read from the struct at their offsets */
+  void (*params_default)(void *p);
   /* the mechanism at the parameters p (a params struct, kept alive by the FMU while it runs):
    * every callback's params must be p or point into it */
   sdae_mbs (*mbs)(void *p);
@@ -54,6 +58,11 @@ typedef struct sdae_fmu {
   double T, delta, epsilon;
   const char *map;
 } sdae_fmu;
+
+/* A parameter that is the field FIELD of the params struct TYPE, its default from the table's
+ * params_default: SDAE_FMU_PARAM(pendulum_params, L, "rod length"). */
+#define SDAE_FMU_PARAM(TYPE, FIELD, DESCRIPTION)                                                   \
+  { #FIELD, 0.0, DESCRIPTION, offsetof(TYPE, FIELD) }
 
 /* The table of the FMU being built, defined by the user's file. */
 extern const sdae_fmu sdae_fmu_model;

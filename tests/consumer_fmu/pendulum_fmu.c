@@ -6,13 +6,15 @@
 
 #include "pendulum.h"
 
+/* pendulum_fmu_default, pendulum_fmu_mbs, pendulum_fmu_start over the generator's shape */
 SDAE_FMU_GENERATED(pendulum)
 
+/* the defaults are pendulum_params_default's */
 static const sdae_fmu_param params[] = {
-    {"L", 1.0, "rod length", offsetof(pendulum_params, L)},
-    {"m", 1.0, "mass", offsetof(pendulum_params, m)},
-    {"g", 9.81, "gravitational acceleration", offsetof(pendulum_params, g)},
-    {"theta0", 1.0, "start angle from the downward vertical", offsetof(pendulum_params, theta0)},
+    SDAE_FMU_PARAM(pendulum_params, L, "rod length"),
+    SDAE_FMU_PARAM(pendulum_params, m, "mass"),
+    SDAE_FMU_PARAM(pendulum_params, g, "gravitational acceleration"),
+    SDAE_FMU_PARAM(pendulum_params, theta0, "start angle from the downward vertical"),
 };
 
 static const char *const coordinates[] = {"x", "y"};
@@ -23,6 +25,7 @@ const sdae_fmu sdae_fmu_model = {
     .params_size = sizeof(pendulum_params),
     .params = params,
     .n_params = sizeof params / sizeof *params,
+    .params_default = pendulum_fmu_default,
     .mbs = pendulum_fmu_mbs,
     .start = pendulum_fmu_start,
     .coordinates = coordinates,
