@@ -69,8 +69,10 @@ extern const sdae_fmu sdae_fmu_model;
 
 /* The adapters for a mechanism written by the generator (tools/mbsgen), which declares
  * NAME_params, NAME_params_default, NAME_mbs and NAME_start: SDAE_FMU_GENERATED(NAME) defines
- * NAME_fmu_mbs and NAME_fmu_start for the table's mbs and start. */
+ * NAME_fmu_default, NAME_fmu_mbs and NAME_fmu_start for the table's params_default, mbs and
+ * start. */
 #define SDAE_FMU_GENERATED(NAME)                                                                   \
+  static void NAME##_fmu_default(void *p) { NAME##_params_default((NAME##_params *)p); }           \
   static sdae_mbs NAME##_fmu_mbs(void *p) { return NAME##_mbs((NAME##_params *)p); }               \
   static int NAME##_fmu_start(const void *p, double *q0, double *v0) {                             \
     NAME##_start((const NAME##_params *)p, q0, v0);                                                \
