@@ -108,7 +108,7 @@ static void measure(fmu_instance *fi) {
   fmu_layout_make(&fi->layout, fi->model, sys.n_q, sys.n_c, sys.potential != NULL);
 }
 
-static size_t work_len(const fmu_layout *L) { return (2 * L->n_q + L->n_c) * sizeof(double); }
+static size_t work_len(const fmu_layout *L) { return 2 * (L->n_q + L->n_c) * sizeof(double); }
 
 void fmu_free(fmu_instance *fi) {
   if (!fi) return;
@@ -180,19 +180,20 @@ fmu_status fmu_enter_init(fmu_instance *fi, double t0) {
   return FMU_OK;
 }
 
-/* the outputs at the state (t, q, v) held in work: lambda, max |c|, the energy; SDAE_OK or the
- * library's status */
+/* the outputs at the state (t, q, v): lambda, max |c|, the energy, all computed before any is
+ * written, so that a failure leaves the outputs as they were; SDAE_OK or the library's status */
 static int outputs(fmu_instance *fi, double t, const double *q, const double *v) {
   const fmu_layout *L = &fi->layout;
-  double *lambda = fi->work + 2 * L->n_q, worst = 0.0; /* lambda first in the c room */
+  double *lambda = fi->work + 2 * L->n_q, *c = lambda + L->n_c, energy = 0.0, worst = 0.0;
   double *out = fi->values;
   int rc = sdae_mbs_lambda(fi->stepper, t, q, v, lambda);
+  if (rc == SDAE_OK && L->has_energy) rc = sdae_mbs_energy(fi->stepper, t, q, v, &energy);
+  if (rc == SDAE_OK && fi->sys.constraint(t, q, c, fi->sys.params) != 0)
+    rc = SDAE_ERR_CALLBACK_FATAL;
   if (rc != SDAE_OK) return rc;
+  for (size_t j = 0; j < L->n_c; j++) worst = fmax(worst, fabs(c[j]));
   memcpy(out + L->lambda, lambda, L->n_c * sizeof *lambda);
-  if (L->has_energy && (rc = sdae_mbs_energy(fi->stepper, t, q, v, out + L->energy)) != SDAE_OK)
-    return rc;
-  if (fi->sys.constraint(t, q, lambda, fi->sys.params) != 0) return SDAE_ERR_CALLBACK_FATAL;
-  for (size_t j = 0; j < L->n_c; j++) worst = fmax(worst, fabs(lambda[j]));
+  if (L->has_energy) out[L->energy] = energy;
   out[L->max_abs_c] = worst;
   memmove(out + L->q, q, L->n_q * sizeof *q); /* q may be the outputs themselves */
   memmove(out + L->v, v, L->n_q * sizeof *v);
@@ -252,6 +253,12 @@ static fmu_status initial_state(fmu_instance *fi, const char *call) {
             "%s: the mechanism has no start state at these parameters; set q0 and v0", call);
     return FMU_ERROR;
   }
+  for (size_t i = 0; i < 2 * L->n_q; i++)
+    if (!isfinite(q0[i])) { /* q0 and v0 are adjacent */
+      fmu_log(fi, FMU_ERROR, "%s: the start state is not finite (%s[%zu] = %g)", call,
+              i < L->n_q ? "q0" : "v0", i % L->n_q + 1, q0[i]);
+      return FMU_ERROR;
+    }
   memcpy(fi->values + L->q, q0, L->n_q * sizeof *q0);
   memcpy(fi->values + L->v, v0, L->n_q * sizeof *v0);
   return fmu_build(fi, call);

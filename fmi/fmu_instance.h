@@ -55,7 +55,7 @@ typedef struct fmu_instance {
   void *block;       /* the stepper's block, kept from one initialization to the next */
   size_t block_len;
   sdae_mbs_stepper *stepper; /* in block; NULL before exitInitializationMode */
-  double *work;              /* 2 n_q + n_c: a communication step's q, v; c */
+  double *work;              /* 2 n_q + 2 n_c: a communication step's q, v; lambda, c */
 } fmu_instance;
 
 /* NULL (after a message through log) when the token is not this binary's or memory fails. */
