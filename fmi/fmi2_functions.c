@@ -49,20 +49,8 @@ const char *fmi2GetVersion(void) { return fmi2Version; }
 
 fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
                                const fmi2String categories[]) {
-  static const char *const known[] = {"logStatusError", "logStatusWarning", "logInfo"};
   if (!c) return fmi2Error;
-  for (size_t i = 0; i < nCategories; i++) {
-    int found = 0;
-    for (size_t k = 0; k < sizeof known / sizeof *known; k++)
-      found |= categories && categories[i] && strcmp(categories[i], known[k]) == 0;
-    if (!found) {
-      fmu_log(FI(c), FMU_ERROR, "setDebugLogging: no log category \"%s\"",
-              categories && categories[i] ? categories[i] : "(null)");
-      return fmi2Error;
-    }
-  }
-  FI(c)->logging_on = loggingOn;
-  return fmi2OK;
+  return (fmi2Status)fmu_set_logging(FI(c), loggingOn, nCategories, categories);
 }
 
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,

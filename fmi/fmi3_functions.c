@@ -37,20 +37,8 @@ const char *fmi3GetVersion(void) { return fmi3Version; }
 
 fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, size_t nCategories,
                                const fmi3String categories[]) {
-  static const char *const known[] = {"logStatusError", "logStatusWarning", "logInfo"};
   if (!instance) return fmi3Error;
-  for (size_t i = 0; i < nCategories; i++) {
-    int found = 0;
-    for (size_t k = 0; k < sizeof known / sizeof *known; k++)
-      found |= categories && categories[i] && strcmp(categories[i], known[k]) == 0;
-    if (!found) {
-      fmu_log(FI(instance), FMU_ERROR, "setDebugLogging: no log category \"%s\"",
-              categories && categories[i] ? categories[i] : "(null)");
-      return fmi3Error;
-    }
-  }
-  FI(instance)->logging_on = loggingOn;
-  return fmi3OK;
+  return (fmi3Status)fmu_set_logging(FI(instance), loggingOn, nCategories, categories);
 }
 
 fmi3Instance fmi3InstantiateCoSimulation(

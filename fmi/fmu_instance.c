@@ -40,6 +40,22 @@ void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
   fi->log(fi->env, status, category[status], msg);
 }
 
+fmu_status fmu_set_logging(fmu_instance *fi, int on, size_t n, const char *const *categories) {
+  static const char *const known[] = {"logStatusError", "logStatusWarning", "logInfo"};
+  for (size_t i = 0; i < n; i++) {
+    int found = 0;
+    for (size_t k = 0; k < sizeof known / sizeof *known; k++)
+      found |= categories && categories[i] && strcmp(categories[i], known[k]) == 0;
+    if (!found) {
+      fmu_log(fi, FMU_ERROR, "setDebugLogging: no log category \"%s\"",
+              categories && categories[i] ? categories[i] : "(null)");
+      return FMU_ERROR;
+    }
+  }
+  fi->logging_on = on;
+  return FMU_OK;
+}
+
 static const char *const phase_name[] = {"instantiated", "initialization mode", "step mode",
                                          "terminated", "failed (reset it)"};
 

@@ -76,6 +76,9 @@ void fmu_mechanism(fmu_instance *fi);
  * FMU_ERROR with a message naming call */
 fmu_status fmu_build(fmu_instance *fi, const char *call);
 
+/* logging on or off; the categories named must be the FMU's (none named: all of them) */
+fmu_status fmu_set_logging(fmu_instance *fi, int on, size_t n, const char *const *categories);
+
 fmu_status fmu_enter_init(fmu_instance *fi, double t0);
 fmu_status fmu_exit_init(fmu_instance *fi);
 fmu_status fmu_do_step(fmu_instance *fi, double t, double h);

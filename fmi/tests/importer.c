@@ -203,6 +203,14 @@ static status_t set_string(fmu *f, unsigned vr, const char *s) {
   return ((fmi2SetStringTYPE *)SYM(f, "fmi2SetString"))(f->instance, &vr, 1, &s);
 }
 
+static status_t set_logging(fmu *f, int on, const char *category) {
+  size_t n = category ? 1 : 0;
+  if (f->version == 3)
+    return ((fmi3SetDebugLoggingTYPE *)SYM(f, "fmi3SetDebugLogging"))(f->instance, on, n,
+                                                                      &category);
+  return ((fmi2SetDebugLoggingTYPE *)SYM(f, "fmi2SetDebugLogging"))(f->instance, on, n, &category);
+}
+
 static status_t get_state(fmu *f, void **state) {
   if (f->version == 3)
     return ((fmi3GetFMUStateTYPE *)SYM(f, "fmi3GetFMUState"))(f->instance, state);
@@ -379,6 +387,8 @@ static void run(fmu *f, const vars *v) {
   errors_logged = 0;
   CHECK((f->instance = instantiate(f, f->token)) != NULL);
   if (!f->instance) return;
+  refused(set_logging(f, 1, "logNoSuchCategory"), "an unknown log category");
+  CHECK(set_logging(f, 1, "logInfo") == 0);
   wrong_states(f);
   bad_parameters(f, v);
   CHECK(enter_init(f) == 0);
