@@ -9,13 +9,13 @@
 
 /* ---- memory, through the instance's allocator ---------------------------------------------- */
 
-static void *get_mem(const sdae_allocator *a, size_t size) {
+void *fmu_mem_get(const sdae_allocator *a, size_t size) {
   void *p = a->alloc && a->free ? a->alloc(a->ud, size) : malloc(size);
   if (p) memset(p, 0, size);
   return p;
 }
 
-static void put_mem(const sdae_allocator *a, void *p, size_t size) {
+void fmu_mem_put(const sdae_allocator *a, void *p, size_t size) {
   if (!p) return;
   if (a->alloc && a->free)
     a->free(a->ud, p, size);
@@ -129,12 +129,12 @@ static size_t work_len(const fmu_layout *L) { return 2 * (L->n_q + L->n_c) * siz
 void fmu_free(fmu_instance *fi) {
   if (!fi) return;
   sdae_allocator a = fi->alloc;
-  if (fi->name) put_mem(&a, fi->name, strlen(fi->name) + 1);
-  put_mem(&a, fi->values, fi->layout.count * sizeof *fi->values);
-  put_mem(&a, fi->params, fi->model->params_size ? fi->model->params_size : 1);
-  put_mem(&a, fi->work, work_len(&fi->layout));
-  put_mem(&a, fi->block, fi->block_len);
-  put_mem(&a, fi, sizeof *fi);
+  if (fi->name) fmu_mem_put(&a, fi->name, strlen(fi->name) + 1);
+  fmu_mem_put(&a, fi->values, fi->layout.count * sizeof *fi->values);
+  fmu_mem_put(&a, fi->params, fi->model->params_size ? fi->model->params_size : 1);
+  fmu_mem_put(&a, fi->work, work_len(&fi->layout));
+  fmu_mem_put(&a, fi->block, fi->block_len);
+  fmu_mem_put(&a, fi, sizeof *fi);
 }
 
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,
@@ -142,7 +142,7 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
   const sdae_allocator plain = {NULL, NULL, NULL};
   const fmu_instance quiet = {.log = log, .env = env}; /* for the messages before fi exists */
   const sdae_fmu *m = &sdae_fmu_model;
-  fmu_instance *fi = get_mem(a ? a : &plain, sizeof *fi);
+  fmu_instance *fi = fmu_mem_get(a ? a : &plain, sizeof *fi);
   if (!fi) {
     fmu_log(&quiet, FMU_ERROR, "instantiate: out of memory");
     return NULL;
@@ -150,13 +150,13 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
   *fi = (fmu_instance){
       .alloc = a ? *a : plain, .log = log, .env = env, .logging_on = logging_on, .model = m};
   if (!name) name = m->name;
-  fi->name = get_mem(&fi->alloc, strlen(name) + 1);
-  fi->params = get_mem(&fi->alloc, m->params_size ? m->params_size : 1);
+  fi->name = fmu_mem_get(&fi->alloc, strlen(name) + 1);
+  fi->params = fmu_mem_get(&fi->alloc, m->params_size ? m->params_size : 1);
   if (!fi->name || !fi->params) goto nomem;
   memcpy(fi->name, name, strlen(name) + 1);
   measure(fi);
-  fi->values = get_mem(&fi->alloc, fi->layout.count * sizeof *fi->values);
-  fi->work = get_mem(&fi->alloc, work_len(&fi->layout));
+  fi->values = fmu_mem_get(&fi->alloc, fi->layout.count * sizeof *fi->values);
+  fi->work = fmu_mem_get(&fi->alloc, work_len(&fi->layout));
   if (!fi->values || !fi->work) goto nomem;
   defaults(fi);
   fmu_token(&fi->layout, fi->values, fi->token);
@@ -224,9 +224,9 @@ static int build_stepper(fmu_instance *fi, const sdae_options *o) {
   if (len == 0) /* the mechanism or the options are invalid: the status says which */
     return sdae_mbs_stepper_init(&fi->stepper, &none, 0, &fi->sys, o);
   if (len > fi->block_len) {
-    put_mem(&fi->alloc, fi->block, fi->block_len);
+    fmu_mem_put(&fi->alloc, fi->block, fi->block_len);
     fi->block_len = 0;
-    if (!(fi->block = get_mem(&fi->alloc, len))) return SDAE_ERR_NOMEM;
+    if (!(fi->block = fmu_mem_get(&fi->alloc, len))) return SDAE_ERR_NOMEM;
     fi->block_len = len;
   }
   return sdae_mbs_stepper_init(&fi->stepper, fi->block, fi->block_len, &fi->sys, o);

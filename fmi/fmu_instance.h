@@ -58,6 +58,10 @@ typedef struct fmu_instance {
   double *work;              /* 2 n_q + 2 n_c: a communication step's q, v; lambda, c */
 } fmu_instance;
 
+/* size bytes, zeroed, from the allocator a (malloc without one); NULL when there is no room */
+void *fmu_mem_get(const sdae_allocator *a, size_t size);
+void fmu_mem_put(const sdae_allocator *a, void *p, size_t size); /* p NULL is fine */
+
 /* NULL (after a message through log) when the token is not this binary's or memory fails. */
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,
                               fmu_logger log, void *env, int logging_on);

@@ -3,10 +3,9 @@
 
 #include <stdint.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
-#define FMU_STATE_MAGIC 0x73646165666d7531ull /* "sdaefmu1" */
+#define FMU_STATE_MAGIC 0x73646165666d7531ULL /* "sdaefmu1" */
 
 /* the block: this header, the variables (count doubles), the stepper's bytes (block_len) */
 struct fmu_state {
@@ -17,7 +16,7 @@ struct fmu_state {
   char map[24]; /* the map by name: the pointer in clock is this process's */
   size_t count;
   /* where the stepper's bytes came from: their place in memory and this binary */
-  uintptr_t instance, block, code;
+  uintptr_t instance, block, binary;
   size_t block_len, stepper_at; /* stepper_at: the stepper's offset in its block */
   int have_stepper;
 };
@@ -37,29 +36,21 @@ static unsigned char *stepper_bytes(const fmu_state *s) {
 
 /* an address in this binary's data: another load of it (another process) has another one */
 static const char here;
-static uintptr_t code_address(void) { return (uintptr_t)(const void *)&here; }
+static uintptr_t binary_address(void) { return (uintptr_t)(const void *)&here; }
 
 static size_t bytes_for(const fmu_instance *fi) {
   size_t step = fi->stepper ? fi->block_len : 0;
   return header_bytes() + fi->layout.count * sizeof(double) + step;
 }
 
-static fmu_state *state_alloc(fmu_instance *fi, size_t bytes) {
-  fmu_state *s =
-      fi->alloc.alloc && fi->alloc.free ? fi->alloc.alloc(fi->alloc.ud, bytes) : malloc(bytes);
-  if (s)
-    memset(s, 0, bytes);
-  else
-    fmu_log(fi, FMU_ERROR, "getFMUState: out of memory");
+static fmu_state *state_alloc(fmu_instance *fi, size_t bytes, const char *call) {
+  fmu_state *s = fmu_mem_get(&fi->alloc, bytes);
+  if (!s) fmu_log(fi, FMU_ERROR, "%s: out of memory", call);
   return s;
 }
 
 void fmu_state_free(fmu_instance *fi, fmu_state *state) {
-  if (!state) return;
-  if (fi->alloc.alloc && fi->alloc.free)
-    fi->alloc.free(fi->alloc.ud, state, state->bytes);
-  else
-    free(state);
+  if (state) fmu_mem_put(&fi->alloc, state, state->bytes);
 }
 
 fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
@@ -69,7 +60,7 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
     fmu_state_free(fi, s);
     *state = s = NULL;
   }
-  if (!s && !(s = state_alloc(fi, bytes))) return FMU_ERROR;
+  if (!s && !(s = state_alloc(fi, bytes, "getFMUState"))) return FMU_ERROR;
   s->magic = FMU_STATE_MAGIC;
   s->bytes = bytes;
   memcpy(s->token, fi->token, sizeof s->token);
@@ -78,7 +69,7 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
   s->count = fi->layout.count;
   s->instance = (uintptr_t)(void *)fi;
   s->block = (uintptr_t)fi->block;
-  s->code = code_address();
+  s->binary = binary_address();
   s->block_len = fi->block_len;
   s->have_stepper = fi->stepper != NULL;
   s->stepper_at =
@@ -104,7 +95,7 @@ static fmu_status check(fmu_instance *fi, const fmu_state *s, size_t len, const 
 /* the stepper's bytes belong here: this instance, its block, this binary at this address */
 static int same_place(const fmu_instance *fi, const fmu_state *s) {
   return s->instance == (uintptr_t)(const void *)fi && s->block == (uintptr_t)fi->block &&
-         s->block_len == fi->block_len && s->code == code_address();
+         s->block_len == fi->block_len && s->binary == binary_address();
 }
 
 fmu_status fmu_state_set(fmu_instance *fi, const fmu_state *s) {
@@ -150,7 +141,7 @@ fmu_status fmu_state_deserialize(fmu_instance *fi, const unsigned char *bytes, s
   }
   memcpy(&head, bytes, sizeof head);
   if (check(fi, &head, len, "deserializeFMUState") != FMU_OK) return FMU_ERROR;
-  if (!(s = state_alloc(fi, len))) return FMU_ERROR;
+  if (!(s = state_alloc(fi, len, "deserializeFMUState"))) return FMU_ERROR;
   memcpy(s, bytes, len);
   *state = s;
   return FMU_OK;

@@ -229,8 +229,9 @@ static status_t free_state(fmu *f, void **state) {
   return ((fmi2FreeFMUstateTYPE *)SYM(f, "fmi2FreeFMUstate"))(f->instance, state);
 }
 
-/* the state serialized by f and read back by g (f itself, or another instance) into *out */
-static status_t round_trip(fmu *f, fmu *g, void *state, void **out) {
+/* the state serialized by f and read back by g (f itself, or another instance) into *out, the
+ * last `cut` bytes cut off and the byte at `flip` (when < size) inverted */
+static status_t round_trip_cut(fmu *f, fmu *g, void *state, void **out, size_t cut, size_t flip) {
   size_t size = 0;
   unsigned char *bytes;
   status_t rc;
@@ -241,6 +242,8 @@ static status_t round_trip(fmu *f, fmu *g, void *state, void **out) {
     if (!(bytes = malloc(size))) return -1;
     rc = ((fmi3SerializeFMUStateTYPE *)SYM(f, "fmi3SerializeFMUState"))(f->instance, state, bytes,
                                                                         size);
+    if (flip < size) bytes[flip] = (unsigned char)~bytes[flip];
+    size = cut < size ? size - cut : 0;
     if (rc == fmi3OK)
       rc = ((fmi3DeserializeFMUStateTYPE *)SYM(g, "fmi3DeserializeFMUState"))(g->instance, bytes,
                                                                               size, out);
@@ -251,12 +254,18 @@ static status_t round_trip(fmu *f, fmu *g, void *state, void **out) {
     if (!(bytes = malloc(size))) return -1;
     rc = ((fmi2SerializeFMUstateTYPE *)SYM(f, "fmi2SerializeFMUstate"))(f->instance, state,
                                                                         (fmi2Byte *)bytes, size);
+    if (flip < size) bytes[flip] = (unsigned char)~bytes[flip];
+    size = cut < size ? size - cut : 0;
     if (rc == fmi2OK)
       rc = ((fmi2DeSerializeFMUstateTYPE *)SYM(g, "fmi2DeSerializeFMUstate"))(
           g->instance, (const fmi2Byte *)bytes, size, out);
   }
   free(bytes);
   return rc;
+}
+
+static status_t round_trip(fmu *f, fmu *g, void *state, void **out) {
+  return round_trip_cut(f, g, state, out, 0, (size_t)-1);
 }
 
 /* ---- the scenarios ------------------------------------------------------------------------- */
@@ -354,8 +363,13 @@ static void roll_back(fmu *f, const vars *v, double t, double h) {
   CHECK(do_step(f, t, h) == 0);
   outputs(f, v, c);
   CHECK(memcmp(a, c, v->n_out * sizeof *a) == 0);
-  CHECK(free_state(f, &state) == 0 && state == NULL);
   CHECK(free_state(f, &copy) == 0 && copy == NULL);
+  /* a state cut short, or with its header spoiled, is refused */
+  refused(round_trip_cut(f, f, state, &copy, 8, (size_t)-1), "a serialized state cut short");
+  CHECK(copy == NULL);
+  refused(round_trip_cut(f, f, state, &copy, 0, 0), "a serialized state spoiled");
+  CHECK(copy == NULL);
+  CHECK(free_state(f, &state) == 0 && state == NULL);
 }
 
 /* a step that fails (a force of 1e200 leaves the state finite nowhere): an error, the outputs

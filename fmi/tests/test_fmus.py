@@ -130,6 +130,42 @@ def test_equal_substeps(version, tmp_path):
         assert err <= 1e-12, f"{out}: {err:.3g}"
 
 
+@pytest.mark.parametrize("version", VERSIONS)
+def test_settings_as_program_flags(version, tmp_path):
+    """T, map, delta, epsilon and the mechanism's parameters set as start values: the program
+    run with the same flags, bit for bit"""
+    flags = {"T": 5e-4, "delta": 3.0, "epsilon": 2.0, "theta0": 0.3, "omega0": 4.0, "mC": 1.5}
+    ref_csv = tmp_path / "ref.csv"
+    args = [str(BUILD / "examples" / "fourbar"), "--tf", "0.5", "--every", "20", "--map",
+            "midpoint", "--out", str(ref_csv)]
+    for k, x in flags.items():
+        args += ["--" + ("eps" if k == "epsilon" else k), repr(x)]
+    subprocess.run(args, check=True)
+    ref = np.genfromtxt(ref_csv, delimiter=",", names=True)
+    res = simulate_fmu(fmu_path(version, "fourbar"), stop_time=0.5, output_interval=20 * 5e-4,
+                       start_values={**flags, "map": "midpoint"}, output=outputs("fourbar"))
+    assert len(res) == len(ref)
+    for out, col in zip(outputs("fourbar"), program_columns("fourbar")):
+        assert bits(res[out]) == bits(ref[col]), f"{version} {out}"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_start_state_set(version, tmp_path):
+    """q0 and v0 set by the importer (the program's state at t = 0.25 as a new start): the
+    program's rows from there on (the four-bar does not depend on t), to Newton's tolerance at
+    most: the FMU's stepper is a fresh one, its chart and Newton matrix chosen anew"""
+    ref = run_program("fourbar", 0.5, 10, tmp_path)
+    mid = len(ref) // 2
+    start = {f"q0[{i}]": ref[f"q{i}"][mid] for i in range(1, 5)}
+    start.update({f"v0[{i}]": ref[f"v{i}"][mid] for i in range(1, 5)})
+    res = simulate_fmu(fmu_path(version, "fourbar"), stop_time=0.1, output_interval=10 * T,
+                       start_values=start, output=outputs("fourbar")[:8])
+    assert len(res) == 11
+    for out, col in zip(outputs("fourbar")[:8], program_columns("fourbar")[:8]):
+        err = np.max(np.abs(res[out] - ref[col][mid:mid + 11]))
+        assert err <= 1e-9, f"{version} {out}: {err:.3g}"
+
+
 def slave(version, path, **kw):
     md = read_model_description(path)
     unzipdir = extract(path)
