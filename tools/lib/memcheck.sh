@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# valgrind memcheck of every Check suite and every fuzz corpus replay of a build: no error, no
-# definite or indirect leak. CK_FORK=no keeps each test in valgrind's process. The alloc suite
-# defines its own malloc (forwarding to __libc_malloc) to count allocations; valgrind would
-# replace it too and bypass the count, so user-defined allocators are left alone
-# (somalloc=nouserintercepts): valgrind still sees every block through __libc_malloc, and the
-# suite's sweeps fail every malloc of the library in turn under memcheck (the suite says "not
-# checked" when its malloc was bypassed: that fails the run). A summary line per program; the
-# full logs are in BUILD/memcheck/.
+# valgrind memcheck of every Check suite, every fuzz corpus replay and the FMUs (through the
+# FMI importer of fmi/tests) of a build: no error, no definite or indirect leak. CK_FORK=no
+# keeps each test in valgrind's process. The alloc suite defines its own malloc (forwarding to
+# __libc_malloc) to count allocations; valgrind would replace it too and bypass the count, so
+# user-defined allocators are left alone (somalloc=nouserintercepts): valgrind still sees every
+# block through __libc_malloc, and the suite's sweeps fail every malloc of the library in turn
+# under memcheck (the suite says "not checked" when its malloc was bypassed: that fails the
+# run). A summary line per program; the full logs are in BUILD/memcheck/.
 # Usage: tools/lib/memcheck.sh [BUILD_DIR]   (default build/)
 set -euo pipefail
 source "$(dirname "$0")/setup.sh"
@@ -47,3 +47,15 @@ for prog in "$build"/tests/fuzz/fuzz_*; do
   name=$(basename "$prog")
   memcheck "$prog" "$ROOT/tests/fuzz/corpus/${name#fuzz_}"
 done
+# the FMUs' binaries loaded by our own importer (fmi/tests/importer.c), FMI 3.0 and 2.0: bad
+# input, steps, roll-back, a failing step, reset and free; the dynamic loader's own report on
+# an RPATH of $ORIGIN suppressed (fmi/tests/valgrind.supp)
+if [ -x "$build/fmi/tests/fmi_importer" ]; then
+  for name in fourbar slider_crank; do
+    for version in 3 2; do
+      VALGRIND_OPTS="--suppressions=$ROOT/fmi/tests/valgrind.supp" memcheck \
+        "$build/fmi/tests/fmi_importer" "$version" \
+        "$build/examples/fmus/${name}_fmu/fmi$version" "$name"
+    done
+  done
+fi

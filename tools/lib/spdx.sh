@@ -61,6 +61,8 @@ while IFS= read -r -d '' entry; do
   path=${entry#*$'\t'}
   file=$ROOT/$path
   [ -f "$file" ] && [ ! -L "$file" ] || continue
+  # vendored files keep their own licence and bytes (third_party/*/README.md says whose)
+  case $path in third_party/*) continue ;; esac
   style=$(comment_style "$mode" "$path")
   [ -n "$style" ] || continue
   if head -n 3 "$file" | grep -q 'SPDX-License-Identifier:'; then

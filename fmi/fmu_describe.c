@@ -1,0 +1,201 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+#include "fmu_describe.h"
+
+#include <ctype.h>
+#include <string.h>
+
+/* s with the five XML entities */
+static void xml_text(FILE *out, const char *s) {
+  for (; s && *s; s++) {
+    switch (*s) {
+    case '&': fputs("&amp;", out); break;
+    case '<': fputs("&lt;", out); break;
+    case '>': fputs("&gt;", out); break;
+    case '"': fputs("&quot;", out); break;
+    case '\'': fputs("&apos;", out); break;
+    default: fputc(*s, out);
+    }
+  }
+}
+
+static int identifier(const char *s) {
+  if (!s || !(isalpha((unsigned char)*s) || *s == '_')) return 0;
+  for (; *s; s++)
+    if (!(isalnum((unsigned char)*s) || *s == '_')) return 0;
+  return 1;
+}
+
+int fmu_describe_check(const fmu_instance *fi, FILE *err) {
+  const sdae_fmu *m = fi->model;
+  fmu_var a, b;
+  if (!identifier(m->name) || !m->mbs || !sdae_map_by_name(m->map)) {
+    fprintf(err, "sdae_fmu_model: a name that is an identifier, mbs and a known map are needed\n");
+    return -1;
+  }
+  if (fi->layout.n_q == 0 || fi->layout.n_c == 0 || fi->layout.n_c >= fi->layout.n_q) {
+    fprintf(err, "%s: the mechanism needs 1 <= n_c < n_q (n_q %zu, n_c %zu)\n", m->name,
+            fi->layout.n_q, fi->layout.n_c);
+    return -1;
+  }
+  for (size_t i = 0; i < m->n_params; i++)
+    if (!identifier(m->params[i].name) || m->params[i].offset + sizeof(double) > m->params_size) {
+      fprintf(err,
+              "%s: parameter %zu (%s): not an identifier, or its offset is past the params "
+              "struct\n",
+              m->name, i + 1, m->params[i].name ? m->params[i].name : "(null)");
+      return -1;
+    }
+  for (size_t i = 0; fmu_var_at(&fi->layout, i, &a) == 0; i++)
+    for (size_t j = i + 1; fmu_var_at(&fi->layout, j, &b) == 0; j++)
+      if (strcmp(a.name, b.name) == 0) {
+        fprintf(err, "%s: two variables are named %s (rename the parameter)\n", m->name, a.name);
+        return -1;
+      }
+  return 0;
+}
+
+static const char *causality(fmu_role role) {
+  static const char *const c[] = {"independent", "parameter", "parameter",
+                                  "parameter",   "input",     "output"};
+  return c[role];
+}
+
+static void attributes(FILE *out, const fmu_var *v) {
+  fprintf(out, " name=\"%s\" valueReference=\"%zu\" description=\"", v->name, v->vr);
+  xml_text(out, v->description);
+  fprintf(out, "\" causality=\"%s\" variability=\"%s\"", causality(v->role),
+          v->role == FMU_TIME || v->role == FMU_INPUT || v->role == FMU_OUTPUT ? "continuous"
+                                                                               : "fixed");
+}
+
+static void variable3(FILE *out, const fmu_instance *fi, const fmu_var *v) {
+  if (v->is_string) {
+    fputs("    <String", out);
+    attributes(out, v);
+    fprintf(out, ">\n      <Start value=\"%s\"/>\n    </String>\n", fi->model->map);
+    return;
+  }
+  fputs("    <Float64", out);
+  attributes(out, v);
+  if (v->role != FMU_TIME && v->role != FMU_OUTPUT)
+    fprintf(out, " start=\"%.17g\"", fi->values[v->vr]);
+  fputs("/>\n", out);
+}
+
+static void variable2(FILE *out, const fmu_instance *fi, const fmu_var *v) {
+  fputs("    <ScalarVariable", out);
+  attributes(out, v);
+  if (v->role == FMU_OUTPUT) fputs(" initial=\"calculated\"", out);
+  if (v->role == FMU_SOLVER || v->role == FMU_PARAM || v->role == FMU_START)
+    fputs(" initial=\"exact\"", out);
+  fputs(">\n", out);
+  if (v->is_string)
+    fprintf(out, "      <String start=\"%s\"/>\n", fi->model->map);
+  else if (v->role == FMU_TIME || v->role == FMU_OUTPUT)
+    fputs("      <Real/>\n", out);
+  else
+    fprintf(out, "      <Real start=\"%.17g\"/>\n", fi->values[v->vr]);
+  fputs("    </ScalarVariable>\n", out);
+}
+
+/* the outputs and initial unknowns: by value reference (3.0) or by index in the list (2.0,
+ * 1-based: the list is in value reference order) */
+static void structure(FILE *out, const fmu_instance *fi, int version) {
+  const fmu_layout *L = &fi->layout;
+  fputs("  <ModelStructure>\n", out);
+  if (version == 3) {
+    for (size_t vr = L->q; vr < L->count; vr++)
+      fprintf(out, "    <Output valueReference=\"%zu\"/>\n", vr);
+    for (size_t vr = L->q; vr < L->count; vr++)
+      fprintf(out, "    <InitialUnknown valueReference=\"%zu\"/>\n", vr);
+  } else {
+    fputs("    <Outputs>\n", out);
+    for (size_t vr = L->q; vr < L->count; vr++)
+      fprintf(out, "      <Unknown index=\"%zu\"/>\n", vr + 1);
+    fputs("    </Outputs>\n    <InitialUnknowns>\n", out);
+    for (size_t vr = L->q; vr < L->count; vr++)
+      fprintf(out, "      <Unknown index=\"%zu\"/>\n", vr + 1);
+    fputs("    </InitialUnknowns>\n", out);
+  }
+  fputs("  </ModelStructure>\n", out);
+}
+
+static void categories(FILE *out) {
+  fputs("  <LogCategories>\n"
+        "    <Category name=\"logStatusError\" description=\"errors: bad input, a failed step\"/>\n"
+        "    <Category name=\"logStatusWarning\" description=\"warnings\"/>\n"
+        "    <Category name=\"logInfo\" description=\"what the FMU does (with logging on)\"/>\n"
+        "  </LogCategories>\n",
+        out);
+}
+
+int fmu_describe_xml(const fmu_instance *fi, int version, const char *generator, FILE *out) {
+  const sdae_fmu *m = fi->model;
+  const char *token = fi->token;
+  fmu_var v;
+  fprintf(out,
+          "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<fmiModelDescription\n"
+          "  fmiVersion=\"%s\"\n  modelName=\"%s\"\n  %s=\"%s\"\n  description=\"",
+          version == 3 ? "3.0" : "2.0", m->name, version == 3 ? "instantiationToken" : "guid",
+          token);
+  xml_text(out, m->description);
+  fprintf(out, "\"\n  generationTool=\"");
+  xml_text(out, generator);
+  fprintf(out, "\"\n  variableNamingConvention=\"structured\"%s>\n",
+          version == 2 ? "\n  numberOfEventIndicators=\"0\"" : "");
+  fprintf(out,
+          "  <CoSimulation\n    modelIdentifier=\"%s\"\n"
+          "    canHandleVariableCommunicationStepSize=\"true\"\n"
+          "    %s=\"true\"\n    %s=\"true\"%s/>\n",
+          m->name, version == 3 ? "canGetAndSetFMUState" : "canGetAndSetFMUstate",
+          version == 3 ? "canSerializeFMUState" : "canSerializeFMUstate",
+          version == 3 ? "\n    hasEventMode=\"false\"" : "");
+  categories(out);
+  fprintf(out, "  <DefaultExperiment startTime=\"0\" stepSize=\"%.17g\"/>\n", m->T);
+  fputs("  <ModelVariables>\n", out);
+  for (size_t vr = 0; fmu_var_at(&fi->layout, vr, &v) == 0; vr++)
+    (version == 3 ? variable3 : variable2)(out, fi, &v);
+  fputs("  </ModelVariables>\n", out);
+  structure(out, fi, version);
+  fputs("</fmiModelDescription>\n", out);
+  return ferror(out) ? -1 : 0;
+}
+
+int fmu_describe_page(const fmu_instance *fi, FILE *out) {
+  static const char *const role[] = {
+      "independent", "solver parameter", "parameter", "start state", "input", "output"};
+  const sdae_fmu *m = fi->model;
+  fmu_var v;
+  fputs("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>", out);
+  xml_text(out, m->name);
+  fputs("</title></head><body>\n<h1>", out);
+  xml_text(out, m->name);
+  fputs("</h1>\n<p>", out);
+  xml_text(out, m->description);
+  fprintf(out,
+          "</p>\n<p>A mechanism with %zu coordinates q and %zu constraints c(t, q) = 0, "
+          "integrated by stabdae with a fixed internal step T and no constraint drift. A "
+          "communication step h is cut into steps of T when it is a multiple of T (exactly the "
+          "fixed-step run), else into ceil(h/T) equal steps. The inputs u are generalized forces "
+          "added to F, held over a communication step. The parameters are fixed: set them "
+          "before exitInitializationMode. Setting any of q0, v0 replaces the start state the "
+          "model computes from its parameters.</p>\n",
+          fi->layout.n_q, fi->layout.n_c);
+  fputs("<table border=\"1\">\n<tr><th>value reference</th><th>name</th><th>role</th>"
+        "<th>default</th><th>description</th></tr>\n",
+        out);
+  for (size_t vr = 0; fmu_var_at(&fi->layout, vr, &v) == 0; vr++) {
+    fprintf(out, "<tr><td>%zu</td><td>%s</td><td>%s</td><td>", vr, v.name, role[v.role]);
+    if (v.is_string)
+      xml_text(out, m->map);
+    else if (v.role != FMU_TIME && v.role != FMU_OUTPUT)
+      fprintf(out, "%.17g", fi->values[vr]);
+    fputs("</td><td>", out);
+    xml_text(out, v.description);
+    fputs("</td></tr>\n", out);
+  }
+  fputs("</table>\n<p>Licences: licenses/ (stabdae: GPL-3.0-or-later; the FMI headers: "
+        "BSD-2-Clause).</p>\n</body></html>\n",
+        out);
+  return ferror(out) ? -1 : 0;
+}

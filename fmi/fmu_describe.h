@@ -1,0 +1,19 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* modelDescription.xml (FMI 3.0 or 2.0) and the page on the variables of the FMU in
+ * documentation/, from the same variable list the binary answers with (fmu_vars.h) and the
+ * defaults of a fresh instance: what the XML says and what the binary does cannot differ. */
+#ifndef STABDAE_FMI_FMU_DESCRIBE_H
+#define STABDAE_FMI_FMU_DESCRIBE_H
+
+#include <stdio.h>
+
+#include "fmu_instance.h"
+
+/* 0, or -1 with a line on err: names clash or are not identifiers, or the table is incomplete */
+int fmu_describe_check(const fmu_instance *fi, FILE *err);
+/* version 3 or 2; 0, or -1 when a write fails */
+int fmu_describe_xml(const fmu_instance *fi, int version, const char *generator, FILE *out);
+/* the documentation page (HTML): the model, its variables with their defaults */
+int fmu_describe_page(const fmu_instance *fi, FILE *out);
+
+#endif /* STABDAE_FMI_FMU_DESCRIBE_H */

@@ -1,0 +1,333 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The project's FMUs (build/fmus/fmi3 and fmi2: fourbar, slider_crank) in FMPy, a real importer.
+
+Every check has an independent reference: FMPy's own validator; the example programs' CSV
+(the same fixed steps and map, so the same numbers to rounding); the bit-identity of a step
+taken twice from one FMU state; a program of its own (fmi_reference_u) for the inputs. The
+build directory comes from STABDAE_BUILD (ctest sets it: fmi.fmpy, label fmi).
+"""
+import os
+import struct
+import subprocess
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description, simulate_fmu
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import (FMU2Slave, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                       fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+from fmpy.fmi3 import FMU3Slave
+from fmpy import calloc, free
+from fmpy.validation import validate_fmu
+
+BUILD = Path(os.environ.get("STABDAE_BUILD", Path(__file__).resolve().parents[2] / "build"))
+NAMES = ["fourbar", "slider_crank"]
+VERSIONS = ["fmi3", "fmi2"]
+T = 1e-3  # the example programs' step, the FMUs' default T
+
+
+def fmu_path(version, name):
+    return str(BUILD / "fmus" / version / f"{name}.fmu")
+
+
+def sizes(name):
+    return {"fourbar": (4, 3), "slider_crank": (3, 2)}[name]
+
+
+def outputs(name):
+    n_q, n_c = sizes(name)
+    return ([f"q[{i}]" for i in range(1, n_q + 1)] + [f"v[{i}]" for i in range(1, n_q + 1)] +
+            [f"lambda[{j}]" for j in range(1, n_c + 1)] + ["max_abs_c", "energy"])
+
+
+def program_columns(name):
+    n_q, n_c = sizes(name)
+    return ([f"q{i}" for i in range(1, n_q + 1)] + [f"v{i}" for i in range(1, n_q + 1)] +
+            [f"lambda{j}" for j in range(1, n_c + 1)] + ["max_abs_c", "E"])
+
+
+def run_program(name, tf, every, tmp_path):
+    out = tmp_path / f"{name}.csv"
+    subprocess.run([str(BUILD / "examples" / name), "--tf", repr(tf), "--every", str(every),
+                    "--out", str(out)], check=True)
+    return np.genfromtxt(out, delimiter=",", names=True)
+
+
+def assert_close(got, ref, what):
+    """to 1e-14, relative to the size of the value (absolute below 1)"""
+    err = np.abs(np.asarray(got) - np.asarray(ref)) / np.maximum(1.0, np.abs(ref))
+    assert np.all(err <= 1e-14), f"{what}: worst relative difference {err.max():.3g}"
+
+
+def bits(values):
+    return struct.pack(f"{len(values)}d", *values)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_validate(version, name):
+    assert validate_fmu(fmu_path(version, name)) == []
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_binary_stands_alone(version, name, tmp_path):
+    """the binary needs nothing outside libc and libm but what the FMU carries, and exports the
+    FMI functions only"""
+    platform = "x86_64-linux" if version == "fmi3" else "linux64"
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    binaries = tmp_path / "binaries" / platform
+    ldd = subprocess.run(["ldd", str(binaries / f"{name}.so")], check=True, capture_output=True,
+                         text=True).stdout
+    for line in ldd.splitlines():
+        lib = line.split()[0]
+        if lib.startswith(("linux-vdso", "/lib64/ld-linux", "libc.so", "libm.so")):
+            continue
+        assert "=>" in line and line.split("=>")[1].split()[0].startswith(str(binaries)), line
+    nm = subprocess.run(["nm", "-D", "--defined-only", str(binaries / f"{name}.so")],
+                        check=True, capture_output=True, text=True).stdout
+    exported = [line.split()[-1] for line in nm.splitlines()]
+    assert exported and all(sym.startswith(version) for sym in exported), exported
+    docs = {p.name for p in (tmp_path / "documentation").rglob("*")}
+    assert {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"} <= docs
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("k, tf", [(1, 0.2), (10, 2.0)])
+def test_matches_program(version, name, k, tf, tmp_path):
+    """an output interval of k T: the program's rows every k steps, to 1e-14"""
+    ref = run_program(name, tf, k, tmp_path)
+    res = simulate_fmu(fmu_path(version, name), stop_time=tf, output_interval=k * T,
+                       output=outputs(name))
+    assert len(res) == len(ref)
+    assert_close(res["time"], ref["t"], "time")
+    for out, col in zip(outputs(name), program_columns(name)):
+        assert_close(res[out], ref[col], f"{name} {version} {out}")
+    # the same steps exactly: the states are the program's bit for bit (equal substeps of
+    # h / k instead of T would differ in the last bits)
+    for out, col in zip(outputs(name)[:8], program_columns(name)[:8]):
+        assert bits(res[out]) == bits(ref[col]), f"{name} {version} {out}: not the same steps"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_equal_substeps(version, tmp_path):
+    """a communication step h = 2.5 T, not a multiple of T: ceil(h / T) = 3 equal steps, the
+    program run with the step h / 3 (the four-bar does not depend on t: the same numbers)"""
+    name, h = "fourbar", 2.5 * T
+    ref_csv = tmp_path / "ref.csv"
+    subprocess.run([str(BUILD / "examples" / name), "--T", repr(h / 3), "--tf", "0.5",
+                    "--every", "3", "--out", str(ref_csv)], check=True)
+    ref = np.genfromtxt(ref_csv, delimiter=",", names=True)
+    res = simulate_fmu(fmu_path(version, name), stop_time=0.5, output_interval=h,
+                       output=outputs(name))
+    assert len(res) == len(ref)
+    for out, col in zip(outputs(name)[:8], program_columns(name)[:8]):
+        err = np.max(np.abs(res[out] - ref[col]))
+        assert err <= 1e-12, f"{out}: {err:.3g}"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_settings_as_program_flags(version, tmp_path):
+    """T, map, delta, epsilon and the mechanism's parameters set as start values: the program
+    run with the same flags, bit for bit"""
+    flags = {"T": 5e-4, "delta": 3.0, "epsilon": 2.0, "theta0": 0.3, "omega0": 4.0, "mC": 1.5}
+    ref_csv = tmp_path / "ref.csv"
+    args = [str(BUILD / "examples" / "fourbar"), "--tf", "0.5", "--every", "20", "--map",
+            "midpoint", "--out", str(ref_csv)]
+    for k, x in flags.items():
+        args += ["--" + ("eps" if k == "epsilon" else k), repr(x)]
+    subprocess.run(args, check=True)
+    ref = np.genfromtxt(ref_csv, delimiter=",", names=True)
+    res = simulate_fmu(fmu_path(version, "fourbar"), stop_time=0.5, output_interval=20 * 5e-4,
+                       start_values={**flags, "map": "midpoint"}, output=outputs("fourbar"))
+    assert len(res) == len(ref)
+    for out, col in zip(outputs("fourbar"), program_columns("fourbar")):
+        assert bits(res[out]) == bits(ref[col]), f"{version} {out}"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_start_state_set(version, tmp_path):
+    """q0 and v0 set by the importer (the program's state at t = 0.25 as a new start): the
+    program's rows from there on (the four-bar does not depend on t), to Newton's tolerance at
+    most: the FMU's stepper is a fresh one, its chart and Newton matrix chosen anew"""
+    ref = run_program("fourbar", 0.5, 10, tmp_path)
+    mid = len(ref) // 2
+    start = {f"q0[{i}]": ref[f"q{i}"][mid] for i in range(1, 5)}
+    start.update({f"v0[{i}]": ref[f"v{i}"][mid] for i in range(1, 5)})
+    res = simulate_fmu(fmu_path(version, "fourbar"), stop_time=0.1, output_interval=10 * T,
+                       start_values=start, output=outputs("fourbar")[:8])
+    assert len(res) == 11
+    for out, col in zip(outputs("fourbar")[:8], program_columns("fourbar")[:8]):
+        err = np.max(np.abs(res[out] - ref[col][mid:mid + 11]))
+        assert err <= 1e-9, f"{version} {out}: {err:.3g}"
+
+
+def slave(version, path, **kw):
+    md = read_model_description(path)
+    unzipdir = extract(path)
+    cls = FMU3Slave if version == "fmi3" else FMU2Slave
+    fmu = cls(guid=md.guid, unzipDirectory=unzipdir,
+              modelIdentifier=md.coSimulation.modelIdentifier, instanceName="test")
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    return fmu, vr, unzipdir
+
+
+def get(fmu, version, refs):
+    return list(fmu.getFloat64(refs) if version == "fmi3" else fmu.getReal(refs))
+
+
+def set_real(fmu, version, refs, values):
+    (fmu.setFloat64 if version == "fmi3" else fmu.setReal)(refs, values)
+
+
+def start(fmu, version, logger=None):
+    if version == "fmi3":
+        fmu.instantiate(logMessage=logger)
+        fmu.enterInitializationMode()
+    else:
+        fmu.instantiate(callbacks=logger)
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+
+
+def do_step(fmu, t, h):
+    return fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_roll_back(version, name):
+    """get the state, step, set it back, step again: the same bits; through serialization too"""
+    fmu, vr, _ = slave(version, fmu_path(version, name))
+    refs = [vr[o] for o in outputs(name)]
+    start(fmu, version)
+    fmu.exitInitializationMode()
+    t, h = 0.0, 0.01
+    for _ in range(5):
+        do_step(fmu, t, h)
+        t += h
+    if version == "fmi3":
+        state = fmu.getFMUState()
+        serialized = fmu.serializeFMUState(state)
+    else:
+        state = fmu.getFMUstate()
+        serialized = fmu.serializeFMUstate(state)
+    do_step(fmu, t, h)
+    first = bits(get(fmu, version, refs))
+    (fmu.setFMUState if version == "fmi3" else fmu.setFMUstate)(state)
+    do_step(fmu, t, h)
+    assert bits(get(fmu, version, refs)) == first
+    copy = (fmu.deserializeFMUState(serialized) if version == "fmi3"
+            else fmu.deSerializeFMUstate(serialized))
+    (fmu.setFMUState if version == "fmi3" else fmu.setFMUstate)(copy)
+    do_step(fmu, t, h)
+    assert bits(get(fmu, version, refs)) == first
+    if version == "fmi3":
+        fmu.freeFMUState(state)
+        fmu.freeFMUState(copy)
+    else:
+        fmu.freeFMUstate(state)
+        fmu.freeFMUstate(copy)
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_constant_input(version, name):
+    """a constant u: the program run with u added to F (fmi_reference_u, its own wrapper)"""
+    n_q, _ = sizes(name)
+    u = [0.3, -0.2, 0.25, 0.1][:n_q]
+    ref_out = subprocess.run([str(BUILD / "fmi" / "tests" / "fmi_reference_u"), name, repr(T),
+                              "1000", "10"] + [repr(x) for x in u],
+                             check=True, capture_output=True, text=True).stdout
+    ref = np.array([[float(x) for x in line.split(",")] for line in ref_out.split()])
+    res = simulate_fmu(fmu_path(version, name), stop_time=1.0, output_interval=10 * T,
+                       start_values={f"u[{i + 1}]": x for i, x in enumerate(u)},
+                       output=outputs(name)[:2 * n_q])
+    assert len(res) == len(ref)
+    assert_close(res["time"], ref[:, 0], "time")
+    for i, out in enumerate(outputs(name)[:2 * n_q]):
+        assert_close(res[out], ref[:, 1 + i], f"{name} {version} {out}")
+    # and u = 0 is not what was run: the input moved the mechanism
+    free_run = simulate_fmu(fmu_path(version, name), stop_time=1.0, output_interval=10 * T,
+                            output=["q[1]"])
+    assert np.max(np.abs(free_run["q[1]"] - res["q[1]"])) > 1e-6
+
+
+class Log:
+    """the FMU's messages, by status"""
+
+    def __init__(self, version):
+        self.errors = []
+        if version == "fmi3":
+            self.callback = self.log3
+        else:
+            cb = fmi2CallbackFunctions()
+            cb.logger = fmi2CallbackLoggerTYPE(self.log2)
+            cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+            cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+            self.callback = cb
+
+    def log3(self, env, status, category, message):
+        if status == 3:
+            self.errors.append(message.decode())
+
+    def log2(self, env, name, status, category, message):
+        if status == 3:
+            self.errors.append(message.decode())
+
+    def take(self):
+        errors, self.errors = self.errors, []
+        return errors
+
+
+def refused(call, log, word):
+    with pytest.raises(FMICallException):
+        call()
+    errors = log.take()
+    assert errors and word in errors[-1], errors
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_bad_input(version, capfd):
+    """bad input: an error status and a message through the logger, the value kept, nothing on
+    stdout, the FMU usable again"""
+    name = "fourbar"
+    fmu, vr, _ = slave(version, fmu_path(version, name))
+    log = Log(version)
+    start(fmu, version, log.callback)
+    T0 = get(fmu, version, [vr["T"]])
+    for bad in (0.0, -1.0, float("nan"), float("inf")):
+        refused(lambda: set_real(fmu, version, [vr["T"]], [bad]), log, "T")
+    for p in ("delta", "epsilon"):
+        refused(lambda: set_real(fmu, version, [vr[p]], [0.0]), log, p)
+    refused(lambda: fmu.setString([vr["map"]], ["nosuchmap"]), log, "map")
+    refused(lambda: set_real(fmu, version, [vr["q0[1]"]], [float("nan")]), log, "q0[1]")
+    refused(lambda: set_real(fmu, version, [vr["u[1]"]], [float("nan")]), log, "u[1]")
+    refused(lambda: set_real(fmu, version, [123456], [1.0]), log, "123456")
+    assert bits(get(fmu, version, [vr["T"]])) == bits(T0)
+    fmu.exitInitializationMode()
+    for h in (0.0, -0.01, float("nan")):
+        refused(lambda: do_step(fmu, 0.0, h), log, "communication step")
+    refused(lambda: set_real(fmu, version, [vr["T"]], [2e-3]), log, "T")
+    do_step(fmu, 0.0, 0.01)  # still usable
+    # a failing step: an error, the outputs of the last good point, then reset and run again
+    before = bits(get(fmu, version, [vr[o] for o in outputs(name)]))
+    set_real(fmu, version, [vr["u[1]"]], [1e200])
+    refused(lambda: do_step(fmu, 0.01, 0.01), log, "failed")
+    assert bits(get(fmu, version, [vr[o] for o in outputs(name)])) == before
+    refused(lambda: do_step(fmu, 0.01, 0.01), log, "doStep")
+    fmu.reset()
+    if version == "fmi2":
+        fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    do_step(fmu, 0.0, 0.01)
+    fmu.terminate()
+    fmu.freeInstance()
+    assert capfd.readouterr().out == ""
