@@ -50,14 +50,21 @@ function(stabdae_generate_mbs name model)
   _stabdae_gen_python(python)
   get_property(path GLOBAL PROPERTY STABDAE_GEN_PATH)
   file(GLOB generator_sources "${path}/stabdae_gen/*.py")
+  # the generator first, then the user's own path (a model may import from it)
+  set(pythonpath "${path}")
+  if(DEFINED ENV{PYTHONPATH})
+    string(APPEND pythonpath ":$ENV{PYTHONPATH}")
+  endif()
   add_custom_command(
     OUTPUT "${out}/${name}.h" "${out}/${name}.c"
-    COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${path}"
+    COMMAND ${CMAKE_COMMAND} -E env "PYTHONPATH=${pythonpath}"
             "${python}" -m stabdae_gen "${model}" --out "${out}" --name ${name}
     DEPENDS "${model}" ${arg_DEPENDS} ${generator_sources}
     COMMENT "Generating the mechanism ${name} from ${model}"
     VERBATIM)
   add_library(${target} STATIC "${out}/${name}.c" "${out}/${name}.h")
+  # position independent: the mechanism may go into a shared library or an FMU (stabdae_add_fmu)
+  set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
   target_include_directories(${target} PUBLIC "${out}")
   target_link_libraries(${target} PUBLIC ${library} m)
 endfunction()

@@ -11,6 +11,7 @@ import os
 import runpy
 import sys
 import tempfile
+import warnings
 
 from . import __version__
 from .cwriter import header, source
@@ -39,8 +40,10 @@ def _parse(argv):
 
 def load(path):
     """The Mechanism of the model file's mechanism()."""
-    if not os.path.isfile(path):
+    if not os.path.exists(path):
         raise ModelError(f"{path}: no such file")
+    if not os.path.isfile(path):
+        raise ModelError(f"{path}: not a file")
     # the model's folder on the path while it runs, as for a script: it may import a helper
     # module beside it
     folder = os.path.dirname(os.path.abspath(path))
@@ -53,17 +56,25 @@ def load(path):
 
 def _run(path):
     try:
-        scope = runpy.run_path(path, run_name="stabdae_gen_model")
+        with warnings.catch_warnings():  # sympy's deprecations would break the one line
+            warnings.simplefilter("ignore")
+            return _mechanism(path)
     except ModelError:
         raise
+    except SystemExit as err:
+        raise ModelError(f"{path}: exited ({err.code}) before giving a mechanism") from None
     except Exception as err:  # the model file's own error, said in one line
         raise ModelError(f"{path}: {type(err).__name__}: {err}") from None
+
+
+def _mechanism(path):
+    scope = runpy.run_path(path, run_name="stabdae_gen_model")
     make = scope.get("mechanism")
     if not callable(make):
         raise ModelError(f"{path} defines no function mechanism()")
     try:
         mech = make()
-    except ModelError:
+    except (ModelError, SystemExit):
         raise
     except Exception as err:
         raise ModelError(f"{path}: mechanism(): {type(err).__name__}: {err}") from None

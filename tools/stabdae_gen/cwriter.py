@@ -14,10 +14,8 @@ ARGUMENTS = {
     "tq": "double t, const double *q",
     "tqv": "double t, const double *q, const double *v",
 }
-# the order of sdae_mbs' fields
-FIELDS = ("mass", "force", "constraint", "jacobian", "constraint_t", "potential", "damping",
-          "mass_dot_v", "jacobian_dot", "constraint_t_dot")
-WHAT = {
+# sdae_mbs' callbacks in the order of its fields, each with what it computes
+CALLBACKS = {
     "mass": "M(t, q), n_q x n_q",
     "force": "F(t, q, v) = Q - dV/dq + dT/dq - (d2T/dv dq) v - d2T/dv dt - D v",
     "constraint": "c(t, q)",
@@ -126,19 +124,20 @@ def _body(printer, names, targets, exprs, what):
     except PrintMethodNotImplementedError as err:
         raise ModelError(f"the {what}: {str(err).splitlines()[0]} (a function sympy cannot "
                          "print in C)") from None
+    except (ValueError, TypeError) as err:  # a Piecewise without a default, say
+        raise ModelError(f"the {what} cannot be printed in C: {err}") from None
     return lines, uses
 
 
-def _prologue(name, uses, args, pointer_type):
-    lines = []
-    if uses["p"]:
-        lines.append(f"  const {name}_params *p = {pointer_type};")
-    unused = [a for a in args if not uses[a]]
-    if not uses["p"]:
-        unused.append("params")
-    if unused:
-        lines.append("  " + ", ".join(f"(void){a}" for a in unused) + ";")
-    return lines
+def _unused(names):
+    """The statement casting the unused arguments to void, if any."""
+    return ["  " + ", ".join(f"(void){a}" for a in names) + ";"] if names else []
+
+
+def _prologue(name, uses, args):
+    """A callback's first lines: its params as the struct, its unused arguments cast to void."""
+    lines = [f"  const {name}_params *p = params;"] if uses["p"] else []
+    return lines + _unused([a for a in args if not uses[a]] + ([] if uses["p"] else ["params"]))
 
 
 def _callback(mech, printer, names, field, spec):
@@ -147,8 +146,8 @@ def _callback(mech, printer, names, field, spec):
     lines, uses = _body(printer, names, targets, list(matrix), field.replace("_", " "))
     signature = (f"static int {mech.name}_{field}({ARGUMENTS[args]}, double *{out}, "
                  "void *params)")
-    head = [f"/* {WHAT[field]} */", signature + " {"]
-    head += _prologue(mech.name, uses, ["t", "q"] + (["v"] if args == "tqv" else []), "params")
+    head = [f"/* {CALLBACKS[field]} */", signature + " {"]
+    head += _prologue(mech.name, uses, ["t", "q"] + (["v"] if args == "tqv" else []))
     return "\n".join(head + lines + ["  return 0;", "}"])
 
 
@@ -156,11 +155,8 @@ def _start(mech, printer, names):
     exprs = list(mech.q0) + list(mech.v0)
     targets = [f"q0[{k}]" for k in range(mech.n)] + [f"v0[{k}]" for k in range(mech.n)]
     body, uses = _body(printer, names, targets, exprs, "start state")
-    unused = [] if uses["p"] else ["p"]
-    pre = ["  " + ", ".join(f"(void){a}" for a in unused) + ";"] if unused else []
-    return "\n".join(
-        [f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0) {{"] + pre
-        + body + ["}"])
+    head = f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0) {{"
+    return "\n".join([head] + _unused([] if uses["p"] else ["p"]) + body + ["}"])
 
 
 def _c_double(value):
@@ -180,7 +176,7 @@ def _params_default(mech):
 def _coordinate_name(mech):
     lines = [f"const char *{mech.name}_coordinate_name(size_t i) {{", "  switch (i) {"]
     for i, s in enumerate(mech.coordinate_names):
-        lines.append(f'    case {i}: return "{s}";')
+        lines.append(f"    case {i}: return {_c_string(s)};")
     return "\n".join(lines + ["    default: return NULL;", "  }", "}"])
 
 
@@ -189,10 +185,15 @@ def _system(mech, fields):
              "  sdae_mbs sys = {0};",
              f"  sys.n_q = {mech.n};",
              f"  sys.n_c = {len(mech.c)};"]
-    for field in FIELDS:
+    for field in CALLBACKS:
         if field in fields:
             lines.append(f"  sys.{field} = {mech.name}_{field};")
     return "\n".join(lines + ["  sys.params = p;", "  return sys;", "}"])
+
+
+def _comment(text):
+    """One line of text inside a C comment: a */ in it would end the comment."""
+    return text.replace("*/", "* /")
 
 
 def _c_string(text):
@@ -217,7 +218,7 @@ def _tables(mech):
 
 def header(mech, banner):
     guard = f"{mech.name.upper()}_H"
-    fields = [f"  double {s.name};" + (f" /* {mech.descriptions[s]} */"
+    fields = [f"  double {s.name};" + (f" /* {_comment(mech.descriptions[s])} */"
                                         if mech.descriptions[s] else "") for s in mech.params]
     if not fields:
         fields = ["  int none; /* the mechanism has no parameters */"]
@@ -268,7 +269,7 @@ def source(mech, banner):
     names = _Names(mech)
     callbacks = mech.callbacks()
     parts = [banner + f'#include "{mech.name}.h"\n\n#include <math.h>']
-    for field in FIELDS:
+    for field in CALLBACKS:
         if field in callbacks:
             parts.append(_callback(mech, printer, names, field, callbacks[field]))
     parts.append(_params_default(mech))

@@ -12,6 +12,7 @@ Q(t, q, v) and a damping D(q), with p = dT/dv:
 of (t + s, q + s v) at s = 0, v held fixed.
 """
 
+import random
 import re
 
 import mpmath
@@ -32,6 +33,14 @@ C_HEADERS = frozenset(
     """assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal
     stdalign stdarg stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath
     threads time uchar wchar wctype""".split())
+# names a generated file cannot use: object-like macros of the headers it includes (<stddef.h>,
+# <math.h>, and the M_ constants of POSIX and GNU) would replace a field p->NAME, and the
+# library's own prefixes would clash with <stabdae/mbs.h>
+C_MACROS = frozenset(
+    """NULL NAN INFINITY HUGE_VAL HUGE_VALF HUGE_VALL FP_INFINITE FP_NAN FP_NORMAL FP_SUBNORMAL
+    FP_ZERO FP_ILOGB0 FP_ILOGBNAN FP_FAST_FMA FP_FAST_FMAF FP_FAST_FMAL MATH_ERRNO
+    MATH_ERREXCEPT math_errhandling errno EDOM ERANGE EILSEQ""".split())
+RESERVED_PREFIXES = ("M_", "sdae", "SDAE", "stabdae", "STABDAE")
 # the start state may violate the constraints by this much at most (absolute)
 START_TOL = 1e-10
 # digits of the checks at the start state
@@ -39,12 +48,23 @@ CHECK_DPS = 30
 
 
 def check_identifier(name, what):
-    """A C identifier that is not a keyword, or ModelError naming `what`."""
+    """A C identifier that is not a keyword, a macro of the headers a generated file includes,
+    or of the library's prefixes; or ModelError naming `what`."""
     if not isinstance(name, str) or not C_IDENTIFIER.match(name):
         raise ModelError(f"{what} {name!r} is not a C identifier")
     if name in C_KEYWORDS:
         raise ModelError(f"{what} {name!r} is a C keyword")
+    if name in C_MACROS or name.startswith(RESERVED_PREFIXES):
+        raise ModelError(f"{what} {name!r} is reserved (a macro of <math.h> or <stddef.h>, or "
+                         "the prefix M_, sdae or stabdae)")
     return name
+
+
+def check_text(text, what):
+    """One printable line (a description, a coordinate's name), or ModelError."""
+    if not isinstance(text, str) or not text.isprintable():
+        raise ModelError(f"{what} {text!r}: one line of printable characters")
+    return text
 
 
 def _symbols(seq, what):
@@ -56,6 +76,11 @@ def _symbols(seq, what):
         if not isinstance(s, sp.Symbol):
             raise ModelError(f"{what}: {s!r} is not a sympy Symbol")
     return items
+
+
+def _equation(expr):
+    """An Eq(lhs, rhs) as lhs - rhs, anything else as it is."""
+    return expr.lhs - expr.rhs if isinstance(expr, sp.Equality) else expr
 
 
 def _vector(expr, n, what):
@@ -81,10 +106,14 @@ def _square(expr, n, what):
 
 
 def _sympify(expr, what):
+    """One scalar expression, or ModelError."""
     try:
-        return sp.sympify(expr)
+        e = sp.sympify(expr)
     except (sp.SympifyError, TypeError, ValueError):
         raise ModelError(f"{what} is not a sympy expression: {expr!r}") from None
+    if not isinstance(e, sp.Expr):
+        raise ModelError(f"{what} must be one expression, not a {type(e).__name__}")
+    return e
 
 
 class Mechanism:
@@ -131,8 +160,9 @@ class Mechanism:
         both = set(self.params) & (set(self.q) | set(self.v) | {t})
         if both:
             raise ModelError(f"params: {_listing(both)} is also t, a coordinate or a velocity")
+        self._make_real()
         self._energy(kinetic, mass)
-        self.V = _sympify(potential, "potential")
+        self.V = self._real(_sympify(potential, "potential"))
         self._forces(force, damping)
         self._constraints(constraints)
         self.coordinate_names = self._names(coordinate_names)
@@ -143,6 +173,26 @@ class Mechanism:
         self._check_start()
 
     # ---- the description, checked ---------------------------------------------------------
+
+    def _make_real(self):
+        """t, q, v and the params as real Symbols of their names, in every expression from here
+        on (a symbol of the same name is the same variable in C): derivatives of Abs or sign
+        then stay real functions that C can print."""
+        self._by_name = {s.name: sp.Symbol(s.name, real=True)
+                         for s in [self.t, *self.q, *self.v, *self.params]}
+        self.t = self._by_name[self.t.name]
+        self.q = [self._by_name[s.name] for s in self.q]
+        self.v = [self._by_name[s.name] for s in self.v]
+        real = [self._by_name[s.name] for s in self.params]
+        self.defaults = {r: self.defaults[s] for r, s in zip(real, self.params)}
+        self.descriptions = {r: self.descriptions[s] for r, s in zip(real, self.params)}
+        self.params = real
+
+    def _real(self, expr):
+        """expr in the real Symbols of _make_real."""
+        swap = {s: self._by_name[s.name] for s in expr.free_symbols
+                if isinstance(s, sp.Symbol) and s.name in self._by_name}
+        return expr.xreplace(swap)
 
     def _params(self, params):
         if not isinstance(params, dict):
@@ -162,6 +212,7 @@ class Mechanism:
                     raise ModelError(f"params: {sym.name} must be a value or (value, "
                                      "description)")
                 value, description = value
+                check_text(description, f"the description of {sym.name}")
             number = _sympify(value, f"the value of {sym.name}")
             if not number.is_number or not number.is_real or not number.is_finite:
                 raise ModelError(f"params: {sym.name} = {value!r} is not a finite real number")
@@ -174,18 +225,16 @@ class Mechanism:
         if (kinetic is None) == (mass is None):
             raise ModelError("give exactly one of kinetic (T) and mass (M)")
         if mass is not None:
-            M = _square(mass, self.n, "mass")
+            M = self._real(_square(mass, self.n, "mass"))
             if M.has(*v):
                 raise ModelError("mass depends on v")
-            if any(sp.expand(M[i, j] - M[j, i]) != 0
-                   for i in range(self.n) for j in range(i + 1, self.n)):
-                raise ModelError("mass is not symmetric")
+            self._symmetric(M, "mass")
             self.M = M
             vv = sp.Matrix(v)
             self.T = (vv.T * M * vv)[0, 0] / 2
             self.homogeneous = True
             return
-        T = _sympify(kinetic, "kinetic")
+        T = self._real(_sympify(kinetic, "kinetic"))
         try:
             poly = sp.Poly(T, *v)
         except sp.PolynomialError:
@@ -203,19 +252,35 @@ class Mechanism:
             raise ModelError("the potential depends on " +
                              ("v" if self.V.has(*self.v) else "t") +
                              ": V(q) only (give such forces as force=)")
-        self.Q = None if force is None else _vector(force, self.n, "force")
+        self.Q = None if force is None else self._real(_vector(force, self.n, "force"))
         if damping is None:
             self.D = None
             return
-        D = _square(damping, self.n, "damping")
+        D = self._real(_square(damping, self.n, "damping"))
         if D.has(*self.v) or D.has(self.t):
             raise ModelError("damping depends on " + ("v" if D.has(*self.v) else "t") +
                              ": D(q) only")
+        self._symmetric(D, "damping")
         self.D = D
+
+    def _symmetric(self, A, what):
+        """A = A^T, by expansion, else at random points (expand misses identities such as
+        sin^2 + cos^2 = 1)."""
+        pairs = [(i, j) for i in range(self.n) for j in range(i + 1, self.n)
+                 if sp.expand(A[i, j] - A[j, i]) != 0]
+        rng = random.Random(1)
+        for i, j in pairs:
+            for _ in range(3):
+                point = {s: sp.Float(rng.uniform(0.5, 1.5), CHECK_DPS)
+                         for s in (A[i, j] - A[j, i]).free_symbols}
+                a, b = (A[i, j].evalf(CHECK_DPS, subs=point), A[j, i].evalf(CHECK_DPS, subs=point))
+                if abs(a - b) > 1e-20 * (1 + abs(a)):
+                    raise ModelError(f"{what} is not symmetric (entries {i + 1},{j + 1} and "
+                                     f"{j + 1},{i + 1})")
 
     def _constraints(self, constraints):
         try:
-            c = [_sympify(e, "a constraint") for e in constraints]
+            c = [self._real(_sympify(_equation(e), "a constraint")) for e in constraints]
         except TypeError:
             raise ModelError("constraints must be a list of expressions") from None
         if not 1 <= len(c) < self.n:
@@ -230,20 +295,18 @@ class Mechanism:
 
     def _names(self, names):
         if names is None:
-            return [s.name for s in self.q]
+            names = [s.name for s in self.q]
         names = list(names)
         if len(names) != self.n or not all(isinstance(s, str) for s in names):
             raise ModelError(f"coordinate_names must be {self.n} strings, one per coordinate")
         for s in names:
-            if '"' in s or "\\" in s or not s.isprintable():
-                raise ModelError(f"coordinate name {s!r}: printable, without quotes or "
-                                 "backslashes")
+            check_text(s, "the coordinate name")
         return names
 
     def _start(self, value, what):
         if value is None:
             return sp.zeros(self.n, 1)
-        m = _vector(value, self.n, what)
+        m = self._real(_vector(value, self.n, what))
         stray = m.free_symbols - set(self.params)
         if stray:
             raise ModelError(f"{what} depends on {_listing(stray)}: numbers or expressions of "
@@ -252,7 +315,8 @@ class Mechanism:
 
     def _check_symbols(self):
         known = set(self.q) | set(self.v) | {self.t} | set(self.params)
-        parts = [("kinetic energy", self.T), ("potential", self.V), ("constraints", self.c)]
+        parts = [("kinetic energy", self.T), ("potential", self.V), ("constraints", self.c),
+                 ("start state", self.q0.col_join(self.v0))]
         if self.Q is not None:
             parts.append(("force", self.Q))
         if self.D is not None:
@@ -277,6 +341,9 @@ class Mechanism:
 
     def _check_start(self):
         with mpmath.workdps(CHECK_DPS):
+            start = self._numeric(self.q0.col_join(self.v0))
+            if not all(x.is_number and x.is_finite and x.is_real for x in start):
+                raise ModelError("the start state is not finite real numbers at the defaults")
             M = self._numeric(self.M)
             try:
                 mpmath.cholesky(mpmath.matrix(M.tolist()))
@@ -291,6 +358,11 @@ class Mechanism:
                         f"the start state violates the constraints: {what} = "
                         f"{_float(values[worst]):.3g} at constraint {worst + 1} (more than "
                         f"{START_TOL:g})")
+            G = self._numeric(self.jacobian())
+            rank = G.rank(iszerofunc=lambda x: abs(x) < 1e-20 * (1 + max(abs(g) for g in G)))
+            if rank < len(self.c):
+                raise ModelError(f"the constraints are redundant at the start state: their "
+                                 f"jacobian has rank {rank}, not {len(self.c)}")
 
     # ---- the callbacks' expressions ----------------------------------------------------------
 

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The C the generator writes, for every description in the tree (examples/models/sym/ and
-the tutorial's examples/generator/): C99 that GCC and Clang compile without a warning under
+"""The C the generator writes, for every description in the tree (examples/models/sym/, the
+tutorial's examples/generator/, and tests/models/ with names and functions hard to print): C99 that GCC and Clang compile without a warning under
 -Wall -Wextra -Wpedantic -Werror, an object with no data (no globals) that calls no allocator,
 exports the header's functions alone, and a header comment naming the generator's version and
 the model file's sha256."""
@@ -20,7 +20,8 @@ import stabdae_gen
 from stabdae_gen.cli import load
 
 MODELS = sorted(glob.glob(os.path.join(SYM, "*.py")) +
-                glob.glob(os.path.join(ROOT, "examples", "generator", "*.py")))
+                glob.glob(os.path.join(ROOT, "examples", "generator", "*.py")) +
+                glob.glob(os.path.join(os.path.dirname(__file__), "models", "*.py")))
 MODELS = [m for m in MODELS if "def mechanism(" in open(m).read()]
 COMPILERS = [c for c in ("gcc", "clang") if shutil.which(c)]
 FLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c",

@@ -74,7 +74,7 @@ def test_force_matches_lagranges_equations():
 
 def test_potential_and_damping_enter_the_force():
     """F = -dV/dq - D v for T = |v|^2 / 2: a spring V = k x^2 / 2 and D = c I."""
-    t, x, y, z, vx, vy, vz = sp.symbols("t x y z vx vy vz")
+    t, x, y, z, vx, vy, vz = sp.symbols("t x y z vx vy vz", real=True)
     mech = Mechanism("s", t, [x, y, z], [vx, vy, vz], kinetic=(vx**2 + vy**2 + vz**2) / 2,
                      potential=3 * x**2 / 2, damping=sp.eye(3) / 4, constraints=[z])
     assert sp.simplify(mech.force() - sp.Matrix([-3 * x - vx / 4, -vy / 4, -vz / 4])) == \
@@ -85,7 +85,7 @@ def test_potential_and_damping_enter_the_force():
 def test_potential_declared_only_for_lagrangian_forces():
     """With another force, or M depending on t, the discrete gradients would conserve the wrong
     energy: the potential is not declared (F still holds -dV/dq)."""
-    t, x, z, vx, vz = sp.symbols("t x z vx vz")
+    t, x, z, vx, vz = sp.symbols("t x z vx vz", real=True)
     base = dict(kinetic=(vx**2 + vz**2) / 2, potential=x**2 / 2, constraints=[z])
     assert "potential" in Mechanism("a", t, [x, z], [vx, vz], **base).callbacks()
     forced = Mechanism("b", t, [x, z], [vx, vz], force=[sp.cos(t), 0], **base)
@@ -98,7 +98,7 @@ def test_potential_declared_only_for_lagrangian_forces():
 def test_derivatives_along_the_motion():
     """mass_dot_v, jacobian_dot and constraint_t_dot against d/ds at s = 0 of M(t + s, q + s v) v,
     G(t + s, q + s v) and dc/dt(t + s, q + s v), formed by substitution."""
-    t, s, x, y, vx, vy = sp.symbols("t s x y vx vy")
+    t, s, x, y, vx, vy = sp.symbols("t s x y vx vy", real=True)
     mech = Mechanism("d", t, [x, y], [vx, vy],
                      mass=sp.Matrix([[2 + sp.sin(x * t), x * y], [x * y, 3 + y**2]]),
                      constraints=[x**2 * sp.cos(t) + y - sp.sin(2 * t) - 1],

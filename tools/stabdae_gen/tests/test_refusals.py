@@ -47,6 +47,21 @@ CASES = [
     ("both_energies", "args['mass'] = sp.eye(2)", "exactly one of kinetic"),
     ("damping_with_v", "args['damping'] = sp.eye(2) * vx", "damping depends on v"),
     ("param_not_number", "args['params'][m] = 'heavy'", "not a finite real number"),
+    ("param_macro", "args['params'][sp.Symbol('NAN')] = 1.0", "'NAN' is reserved"),
+    ("name_library_prefix", "name = 'sdae'", "'sdae' is reserved"),
+    ("description_two_lines", "args['params'][m] = (1.0, 'mass\\nin kg')", "one line"),
+    ("piecewise_without_default", "args['potential'] = sp.Piecewise((m * g * y, y < 0))",
+     "cannot be printed in C"),
+    ("potential_list", "args['potential'] = [m * g * y]", "potential must be one expression"),
+    ("start_nan", "args['q0'] = [sp.nan, -L]", "not finite real numbers"),
+    ("start_undefined_function", "args['q0'] = [sp.Function('f')(L), -L]",
+     "start state calls f"),
+    ("redundant_constraints", "z, vz = sp.symbols('z vz'); q = (x, y, z); v = (vx, vy, vz); "
+     "args['constraints'] = [(x**2 + y**2 - L**2) / 2, x**2 + y**2 - L**2]; "
+     "args['kinetic'] += vz**2; args['q0'].append(0); args['v0'].append(0)",
+     "redundant at the start state"),
+    ("damping_not_symmetric", "args['damping'] = sp.Matrix([[1, x], [0, 1]])",
+     "damping is not symmetric"),
 ]
 
 
@@ -93,7 +108,8 @@ def test_good_description_is_written(model, tmp_path):
 @pytest.mark.parametrize("body,words", [
     ("raise RuntimeError('broken model')", "RuntimeError: broken model"),
     ("return 42", "returned a int, not a stabdae_gen.Mechanism"),
-], ids=["raises", "wrong_type"])
+    ("import sys\nsys.exit(0)", "exited (0) before giving a mechanism"),
+], ids=["raises", "wrong_type", "exits"])
 def test_model_file_errors(model, tmp_path, body, words):
     rc, _, stderr = run_mbsgen(model(body), "--out", str(tmp_path / "out"))
     assert rc == 2 and len(stderr.splitlines()) == 1 and words in stderr, stderr
