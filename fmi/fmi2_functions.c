@@ -13,6 +13,7 @@
 typedef struct fmi2_handle {
   fmi2CallbackFunctions cb;
   sdae_allocator alloc;
+  // cppcheck-suppress unusedStructMember ; read through the macro H below, which cppcheck misses
   double t_start;
   fmu_instance *fi;
 } fmi2_handle;
@@ -168,6 +169,7 @@ fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
   return fmi2OK;
 }
 
+// cppcheck-suppress constParameter ; the standard's prototype (fmi2Functions.h)
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
   if (!c || !size) return fmi2Error;
   *size = fmu_state_size(FMUstate);

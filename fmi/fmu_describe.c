@@ -38,11 +38,12 @@ int fmu_describe_check(const fmu_instance *fi, FILE *err) {
     return -1;
   }
   for (size_t i = 0; i < m->n_params; i++)
-    if (!identifier(m->params[i].name) || m->params[i].offset + sizeof(double) > m->params_size) {
+    if (!identifier(m->params[i].name) || strlen(m->params[i].name) >= sizeof a.name ||
+        m->params[i].offset + sizeof(double) > m->params_size) {
       fprintf(err,
-              "%s: parameter %zu (%s): not an identifier, or its offset is past the params "
-              "struct\n",
-              m->name, i + 1, m->params[i].name ? m->params[i].name : "(null)");
+              "%s: parameter %zu (%s): not an identifier of at most %zu characters, or its "
+              "offset is past the params struct\n",
+              m->name, i + 1, m->params[i].name ? m->params[i].name : "(null)", sizeof a.name - 1);
       return -1;
     }
   for (size_t i = 0; fmu_var_at(&fi->layout, i, &a) == 0; i++)
