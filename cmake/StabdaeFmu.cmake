@@ -97,7 +97,7 @@ function(stabdae_add_fmu name)
       COMMAND ${CMAKE_COMMAND} -E make_directory ${bin} ${stage}/documentation/licenses
               ${fmu_OUTPUT_DIRECTORY}/fmi${version}
       COMMAND ${name}_describe ${version} ${stage}/modelDescription.xml
-              ${stage}/documentation/${page}
+              ${stage}/documentation/${page} ${name}
       COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${lib}> ${bin}/${name}.so
       COMMAND ${CMAKE_COMMAND} -E copy ${cblas} ${bin}/libgslcblas.so.0
       COMMAND ${CMAKE_COMMAND} -E copy_directory ${STABDAE_FMU_DATA}/licenses

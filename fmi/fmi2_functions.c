@@ -185,10 +185,6 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byt
 fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
                                    fmi2FMUstate *FMUstate) {
   if (!c || !FMUstate) return fmi2Error;
-  if (*FMUstate) {
-    fmu_state_free(FI(c), *FMUstate);
-    *FMUstate = NULL;
-  }
   return (fmi2Status)fmu_state_deserialize(FI(c), (const unsigned char *)serializedState, size,
                                            (fmu_state **)FMUstate);
 }

@@ -189,10 +189,6 @@ fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState,
 fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[],
                                    size_t size, fmi3FMUState *FMUState) {
   if (!instance || !FMUState) return fmi3Error;
-  if (*FMUState) { /* the importer's state is replaced */
-    fmu_state_free(FI(instance), *FMUState);
-    *FMUState = NULL;
-  }
   return (fmi3Status)fmu_state_deserialize(FI(instance), serializedState, size,
                                            (fmu_state **)FMUState);
 }

@@ -25,27 +25,40 @@ static int identifier(const char *s) {
   return 1;
 }
 
+int fmu_table_check(const sdae_fmu *m, const char *name, FILE *err) {
+  if (!identifier(m->name) || !m->mbs || !m->map || !sdae_map_by_name(m->map) ||
+      (m->n_params && !m->params)) {
+    fprintf(err, "sdae_fmu_model: a name that is an identifier, mbs, a known map and the "
+                 "parameters' table are needed\n");
+    return -1;
+  }
+  if (strcmp(m->name, name) != 0) {
+    fprintf(err,
+            "sdae_fmu_model: its name %s is not the FMU's %s (stabdae_add_fmu's NAME is the "
+            "binary's name, which modelDescription.xml must give)\n",
+            m->name, name);
+    return -1;
+  }
+  for (size_t i = 0; i < m->n_params; i++)
+    if (!identifier(m->params[i].name) || strlen(m->params[i].name) >= FMU_NAME_LEN ||
+        m->params[i].offset + sizeof(double) > m->params_size) {
+      fprintf(err,
+              "%s: parameter %zu (%s): not an identifier of at most %d characters, or its "
+              "offset is past the params struct\n",
+              m->name, i + 1, m->params[i].name ? m->params[i].name : "(null)", FMU_NAME_LEN - 1);
+      return -1;
+    }
+  return 0;
+}
+
 int fmu_describe_check(const fmu_instance *fi, FILE *err) {
   const sdae_fmu *m = fi->model;
   fmu_var a, b;
-  if (!identifier(m->name) || !m->mbs || !sdae_map_by_name(m->map)) {
-    fprintf(err, "sdae_fmu_model: a name that is an identifier, mbs and a known map are needed\n");
-    return -1;
-  }
   if (fi->layout.n_q == 0 || fi->layout.n_c == 0 || fi->layout.n_c >= fi->layout.n_q) {
     fprintf(err, "%s: the mechanism needs 1 <= n_c < n_q (n_q %zu, n_c %zu)\n", m->name,
             fi->layout.n_q, fi->layout.n_c);
     return -1;
   }
-  for (size_t i = 0; i < m->n_params; i++)
-    if (!identifier(m->params[i].name) || strlen(m->params[i].name) >= sizeof a.name ||
-        m->params[i].offset + sizeof(double) > m->params_size) {
-      fprintf(err,
-              "%s: parameter %zu (%s): not an identifier of at most %zu characters, or its "
-              "offset is past the params struct\n",
-              m->name, i + 1, m->params[i].name ? m->params[i].name : "(null)", sizeof a.name - 1);
-      return -1;
-    }
   for (size_t i = 0; fmu_var_at(&fi->layout, i, &a) == 0; i++)
     for (size_t j = i + 1; fmu_var_at(&fi->layout, j, &b) == 0; j++)
       if (strcmp(a.name, b.name) == 0) {

@@ -9,7 +9,12 @@
 
 #include "fmu_instance.h"
 
-/* 0, or -1 with a line on err: names clash or are not identifiers, or the table is incomplete */
+/* The table alone, before an instance reads it: 0, or -1 with a line on err when it is
+ * incomplete, a name is not an identifier (or too long), an offset is past the params struct,
+ * or its name is not `name`, the FMU's (stabdae_add_fmu's NAME). */
+int fmu_table_check(const sdae_fmu *m, const char *name, FILE *err);
+/* The instance's variables: 0, or -1 with a line on err when the sizes are not
+ * 1 <= n_c < n_q or two variables have one name. */
 int fmu_describe_check(const fmu_instance *fi, FILE *err);
 /* version 3 or 2; 0, or -1 when a write fails */
 int fmu_describe_xml(const fmu_instance *fi, int version, const char *generator, FILE *out);

@@ -40,8 +40,11 @@ void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
   fi->log(fi->env, status, category[status], msg);
 }
 
+/* Errors and warnings always reach the logger (a refused call names its reason); the info
+ * messages follow logging on or off, for every category (n = 0) or when logInfo is named. */
 fmu_status fmu_set_logging(fmu_instance *fi, int on, size_t n, const char *const *categories) {
   static const char *const known[] = {"logStatusError", "logStatusWarning", "logInfo"};
+  int info = n == 0;
   for (size_t i = 0; i < n; i++) {
     int found = 0;
     for (size_t k = 0; k < sizeof known / sizeof *known; k++)
@@ -51,17 +54,20 @@ fmu_status fmu_set_logging(fmu_instance *fi, int on, size_t n, const char *const
               categories && categories[i] ? categories[i] : "(null)");
       return FMU_ERROR;
     }
+    info |= strcmp(categories[i], "logInfo") == 0;
   }
-  fi->logging_on = on;
+  if (info) fi->logging_on = on;
   return FMU_OK;
 }
 
-static const char *const phase_name[] = {"instantiated", "initialization mode", "step mode",
-                                         "terminated", "failed (reset it)"};
+static const char *const phase_name[] = {"the instantiated state", "initialization mode",
+                                         "step mode", "the terminated state",
+                                         "the failed state (reset it)"};
 
 fmu_status fmu_allowed(const fmu_instance *fi, const char *call, unsigned phases) {
   if (phases & FMU_IN(fi->clock.phase)) return FMU_OK;
-  fmu_log(fi, FMU_ERROR, "%s: not allowed when the FMU is %s", call, phase_name[fi->clock.phase]);
+  fmu_log(fi, FMU_ERROR, "%s: not allowed when the FMU is in %s", call,
+          phase_name[fi->clock.phase]);
   return FMU_ERROR;
 }
 
@@ -441,7 +447,9 @@ fmu_status fmu_set_real(fmu_instance *fi, const unsigned *vr, size_t n, const do
       return FMU_ERROR;
   for (size_t i = 0; i < n; i++) {
     fmu_var_at(&fi->layout, vr[i], &var);
-    if (var.role == FMU_START) fi->clock.start_set = 1;
+    /* a start value set to the one it holds (an importer writing back every start value of
+     * the XML) leaves the start to the mechanism's parameters */
+    if (var.role == FMU_START && value[i] != fi->values[vr[i]]) fi->clock.start_set = 1;
     fi->values[vr[i]] = value[i];
   }
   /* outputs got in initialization mode came from the values before: computed anew when asked */

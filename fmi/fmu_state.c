@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 #include "fmu_state.h"
 
+#include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -10,7 +12,8 @@
 /* the block: this header, the variables (count doubles), the stepper's bytes (block_len) */
 struct fmu_state {
   uint64_t magic;
-  size_t bytes; /* the whole block */
+  uint64_t checksum; /* of the whole block with this field 0: a damaged state is refused */
+  size_t bytes;      /* the whole block */
   char token[40];
   fmu_clock clock;
   char map[24]; /* the map by name: the pointer in clock is this process's */
@@ -37,6 +40,18 @@ static unsigned char *stepper_bytes(const fmu_state *s) {
 /* an address in this binary's data: another load of it (another process) has another one */
 static const char here;
 static uintptr_t binary_address(void) { return (uintptr_t)(const void *)&here; }
+
+/* FNV-1a over the block, its checksum field taken as 0 */
+static uint64_t checksum_of(const fmu_state *s) {
+  const unsigned char *p = (const unsigned char *)s;
+  size_t skip = offsetof(struct fmu_state, checksum);
+  uint64_t h = 0xcbf29ce484222325ULL;
+  for (size_t i = 0; i < s->bytes; i++) {
+    unsigned char byte = i >= skip && i < skip + sizeof s->checksum ? 0 : p[i];
+    h = (h ^ byte) * 0x100000001b3ULL;
+  }
+  return h;
+}
 
 static size_t bytes_for(const fmu_instance *fi) {
   size_t step = fi->stepper ? fi->block_len : 0;
@@ -76,17 +91,29 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
       fi->stepper ? (size_t)((unsigned char *)fi->stepper - (unsigned char *)fi->block) : 0;
   memcpy(values_of(s), fi->values, s->count * sizeof(double));
   if (s->have_stepper) memcpy(stepper_bytes(s), fi->block, fi->block_len);
+  s->checksum = checksum_of(s);
   *state = s;
   return FMU_OK;
 }
 
-/* a state of this model, whole; FMU_ERROR with a message otherwise */
+/* the header's sizes and clock, before anything else is read */
+static int header_whole(const fmu_instance *fi, const fmu_state *s, size_t len) {
+  const fmu_clock *c = &s->clock;
+  return s->magic == FMU_STATE_MAGIC && s->bytes == len && s->count == fi->layout.count &&
+         strncmp(s->token, fi->token, sizeof s->token) == 0 &&
+         (s->have_stepper == 0 || s->have_stepper == 1) &&
+         (!s->have_stepper || (s->block_len == fi->block_len && s->stepper_at < s->block_len)) &&
+         len == header_bytes() + s->count * sizeof(double) + (s->have_stepper ? s->block_len : 0) &&
+         memchr(s->map, '\0', sizeof s->map) && sdae_map_by_name(s->map) &&
+         c->phase >= FMU_INSTANTIATED && c->phase <= FMU_FAILED && isfinite(c->t) &&
+         isfinite(c->t_grid) && (c->start_set == 0 || c->start_set == 1);
+}
+
+/* a state of this model, whole and undamaged (its checksum); FMU_ERROR with a message
+ * otherwise */
 static fmu_status check(fmu_instance *fi, const fmu_state *s, size_t len, const char *call) {
-  if (!s || len < sizeof *s || s->magic != FMU_STATE_MAGIC || s->bytes != len ||
-      s->count != fi->layout.count || strncmp(s->token, fi->token, sizeof s->token) != 0 ||
-      len != header_bytes() + s->count * sizeof(double) + (s->have_stepper ? s->block_len : 0) ||
-      !sdae_map_by_name(s->map)) {
-    fmu_log(fi, FMU_ERROR, "%s: not a state of this model", call);
+  if (!s || len < sizeof *s || !header_whole(fi, s, len) || s->checksum != checksum_of(s)) {
+    fmu_log(fi, FMU_ERROR, "%s: not a state of this model, or a damaged one", call);
     return FMU_ERROR;
   }
   return FMU_OK;
@@ -133,16 +160,25 @@ fmu_status fmu_state_serialize(fmu_instance *fi, const fmu_state *state, unsigne
 
 fmu_status fmu_state_deserialize(fmu_instance *fi, const unsigned char *bytes, size_t len,
                                  fmu_state **state) {
-  fmu_state head;
-  fmu_state *s;
+  fmu_state head, *s;
   if (!bytes || len < sizeof head) {
     fmu_log(fi, FMU_ERROR, "deserializeFMUState: not a state of this model");
     return FMU_ERROR;
   }
   memcpy(&head, bytes, sizeof head);
-  if (check(fi, &head, len, "deserializeFMUState") != FMU_OK) return FMU_ERROR;
+  if (!header_whole(fi, &head, len)) {
+    fmu_log(fi, FMU_ERROR, "deserializeFMUState: not a state of this model");
+    return FMU_ERROR;
+  }
+  /* checked in a block of its own: the importer's state, if it passed one, is replaced only
+   * by a good one */
   if (!(s = state_alloc(fi, len, "deserializeFMUState"))) return FMU_ERROR;
   memcpy(s, bytes, len);
+  if (check(fi, s, len, "deserializeFMUState") != FMU_OK) {
+    fmu_state_free(fi, s);
+    return FMU_ERROR;
+  }
+  fmu_state_free(fi, *state);
   *state = s;
   return FMU_OK;
 }

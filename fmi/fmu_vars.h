@@ -31,11 +31,14 @@ typedef struct fmu_layout {
   size_t params, q0, v0, u, q, v, lambda, max_abs_c, energy, count;
 } fmu_layout;
 
+/* the longest variable name, its terminating 0 included */
+#define FMU_NAME_LEN 64
+
 typedef struct fmu_var {
   size_t vr;
   fmu_role role;
-  int is_string; /* map; every other variable is a double */
-  char name[64]; /* q[3], T, ... */
+  int is_string;           /* map; every other variable is a double */
+  char name[FMU_NAME_LEN]; /* q[3], T, ... */
   char description[160];
 } fmu_var;
 

@@ -360,3 +360,31 @@ def test_generated_matches_hand_written(version):
     for out in outputs("fourbar"):
         err = np.abs(runs[1][out] - runs[0][out]) / np.maximum(1.0, np.abs(runs[0][out]))
         assert err.max() <= 1e-12, f"{version} {out}: {err.max():.3g}"
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_start_values_written_back(version):
+    """an importer that writes every start value of the XML back unchanged, q0 and v0 among
+    them, with theta0 changed: the start follows theta0 (the run equals the one setting theta0
+    alone, bit for bit), since q0, v0 were left at their values"""
+    md = read_model_description(fmu_path(version, "fourbar"))
+    defaults = {v.name: float(v.start) for v in md.modelVariables
+                if v.name.startswith(("q0[", "v0["))}
+    assert len(defaults) == 8
+    runs = [simulate_fmu(fmu_path(version, "fourbar"), stop_time=0.1, output_interval=10 * T,
+                         start_values=start, output=outputs("fourbar")[:8])
+            for start in ({"theta0": 0.7}, {"theta0": 0.7, **defaults})]
+    for out in outputs("fourbar")[:8]:
+        assert bits(runs[0][out]) == bits(runs[1][out]), out
+    assert runs[0]["q[1]"][0] == pytest.approx(np.cos(0.7), rel=1e-12)  # B = (a cos, a sin)
+
+
+def test_describer_refuses_another_name(tmp_path):
+    """the table's name must be stabdae_add_fmu's NAME (the binary's): another is refused when
+    the FMU is built, with one line naming both"""
+    describer = BUILD / "examples" / "fmus" / "fourbar_describe"
+    p = subprocess.run([str(describer), "3", str(tmp_path / "md.xml"), str(tmp_path / "p.html"),
+                        "dpend"], capture_output=True, text=True)
+    assert p.returncode == 1 and p.stdout == ""
+    assert "its name fourbar is not the FMU's dpend" in p.stderr
+    assert not (tmp_path / "md.xml").exists()
