@@ -21,7 +21,7 @@ from sympy.core.function import AppliedUndef
 
 from .errors import ModelError
 
-# C99 and C11 keywords, and the names a generated file declares for its own use
+# C99 and C11 keywords
 C_KEYWORDS = frozenset(
     """auto break case char const continue default do double else enum extern float for goto if
     inline int long register restrict return short signed sizeof static struct switch typedef
