@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""A Mechanism as C99: name.h (the params struct and four functions) and name.c (the callbacks
-of sdae_mbs, each one's expressions with their common subexpressions eliminated by sympy's cse).
-No globals, no allocation; every argument a callback does not use is cast to void."""
+"""A Mechanism as C99: name.h (the params struct, its tables and five functions) and name.c
+(the callbacks of sdae_mbs, each one's expressions with their common subexpressions eliminated
+by sympy's cse). No globals, no allocation; every argument a callback does not use is cast to
+void."""
 
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
@@ -217,12 +218,12 @@ def _tables(mech):
 
 
 def header(mech, banner):
-    guard = f"{mech.name.upper()}_H"
+    N = mech.name.upper()
+    guard = f"{N}_H"
     fields = [f"  double {s.name};" + (f" /* {_comment(mech.descriptions[s])} */"
                                         if mech.descriptions[s] else "") for s in mech.params]
     if not fields:
         fields = ["  int none; /* the mechanism has no parameters */"]
-    N = mech.name.upper()
     return "\n".join([
         banner,
         f"#ifndef {guard}",
@@ -242,7 +243,7 @@ def header(mech, banner):
         "",
         *_tables(mech),
         "",
-        "typedef struct " + f"{mech.name}_params {{",
+        f"typedef struct {mech.name}_params {{",
         *fields,
         f"}} {mech.name}_params;",
         "",
