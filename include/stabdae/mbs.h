@@ -50,6 +50,11 @@ typedef struct sdae_mbs {
   int (*jacobian_dot)(double t, const double *q, const double *v, double *Gdot, void *params);
   /* n_c values: d/ds (dc/dt)(t + s, q + s v); used with constraint_t */
   int (*constraint_t_dot)(double t, const double *q, const double *v, double *out, void *params);
+  /* optional: forces from outside the Lagrangian (actuators, control inputs, contact models),
+   * n_q values added to F. With a potential the discrete gradients treat them as a port and keep
+   * the discrete power balance H(x+) - H(x) = -T gradbar^T R gradbar + T gradbar^T B u_mid
+   * (docs/front-ends.md); explicit maps add them to F. */
+  int (*input_force)(double t, const double *q, const double *v, double *F, void *params);
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure

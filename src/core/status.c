@@ -41,6 +41,10 @@ const char *sdae_strerror(int status) {
     return "Newton for Phi^-1 (the state from its coordinates xi, mu) did not converge: the "
            "point may have no preimage in the current chart";
   case SDAE_ERR_MASS: return "the mass matrix is not symmetric positive definite";
+  case SDAE_ERR_STATE_DAMAGED:
+    return "the saved state is cut short or damaged (its length or checksum does not match)";
+  case SDAE_ERR_STATE_FOREIGN:
+    return "the saved state is of another mechanism, map, options or build of the library";
   }
   return "unknown status";
 }
