@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* Gonzalez's midpoint discrete gradient (paper ref. 18) for q0 = S(mu) grad H(mu):
+/* Gonzalez's midpoint discrete gradient (paper ref. 18) for q0 = S(mu) grad H(mu) + B u(mu):
  *
- *   phi_T(mu, mu+) = S(m) gradbar H(mu, mu+),  m = (mu + mu+)/2,  v = mu+ - mu,
+ *   phi_T(mu, mu+) = S(m) gradbar H(mu, mu+) + B u(m),  m = (mu + mu+)/2,  v = mu+ - mu,
  *   gradbar H = grad H(m) + [(H(mu+) - H(mu) - grad H(m).v) / |v|^2] v,
  *
- * so that gradbar H . v = H(mu+) - H(mu) exactly: H(mu+) - H(mu) = T gradbar^T S gradbar,
- * zero when S is skew and <= 0 when S = J - R with R >= 0. */
+ * so that gradbar H . v = H(mu+) - H(mu) exactly: H(mu+) - H(mu) = T gradbar^T S gradbar
+ * + T gradbar^T B u(m), the discrete power balance of a port-Hamiltonian system (the input B u
+ * the model's optional port, taken at the midpoint); without input zero when S is skew and
+ * <= 0 when S = J - R with R >= 0. */
 #include <float.h>
 #include <string.h>
 
@@ -20,11 +22,11 @@ static int dgrad_needs(const sdae_model *m) {
 static int dgrad_jac_given(const sdae_model *m) { return m->hess_H != NULL; }
 
 /* The scratch: the midpoint, grad H there, the increment, the correction c and |v|^2 (0 in
- * the small-increment branch), H at the step's mu kept, a dense S unless S_apply is given; with
- * hess_H the Hessian (then d gradbar / d mu+ in its place) and two vectors. phi leaves them all for
- * the Jacobian at the same point. */
+ * the small-increment branch), H at the step's mu kept, a dense S unless S_apply is given, B u
+ * at the midpoint with an input; with hess_H the Hessian (then d gradbar / d mu+ in its place)
+ * and two vectors. phi leaves them all for the Jacobian at the same point. */
 typedef struct parts {
-  double *mid, *grad, *v, *inc, *S, *D, *w, *col;
+  double *mid, *grad, *v, *inc, *S, *Bu, *D, *w, *col;
   double *kept; /* H(t_m, mu) kept within a step: 1 (0: none), t_m, H, then mu */
 } parts;
 
@@ -33,7 +35,8 @@ typedef struct parts {
 static size_t dgrad_scratch(const sdae_model *m, const sdae_options *o) {
   size_t n = m->n_mu;
   int jac = dgrad_jac_given(m) && !sdae__banded(m, o);
-  return 3 * n + 2 + (3 + n) + (m->S_apply ? 0 : n * n) + (jac ? n * n + 2 * n : 0);
+  return 3 * n + 2 + (3 + n) + (m->S_apply ? 0 : n * n) + (m->input ? n : 0) +
+         (jac ? n * n + 2 * n : 0);
 }
 
 static parts layout(sdae_map_ctx *c) {
@@ -45,7 +48,8 @@ static parts layout(sdae_map_ctx *c) {
   P.inc = P.v + n;
   P.kept = P.inc + 2;
   P.S = P.kept + 3 + n;
-  P.D = P.S + (c->model->S_apply ? 0 : n * n);
+  P.Bu = P.S + (c->model->S_apply ? 0 : n * n);
+  P.D = P.Bu + (c->model->input ? n : 0);
   P.w = P.D + n * n;
   P.col = P.w + n;
   return P;
@@ -109,8 +113,8 @@ static int correction(const sdae_model *m, double tm, const double *mu, const do
   return SDAE_OK;
 }
 
-/* S(mid) gradbar H, gradbar H = grad H(mid) + c v: leaves mid, v, c and gradbar H in the
- * scratch */
+/* S(mid) gradbar H + B u(mid), gradbar H = grad H(mid) + c v: leaves mid, v, c and gradbar H
+ * in the scratch */
 static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
                      double *out) {
   const sdae_model *m = c->model;
@@ -126,7 +130,10 @@ static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu, cons
   if (rc == SDAE_OK) rc = correction(m, tm, mu, mu_next, &P);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) P.grad[i] += P.inc[0] * P.v[i]; /* gradbar H */
-  return apply_S(m, tm, &P, 1, P.grad, out);
+  if ((rc = apply_S(m, tm, &P, 1, P.grad, out)) != SDAE_OK || !m->input) return rc;
+  if ((rc = sdae__call_checked(m->input, m, tm, P.mid, P.Bu, n)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++) out[i] += P.Bu[i];
+  return SDAE_OK;
 }
 
 /* w = dc/dmu+ = (grad H(mu+) - g - Hm v/2 - 2 c v) / |v|^2 (0 in the small-increment
@@ -148,8 +155,9 @@ static int correction_gradient(const sdae_model *m, double tm, const double *mu_
   return rc;
 }
 
-/* d phi / d mu+ = S(mid) D, D = d gradbar / d mu+ = Hm/2 + c I + v w^T; the derivative of S is
- * left out (zero for a constant S). mid, v, c, gradbar H and S come from phi at this point. */
+/* d phi / d mu+ = S(mid) D, D = d gradbar / d mu+ = Hm/2 + c I + v w^T; the derivatives of S
+ * and of an input are left out (zero for a constant S and input): Newton then converges
+ * linearly. mid, v, c, gradbar H and S come from phi at this point. */
 static int dgrad_jac(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
                      double *out) {
   const sdae_model *m = c->model;

@@ -38,6 +38,7 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   e->t_Gdot = sdae__take(a, n_c, n_q);
   e->t_Mdv = sdae__take(a, n_q, 1);
   e->t_ctdot = sdae__take(a, n_c, 1);
+  e->input = sdae__take(a, n_q, 1);
 }
 
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v) {
@@ -49,8 +50,21 @@ int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
   return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
 }
 
+int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                          double *F) {
+  if (!e->sys.input_force) {
+    memset(F, 0, e->n_q * sizeof *F);
+    return SDAE_OK;
+  }
+  return sdae__callback_checked(e->sys.input_force(t, q, v, F, e->sys.params), F, e->n_q);
+}
+
 int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F) {
-  return sdae__callback_checked(e->sys.force(t, q, v, F, e->sys.params), F, e->n_q);
+  int rc = sdae__callback_checked(e->sys.force(t, q, v, F, e->sys.params), F, e->n_q);
+  if (rc != SDAE_OK || !e->sys.input_force) return rc;
+  if ((rc = sdae__mbs_input_force(e, t, q, v, e->input)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < e->n_q; i++) F[i] += e->input[i];
+  return SDAE_OK;
 }
 
 int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c) {

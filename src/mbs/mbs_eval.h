@@ -19,6 +19,7 @@ typedef struct sdae_mbs_eval {
   double *along_G, *along_M, *along_ct; /* G, M and dc/dt */
   double *along_Gdot, *along_ctdot;     /* gamma's Gdot and d/ds dc/dt */
   double *t_Gdot, *t_Mdv, *t_ctdot;     /* the stencils' parts along t alone, at late times */
+  double *input;                        /* n_q: the forces from outside the Lagrangian */
 } sdae_mbs_eval;
 
 /* the mechanism (copied) and its sizes; the arrays come from sdae__mbs_eval_carve */
@@ -29,7 +30,11 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a);
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v);
 
 int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M);
+/* the applied force: F plus the forces from outside the Lagrangian (input_force) */
 int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F);
+/* the forces from outside the Lagrangian alone (zero without input_force) */
+int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                          double *F);
 int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c);
 int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G);
 int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct);

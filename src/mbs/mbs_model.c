@@ -4,9 +4,10 @@
  * potential the energy structure of the discrete gradients:
  *
  *   H(mu) = v^T M v / 2 + V(q) at Phi^-1(t, 0, mu),   S = J - R = [[0, I], [-I, -W^T D W]],
- *   grad H = S^-1 q0 = (-q0_p - R q0_q, q0_q),
+ *   B u = (0, W^T F_in),   grad H = S^-1 (q0 - B u) = (-(q0 - B u)_p - R q0_q, q0_q),
  *
- * (q_I, p_I) being canonical on the manifold, so no further derivative is needed. */
+ * (q_I, p_I) being canonical on the manifold, so no further derivative is needed; F_in are the
+ * forces from outside the Lagrangian (input_force), a port of the energy. */
 #include <string.h>
 
 #include "core/callback.h"
@@ -63,12 +64,29 @@ static int damping(sdae_mbs_model *m, double t, const double *mu) {
   return SDAE_OK;
 }
 
+/* W^T F_in at Phi^-1(t, 0, mu) into out (n_f values): the momentum part of B u */
+static int input_p(sdae_mbs_model *m, double t, const double *mu, double *out) {
+  const sdae_mbs_coords *co = m->co;
+  int rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu);
+  if (rc == SDAE_OK) rc = sdae__mbs_input_force(m->eval, t, co->q, co->v, m->F_in);
+  if (rc == SDAE_OK) sdae__mbs_Wt(co->chart, m->F_in, out);
+  return rc;
+}
+
+static int input(double t, const double *mu, double *out, void *params) {
+  sdae_mbs_model *m = params;
+  memset(out, 0, m->n_f * sizeof *out);
+  return code(m, input_p(m, t, mu, out + m->n_f));
+}
+
 static int grad_H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f;
   int rc = sdae__derive_q0(&m->derive, t, mu, out);
   if (rc == SDAE_OK) rc = damping(m, t, mu);
+  if (rc == SDAE_OK && m->eval->sys.input_force) rc = input_p(m, t, mu, m->Bu);
   if (rc != SDAE_OK) return code(m, rc);
+  for (size_t a = 0; a < n_f && m->eval->sys.input_force; a++) out[n_f + a] -= m->Bu[a];
   for (size_t a = 0; a < n_f; a++) { /* out = (q0_q, q0_p) becomes (-q0_p - R q0_q, q0_q) */
     double qa = out[a];
     m->row[a] = -out[n_f + a];
@@ -109,6 +127,7 @@ void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coord
     nf->H = H;
     nf->grad_H = grad_H;
     nf->S = S;
+    if (eval->sys.input_force) nf->input = input;
   }
   nf->params = m;
 }
@@ -121,6 +140,8 @@ void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
   m->D = sdae__take(a, m->n_q, m->n_q);
   m->R = sdae__take(a, m->n_f, m->n_f);
   m->row = sdae__take(a, m->n_f, 1);
+  m->F_in = sdae__take(a, m->n_q, 1);
+  m->Bu = sdae__take(a, m->n_f, 1);
   m->floor = sdae__take(a, 2 * m->n_c, 1);
   m->derive.floor = m->floor;
 }

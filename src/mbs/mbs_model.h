@@ -23,6 +23,8 @@ typedef struct sdae_mbs_model {
   double *zero;  /* 2 n_c zeros: xi on the manifold, where H and R are taken */
   double *D, *R; /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
   double *row;   /* n_f: grad H's first half while q0's is still read */
+  double *F_in;  /* n_q: the forces from outside the Lagrangian at Phi^-1(t, 0, mu) */
+  double *Bu;    /* n_f: W^T F_in, the input's momentum part, taken from q0 in grad H */
   double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
