@@ -245,9 +245,9 @@ START_TEST(piecewise_input_keeps_every_maps_order) {
     const char *name;
     unsigned order;
     double T;
-  } cases[] = {{"euler", 1, 0.01},     {"midpoint", 2, 0.02},  {"dgrad", 2, 0.02},
-               {"midpoint4", 4, 0.05}, {"dg4", 4, 0.05},       {"rk4", 4, 0.05},
-               {"midpoint6", 6, 0.1},  {"dg6", 6, 0.1},        {"rk8", 8, 0.2}};
+  } cases[] = {{"euler", 1, 0.01},     {"midpoint", 2, 0.02}, {"dgrad", 2, 0.02},
+               {"midpoint4", 4, 0.05}, {"dg4", 4, 0.05},      {"rk4", 4, 0.05},
+               {"midpoint6", 6, 0.1},  {"dg6", 6, 0.1},       {"rk8", 8, 0.2}};
   double qr[2], vr[2];
   piecewise_run(sdae_map_rk8, 0.1 / 16, qr, vr);
   for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
@@ -260,8 +260,8 @@ START_TEST(piecewise_input_keeps_every_maps_order) {
       e[h] = state_diff(q, v, qr, vr);
     }
     ck_assert_double_gt(e[1], 1e-11);
-    ck_assert_msg(e[0] / e[1] >= 0.75 * ldexp(1.0, (int)cases[c].order),
-                  "%s: %g -> %g", cases[c].name, e[0], e[1]);
+    ck_assert_msg(e[0] / e[1] >= 0.75 * ldexp(1.0, (int)cases[c].order), "%s: %g -> %g",
+                  cases[c].name, e[0], e[1]);
   }
 }
 END_TEST

@@ -109,6 +109,18 @@ SDAE_API void sdae_mbs_stepper_free(sdae_mbs_stepper *s); /* NULL and init'ed on
  * chart) even after one retry in the best chart: a smaller T helps, the state being kept. */
 SDAE_API int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v);
 
+/* A stepper's state as bytes (after MuJoCo's mj_getState/mj_setState): everything the next step
+ * depends on besides the caller's (t, q, v), that is the chart, what is kept of the last step
+ * (factors, the point Phi^-1 left) and the counters, without pointers, with a version, the
+ * build's identity and a checksum. A state set into a stepper of the same mechanism and options
+ * (in this process or another) continues bit for bit. sdae_mbs_state_size: its bytes (0 for a
+ * NULL stepper). sdae_mbs_get_state: SDAE_ERR_BUFFER when len is smaller. sdae_mbs_set_state:
+ * SDAE_ERR_STATE_DAMAGED (wrong length, checksum), SDAE_ERR_STATE_FOREIGN (another mechanism's
+ * sizes, map, options or build), the stepper untouched on refusal. */
+SDAE_API size_t sdae_mbs_state_size(const sdae_mbs_stepper *s);
+SDAE_API int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len);
+SDAE_API int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len);
+
 /* The constraint forces lambda (n_c) at a state: (G M^-1 G^T) lambda = G M^-1 F + gamma, from
  * G v' + gamma = 0, gamma the derivative of G v + dc/dt along (1, v) with v fixed. */
 SDAE_API int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,

@@ -52,6 +52,23 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
 
 void sdae__newton_forget(sdae_newton *nw) { nw->kept = 0; }
 
+static int small_dense(const sdae_newton *nw);
+static size_t band_cols(const sdae_newton *nw);
+
+/* the factors live in J (small dense) or in LU, with the pivots */
+void sdae__newton_state(sdae_newton *nw, sdae_bytes *b) {
+  size_t n = nw->n;
+  sdae__bytes_flag(b, &nw->kept);
+  sdae__bytes_doubles(b, &nw->kept_coeff, 1);
+  sdae__bytes(b, &nw->kept_age, sizeof nw->kept_age);
+  sdae__bytes(b, &nw->refreshes, sizeof nw->refreshes);
+  if (small_dense(nw))
+    sdae__bytes_doubles(b, nw->J, n * n);
+  else
+    sdae__bytes_doubles(b, nw->LU, n * band_cols(nw));
+  sdae__bytes(b, nw->piv, n * sizeof *nw->piv);
+}
+
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
 

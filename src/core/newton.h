@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "arena.h"
+#include "bytes.h"
 
 typedef struct sdae_newton_system {
   /* R(y) into R (n values): an sdae_status */
@@ -55,5 +56,8 @@ int sdae__newton_solve_kept(sdae_newton *nw, const sdae_newton_system *sys, doub
                             double *y);
 /* the kept matrix is no longer the system's (the owner changed it: a chart switch) */
 void sdae__newton_forget(sdae_newton *nw);
+/* what the next solve depends on (the kept matrix: its factors, coefficient and age), counted,
+ * written or read (core/bytes.h) */
+void sdae__newton_state(sdae_newton *nw, sdae_bytes *b);
 
 #endif /* STABDAE_SRC_CORE_NEWTON_H */

@@ -120,9 +120,7 @@ void sdae_mbs_stepper_free(sdae_mbs_stepper *s) {
 
 /* ---- the step ---- */
 
-/* the statistics, from the parts' counters and the normal form's stepper's: the one place they
- * are put together, after every step and reset */
-static void gather_stats(sdae_mbs_stepper *s) {
+void sdae__mbs_stepper_gather(sdae_mbs_stepper *s) {
   s->stats.step = *sdae_stepper_stats(s->inner);
   s->stats.chart_switches = s->chart.switches;
   s->stats.phi_inv_iters = s->coords.phi_inv_iters;
@@ -217,7 +215,7 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
     forget(s);
     sdae__stepper_newton_forget(s->inner); /* nothing of the failed step's kept */
   }
-  gather_stats(s);
+  sdae__mbs_stepper_gather(s);
   return rc;
 }
 
@@ -259,7 +257,7 @@ void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   s->chart.switches = 0; /* the counters; the chart's measure is the current chart's */
   s->coords.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
-  gather_stats(s);
+  sdae__mbs_stepper_gather(s);
 }
 
 /* ---- quantities at a state (mbs_query.c) ---- */

@@ -214,3 +214,32 @@ void sdae__mbs_chart_restore(sdae_mbs_atlas *ch) {
   ch->switches = ch->saved_switches;
   ch->measure = ch->saved_measure;
 }
+
+void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b) {
+  sdae__bytes_flag(b, &ch->have);
+  sdae__bytes_sizes(b, ch->dep, ch->n_c);
+  sdae__bytes_sizes(b, ch->ind, ch->n_f);
+  sdae__bytes(b, &ch->switches, sizeof ch->switches);
+  sdae__bytes_doubles(b, &ch->measure, 1);
+}
+
+int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in) {
+  sdae_mbs_atlas probe = *ch;
+  sdae_bytes b = {NULL, in, 0};
+  size_t n_q = ch->n_q, n_c = ch->n_c, *seen = ch->saved; /* save and restore's scratch */
+  size_t i = 0, j = n_c;
+  probe.dep = seen;
+  probe.ind = seen + n_c;
+  sdae__mbs_chart_state(&probe, &b);
+  if (!probe.have) return 1;
+  /* dep and ind, each ascending, merged: every coordinate once */
+  for (size_t x = 0; x < n_q; x++) {
+    if (i < n_c && seen[i] == x)
+      i++;
+    else if (j < n_q && seen[j] == x)
+      j++;
+    else
+      return 0;
+  }
+  return 1;
+}

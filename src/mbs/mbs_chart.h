@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "core/arena.h"
+#include "core/bytes.h"
 
 /* the charts of the manifold, an atlas: the current one, the search for the best, its factors */
 typedef struct sdae_mbs_atlas {
@@ -57,6 +58,13 @@ int sdae__mbs_gd_factor(sdae_mbs_atlas *ch, const double *G);
 void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x);
 /* out (n_f) = W^T u for u (n_q) */
 void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out);
+
+/* the chart and its counters (what the next step depends on), counted, written or read
+ * (core/bytes.h); read, the dependent and independent coordinates are not checked here */
+void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b);
+/* the chart the bytes at b hold is a split of the coordinates (or no chart): read into the
+ * atlas' scratch alone, nothing of the chart changed */
+int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in);
 
 /* the chart and its counters before a step; given back after a failed one */
 void sdae__mbs_chart_save(sdae_mbs_atlas *ch);

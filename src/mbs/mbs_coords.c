@@ -411,3 +411,16 @@ int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out) {
   }
   return SDAE_OK;
 }
+
+void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b) {
+  size_t n_q = co->n_q, n_c = co->n_c;
+  sdae__bytes_flag(b, &co->valid);
+  sdae__bytes_doubles(b, &co->key_t, 1);
+  sdae__bytes_doubles(b, co->key, 2 * n_q);
+  sdae__bytes_doubles(b, co->q, n_q);
+  sdae__bytes_doubles(b, co->v, n_q);
+  sdae__bytes_doubles(b, co->G, n_c * n_q);
+  sdae__bytes_doubles(b, co->ct, n_c);
+  sdae__bytes_doubles(b, co->M, n_q * n_q);
+  sdae__bytes(b, &co->phi_inv_iters, sizeof co->phi_inv_iters);
+}

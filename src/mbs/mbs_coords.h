@@ -81,6 +81,9 @@ int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const dou
 int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
 /* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */
 int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out);
+/* the point Phi^-1 left (the last step's end, what the next step's start keeps of it) and the
+ * counter, counted, written or read (core/bytes.h) */
+void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b);
 /* forgets the configuration kept: another start of Phi^-1, another chart */
 void sdae__mbs_coords_forget(sdae_mbs_coords *co);
 

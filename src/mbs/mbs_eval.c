@@ -50,8 +50,7 @@ int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
   return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
 }
 
-int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v,
-                          double *F) {
+int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F) {
   if (!e->sys.input_force) {
     memset(F, 0, e->n_q * sizeof *F);
     return SDAE_OK;

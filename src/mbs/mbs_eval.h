@@ -33,8 +33,7 @@ int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M);
 /* the applied force: F plus the forces from outside the Lagrangian (input_force) */
 int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F);
 /* the forces from outside the Lagrangian alone (zero without input_force) */
-int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v,
-                          double *F);
+int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F);
 int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c);
 int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G);
 int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct);

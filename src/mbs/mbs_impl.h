@@ -31,4 +31,8 @@ struct sdae_mbs_stepper {
   double *xi, *mu;      /* 2 n_c, 2 n_f: the step's state in the chart */
 };
 
+/* the statistics, from the parts' counters and the normal form's stepper's: the one place they
+ * are put together (after every step, a reset and a state set) */
+void sdae__mbs_stepper_gather(sdae_mbs_stepper *s);
+
 #endif /* STABDAE_SRC_MBS_MBS_IMPL_H */

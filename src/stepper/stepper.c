@@ -219,3 +219,14 @@ void sdae__stepper_keep_newton(sdae_stepper *s) {
 void sdae__stepper_newton_forget(sdae_stepper *s) {
   if (sdae__map_uses_newton(s->opt.map)) sdae__newton_forget(&s->newton);
 }
+
+/* field by field: the struct's padding is no part of the state */
+void sdae__stepper_state(sdae_stepper *s, sdae_bytes *b) {
+  sdae_stats *st = &s->stats;
+  sdae__bytes(b, &st->steps, sizeof st->steps);
+  sdae__bytes(b, &st->newton_iters_last, sizeof st->newton_iters_last);
+  sdae__bytes(b, &st->newton_iters_total, sizeof st->newton_iters_total);
+  sdae__bytes_doubles(b, &st->newton_residual_last, 1);
+  sdae__bytes(b, &st->phi_evals, sizeof st->phi_evals);
+  if (sdae__map_uses_newton(s->opt.map)) sdae__newton_state(&s->newton, b);
+}

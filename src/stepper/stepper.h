@@ -5,6 +5,8 @@
 
 #include <stabdae/stabdae.h>
 
+#include "core/bytes.h"
+
 /* SDAE_OK when the model and options make a stepper, the status saying why not otherwise */
 int sdae__stepper_validate(const sdae_model *m, const sdae_options *o);
 /* the stepper's copy of its model */
@@ -22,6 +24,9 @@ void sdae__stepper_keep_newton(sdae_stepper *s);
 /* the Newton matrix kept across steps is no longer the model's (a front-end changed its
  * coordinates: a chart switch; a failed step) */
 void sdae__stepper_newton_forget(sdae_stepper *s);
+/* what the next step depends on besides (xi, mu): the counters and what Newton keeps, counted,
+ * written or read (core/bytes.h) */
+void sdae__stepper_state(sdae_stepper *s, sdae_bytes *b);
 
 /* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
  * step and the last; step and observe receive ctx (integrate.c) */
