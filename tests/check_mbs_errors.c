@@ -36,15 +36,22 @@ static void expect_config(const sdae_mbs *sys, const sdae_options *o, int want) 
 }
 
 /* one step that must fail with `want`, after one good step (so a chart and a count exist):
- * q, v bitwise as they were, the step count still 1, the chart unchanged */
+ * q, v bitwise as they were, the step count still 1, the chart unchanged, and the stepper's
+ * whole state (sdae_mbs_get_state: the chart, the point kept, Newton's matrix, the counters)
+ * the same bytes: a failed step leaves no trace */
 static void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q, double *v,
                               size_t n_q, int want) {
+  static unsigned char before[1 << 14], after[1 << 14];
   double q0[8], v0[8];
-  size_t dep[8] = {0}, dep0[8] = {0};
+  size_t dep[8] = {0}, dep0[8] = {0}, len = sdae_mbs_state_size(s);
   int had_chart = sdae_mbs_chart(s, dep0) == SDAE_OK;
   unsigned long steps = sdae_mbs_stepper_stats(s)->step.steps;
   memcpy(q0, q, n_q * sizeof *q), memcpy(v0, v, n_q * sizeof *v);
+  ck_assert_uint_le(len, sizeof before);
+  ck_assert_int_eq(sdae_mbs_get_state(s, before, len), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_step(s, t, T, q, v), want);
+  ck_assert_int_eq(sdae_mbs_get_state(s, after, len), SDAE_OK);
+  ck_assert_mem_eq(after, before, len);
   ck_assert_mem_eq(q, q0, n_q * sizeof *q);
   ck_assert_mem_eq(v, v0, n_q * sizeof *v);
   ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, steps);
@@ -771,6 +778,51 @@ static void expect_failures(int which, int differences) {
 
 static void expect_callback_failures(int which) { expect_failures(which, 0); }
 
+/* Two steppers take three good steps; then one of them fails its fourth step with callback
+ * `which` failing at its k-th call, for every k a good step reaches and every kind of failure
+ * (a few hundred failed attempts in a row on one stepper); then both take three more steps:
+ * bit for bit alike, the failed attempts leaving nothing (a kept matrix, a factor, the point,
+ * the chart) behind */
+static void expect_no_trace(int which) {
+  faulty f = {{.L = 1.0, .m = 1.0, .ga = 9.81, .d = 0.2}, which, FAIL_RECOVERABLE, 0, 0};
+  sdae_mbs sys = which >= CB_MASS_DOT_V ? faulty_mbs_dot(&f) : faulty_mbs(&f);
+  sdae_options o = options(sdae_map_dgrad);
+  sdae_mbs_stepper *s, *twin;
+  double q[2], v[2], qt[2], vt[2];
+  long calls;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&twin, &sys, &o), SDAE_OK);
+  mech_pendulum_state(&f.p, 0.3, 0.5, q, v);
+  mech_pendulum_state(&f.p, 0.3, 0.5, qt, vt);
+  for (int k = 0; k < 3; k++) {
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * k, 0.01, q, v), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(twin, 0.01 * k, 0.01, qt, vt), SDAE_OK);
+  }
+  f.calls = 0;
+  ck_assert_int_eq(sdae_mbs_step(twin, 0.03, 0.01, qt, vt), SDAE_OK);
+  calls = f.calls;
+  for (int how = 0; how < FAIL_COUNT; how++)
+    for (long k = 1; k <= calls; k++) {
+      f.how = how, f.calls = 0, f.fail_at = k;
+      ck_assert_int_eq(sdae_mbs_step(s, 0.03, 0.01, q, v), want_status[how]);
+    }
+  f.fail_at = 0;
+  ck_assert_int_eq(sdae_mbs_step(s, 0.03, 0.01, q, v), SDAE_OK);
+  for (int k = 4; k < 7; k++) {
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * k, 0.01, q, v), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(twin, 0.01 * k, 0.01, qt, vt), SDAE_OK);
+  }
+  ck_assert_msg(memcmp(q, qt, sizeof q) == 0 && memcmp(v, vt, sizeof v) == 0,
+                "callback %d: %ld failed attempts left a trace", which, FAIL_COUNT * calls);
+  sdae_mbs_stepper_free(s);
+  sdae_mbs_stepper_free(twin);
+}
+
+START_TEST(failed_steps_leave_no_trace) {
+  for (int which = 0; which < CB_COUNT; which++) expect_no_trace(which);
+}
+END_TEST
+
 START_TEST(mass_fails) { expect_callback_failures(CB_MASS); }
 END_TEST
 
@@ -1067,5 +1119,6 @@ int main(void) {
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
   ADD_CASE(s, failed_step_counts_nothing);
+  ADD_CASE(s, failed_steps_leave_no_trace);
   return run_suite(s);
 }

@@ -88,7 +88,9 @@ static size_t band_cols(const sdae_newton *nw) { return sdae__lu_band_cols(nw->b
 
 /* a dense Newton keeps dR/dy in nw->J (and factors it there when small); a banded one builds it
  * directly in GSL's band storage nw->LU */
-static int small_dense(const sdae_newton *nw) { return nw->J && nw->n <= SDAE_SMALL_DENSE; }
+static int small_dense(const sdae_newton *nw) {
+  return nw->band + 1 == nw->n && nw->n <= SDAE_SMALL_DENSE; /* J exists exactly when dense */
+}
 
 static void set_entry(sdae_newton *nw, size_t i, size_t j, double v) {
   if (nw->J)

@@ -32,6 +32,7 @@ static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   sdae__mbs_query_carve(&s->query, s->n_q, s->n_c, a);
   s->xi = sdae__take(a, 2 * s->n_c, 1);
   s->mu = sdae__take(a, 2 * s->n_f, 1);
+  s->rollback = sdae__take_array(a, sdae__mbs_parts_bytes(s), 1, 1);
   s->inner = sdae__take_array(a, inner_bytes, 1, alignof(max_align_t));
 }
 
@@ -188,32 +189,23 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
 }
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
-  sdae_stats inner;
-  unsigned long phi_inv_iters;
   int rc;
   if (!s || !q || !v) return SDAE_ERR_NULL;
   if (!(isfinite(T) && T > 0.0)) return SDAE_ERR_STEP;
   if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK) return rc;
-  inner = *sdae_stepper_stats(s->inner);
-  phi_inv_iters = s->coords.phi_inv_iters;
-  sdae__mbs_chart_save(&s->chart);
+  sdae__mbs_rollback_save(s);
   rc = try_step(s, t, T, q, v, 0);
   if (rc == SDAE_ERR_PHI_INV && s->chart.kept) {
     /* the chart kept by hysteresis folds within the step: once more in the best one, counted
      * as the one step it is (the first try's work is not kept, as a failed step's is not) */
-    s->coords.phi_inv_iters = phi_inv_iters;
-    sdae__stepper_restore_stats(s->inner, &inner);
+    sdae__mbs_rollback(s);
     rc = try_step(s, t, T, q, v, 1);
   }
   if (rc == SDAE_OK) {
     memcpy(q, s->coords.q, s->n_q * sizeof *q);
     memcpy(v, s->coords.v, s->n_q * sizeof *v);
-  } else { /* the chart and every count (the normal form's stepper's too) as before */
-    sdae__mbs_chart_restore(&s->chart);
-    s->coords.phi_inv_iters = phi_inv_iters;
-    sdae__stepper_restore_stats(s->inner, &inner);
-    forget(s);
-    sdae__stepper_newton_forget(s->inner); /* nothing of the failed step's kept */
+  } else {
+    sdae__mbs_rollback(s);
   }
   sdae__mbs_stepper_gather(s);
   return rc;
@@ -258,6 +250,22 @@ void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   s->coords.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
   sdae__mbs_stepper_gather(s);
+}
+
+/* ---- the state as bytes (mbs_state.c) ---- */
+
+size_t sdae_mbs_state_size(const sdae_mbs_stepper *s) { return s ? sdae__mbs_state_size(s) : 0; }
+
+int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len) {
+  if (!s || !buf) return SDAE_ERR_NULL;
+  return sdae__mbs_state_get(s, buf, len);
+}
+
+int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len) {
+  int rc;
+  if (!s || !buf) return SDAE_ERR_NULL;
+  if ((rc = sdae__mbs_state_set(s, buf, len)) == SDAE_OK) sdae__mbs_stepper_gather(s);
+  return rc;
 }
 
 /* ---- quantities at a state (mbs_query.c) ---- */

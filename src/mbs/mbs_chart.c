@@ -48,7 +48,7 @@ void sdae__mbs_chart_carve(sdae_mbs_atlas *ch, sdae_arena *a) {
   ch->W = sdae__take(a, n_q, n_f);
   ch->col = sdae__take(a, n_c, 1);
   ch->sol = sdae__take(a, n_c, 1);
-  ch->saved = sdae__take_indices(a, n_q);
+  ch->check = sdae__take_indices(a, n_q);
 }
 
 /* G_D's LU from the chart dep's columns of G: the small dense one for up to SDAE_SMALL_DENSE
@@ -199,22 +199,6 @@ int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best) 
   return rc;
 }
 
-void sdae__mbs_chart_save(sdae_mbs_atlas *ch) {
-  memcpy(ch->saved, ch->dep, ch->n_c * sizeof *ch->dep);
-  memcpy(ch->saved + ch->n_c, ch->ind, ch->n_f * sizeof *ch->ind);
-  ch->saved_have = ch->have;
-  ch->saved_switches = ch->switches;
-  ch->saved_measure = ch->measure;
-}
-
-void sdae__mbs_chart_restore(sdae_mbs_atlas *ch) {
-  memcpy(ch->dep, ch->saved, ch->n_c * sizeof *ch->dep);
-  memcpy(ch->ind, ch->saved + ch->n_c, ch->n_f * sizeof *ch->ind);
-  ch->have = ch->saved_have;
-  ch->switches = ch->saved_switches;
-  ch->measure = ch->saved_measure;
-}
-
 void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b) {
   sdae__bytes_flag(b, &ch->have);
   sdae__bytes_sizes(b, ch->dep, ch->n_c);
@@ -226,7 +210,7 @@ void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b) {
 int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in) {
   sdae_mbs_atlas probe = *ch;
   sdae_bytes b = {NULL, in, 0};
-  size_t n_q = ch->n_q, n_c = ch->n_c, *seen = ch->saved; /* save and restore's scratch */
+  size_t n_q = ch->n_q, n_c = ch->n_c, *seen = ch->check;
   size_t i = 0, j = n_c;
   probe.dep = seen;
   probe.ind = seen + n_c;

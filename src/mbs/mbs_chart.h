@@ -28,11 +28,7 @@ typedef struct sdae_mbs_atlas {
   double *A;         /* n_c x n_f: G_D^-1 G_I */
   double *W;         /* n_q x n_f: dq/dq_I, spans ker G */
   double *col, *sol; /* n_c each: a column of G_I and G_D^-1 of it */
-  /* the chart before a step, given back when the step fails */
-  size_t *saved; /* n_q: dep, then ind */
-  int saved_have;
-  unsigned long saved_switches;
-  double saved_measure;
+  size_t *check;     /* n_q: a chart read from bytes (dep, then ind), checked before it is taken */
   /* counters */
   unsigned long switches; /* charts replaced (the first one is not) */
   double measure;         /* max |A| of the current chart where it was chosen */
@@ -65,9 +61,5 @@ void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b);
 /* the chart the bytes at b hold is a split of the coordinates (or no chart): read into the
  * atlas' scratch alone, nothing of the chart changed */
 int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in);
-
-/* the chart and its counters before a step; given back after a failed one */
-void sdae__mbs_chart_save(sdae_mbs_atlas *ch);
-void sdae__mbs_chart_restore(sdae_mbs_atlas *ch);
 
 #endif /* STABDAE_SRC_MBS_MBS_CHART_H */

@@ -24,12 +24,26 @@ struct sdae_mbs_stepper {
   sdae_mbs_coords coords;
   sdae_mbs_model nf; /* the normal form in the current chart */
   sdae_mbs_query query;
-  sdae_stepper *inner;  /* the normal form's stepper, in this block */
-  sdae_block block;     /* what sdae_mbs_stepper_alloc_with allocated */
-  sdae_mbs_stats stats; /* the parts' counters, gathered after every step */
-  int energy_map;       /* the map conserves H: the constraints must not depend on t */
-  double *xi, *mu;      /* 2 n_c, 2 n_f: the step's state in the chart */
+  sdae_stepper *inner;     /* the normal form's stepper, in this block */
+  sdae_block block;        /* what sdae_mbs_stepper_alloc_with allocated */
+  sdae_mbs_stats stats;    /* the parts' counters, gathered after every step */
+  int energy_map;          /* the map conserves H: the constraints must not depend on t */
+  double *xi, *mu;         /* 2 n_c, 2 n_f: the step's state in the chart */
+  unsigned char *rollback; /* the parts' state before the step (mbs_state.c), for a failure */
 };
+
+/* the bytes of the parts' state (mbs_state.c), known once the parts are wired */
+size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s);
+/* the parts' state kept before a step, and put back after a failed one: a failed step leaves
+ * the stepper as it was, bit for bit (the one place a step is rolled back) */
+void sdae__mbs_rollback_save(sdae_mbs_stepper *s);
+void sdae__mbs_rollback(sdae_mbs_stepper *s);
+
+/* the state as bytes behind sdae_mbs_state_size, _get_state and _set_state (mbs_state.c), for
+ * a stepper and a buffer that are there */
+size_t sdae__mbs_state_size(const sdae_mbs_stepper *s);
+int sdae__mbs_state_get(const sdae_mbs_stepper *s, void *buf, size_t len);
+int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len);
 
 /* the statistics, from the parts' counters and the normal form's stepper's: the one place they
  * are put together (after every step, a reset and a state set) */

@@ -80,22 +80,33 @@ static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
   sdae__stepper_state(s->inner, b);
 }
 
-static size_t payload_size(const sdae_mbs_stepper *s) {
+size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {
+  sdae_mbs_stepper probe = *s; /* counted: the sizes read, nothing else */
   sdae_bytes b = {NULL, NULL, 0};
-  parts((sdae_mbs_stepper *)s, &b); /* counted: nothing is read or written */
-  return b.at;
+  sdae__mbs_chart_state(&probe.chart, &b);
+  sdae__mbs_coords_state(&probe.coords, &b);
+  return b.at + sdae__stepper_state_bytes(&s->nf.model, &s->opt);
 }
 
-size_t sdae_mbs_state_size(const sdae_mbs_stepper *s) {
-  return s ? header_size() + payload_size(s) + sizeof(uint64_t) : 0;
+void sdae__mbs_rollback_save(sdae_mbs_stepper *s) {
+  sdae_bytes b = {s->rollback, NULL, 0};
+  parts(s, &b);
 }
 
-int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len) {
-  size_t size = sdae_mbs_state_size(s);
+void sdae__mbs_rollback(sdae_mbs_stepper *s) {
+  sdae_bytes b = {NULL, s->rollback, 0};
+  parts(s, &b);
+}
+
+size_t sdae__mbs_state_size(const sdae_mbs_stepper *s) {
+  return header_size() + sdae__mbs_parts_bytes(s) + sizeof(uint64_t);
+}
+
+int sdae__mbs_state_get(const sdae_mbs_stepper *s, void *buf, size_t len) {
+  size_t size = sdae__mbs_state_size(s);
   header h;
   sdae_bytes b = {buf, NULL, 0};
   uint64_t sum;
-  if (!s || !buf) return SDAE_ERR_NULL;
   if (len < size) return SDAE_ERR_BUFFER;
   memcpy(h.magic, magic, sizeof magic);
   h.format = STATE_FORMAT;
@@ -121,20 +132,18 @@ static int verify(const sdae_mbs_stepper *s, const unsigned char *in, size_t len
   if (sdae__fnv(SDAE_FNV_START, in, len - sizeof sum) != sum) return SDAE_ERR_STATE_DAMAGED;
   if (memcmp(h.magic, magic, sizeof magic) != 0 || h.format != STATE_FORMAT ||
       h.build != build_identity() || h.identity != stepper_identity(s) ||
-      len != sdae_mbs_state_size(s))
+      len != sdae__mbs_state_size(s))
     return SDAE_ERR_STATE_FOREIGN;
   return SDAE_OK;
 }
 
-int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len) {
+int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
   const unsigned char *in = buf;
   sdae_bytes b = {NULL, in, header_size()};
   int rc;
-  if (!s || !buf) return SDAE_ERR_NULL;
   if ((rc = verify(s, in, len)) != SDAE_OK) return rc;
   /* whole and ours, yet a chart that is no split of q could only have been made by hand */
   if (!sdae__mbs_chart_state_ok(&s->chart, in + b.at)) return SDAE_ERR_STATE_DAMAGED;
   parts(s, &b);
-  sdae__mbs_stepper_gather(s);
   return SDAE_OK;
 }

@@ -210,8 +210,6 @@ const sdae_model *sdae__stepper_model(const sdae_stepper *s) { return &s->model;
 
 const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s) { return &s->block.allocator; }
 
-void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats) { s->stats = *stats; }
-
 void sdae__stepper_keep_newton(sdae_stepper *s) {
   if (sdae__map_uses_newton(s->opt.map)) s->newton.keep = 1;
 }
@@ -229,4 +227,14 @@ void sdae__stepper_state(sdae_stepper *s, sdae_bytes *b) {
   sdae__bytes_doubles(b, &st->newton_residual_last, 1);
   sdae__bytes(b, &st->phi_evals, sizeof st->phi_evals);
   if (sdae__map_uses_newton(s->opt.map)) sdae__newton_state(&s->newton, b);
+}
+
+size_t sdae__stepper_state_bytes(const sdae_model *m, const sdae_options *o) {
+  sdae_stepper probe;
+  sdae_arena a = {0};
+  sdae_bytes b = {NULL, NULL, 0};
+  wire(&probe, m, o);
+  carve(&probe, &a); /* counted: the sizes set, no array handed out */
+  sdae__stepper_state(&probe, &b);
+  return b.at;
 }

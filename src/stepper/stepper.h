@@ -14,9 +14,6 @@ const sdae_model *sdae__stepper_model(const sdae_stepper *s);
 /* the allocator the stepper was allocated with (zero for the caller's memory: malloc) */
 const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s);
 
-/* puts back statistics read earlier with sdae_stepper_stats: a front-end's failed step leaves
- * its inner stepper's counters as they were */
-void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats);
 /* Newton's matrix by differences kept across steps and stages (sdae__newton_solve_kept): for
  * a front-end whose every residual is costly (the mechanical one's: a Phi^-1 each); the
  * stepper alone rebuilds it at every solve */
@@ -27,6 +24,9 @@ void sdae__stepper_newton_forget(sdae_stepper *s);
 /* what the next step depends on besides (xi, mu): the counters and what Newton keeps, counted,
  * written or read (core/bytes.h) */
 void sdae__stepper_state(sdae_stepper *s, sdae_bytes *b);
+/* the bytes sdae__stepper_state counts for a stepper of this model and options, before one is
+ * built (a front-end's block holds a copy) */
+size_t sdae__stepper_state_bytes(const sdae_model *m, const sdae_options *o);
 
 /* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
  * step and the last; step and observe receive ctx (integrate.c) */
