@@ -418,6 +418,10 @@ START_TEST(mass_not_symmetric) {
 }
 END_TEST
 
+/* What a step and the multipliers need of M (docs/front-ends.md): M symmetric, and the reduced
+ * mass W^T M W positive definite. On the unit circle W is the tangent (cos theta, sin theta)
+ * (up to scale): for the negative mass t^T M t = -1, for [[1, 2], [2, 1]] 1 + 2 sin 2 theta,
+ * negative at theta = -0.5. Both refused by the step and by lambda. */
 START_TEST(mass_not_spd) {
   mech_pendulum p = PENDULUM;
   sdae_mbs sys;
@@ -428,7 +432,7 @@ START_TEST(mass_not_spd) {
     sdae_mbs_stepper *s;
     double q[2], v[2], lambda = 7.0;
     sys.mass = masses[i];
-    mech_pendulum_state(&p, 0.3, 0.5, q, v);
+    mech_pendulum_state(&p, -0.5, 0.5, q, v);
     ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
     expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
     ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
@@ -436,6 +440,90 @@ START_TEST(mass_not_spd) {
     sdae_mbs_stepper_free(s);
   }
   ck_assert_str_ne(sdae_strerror(SDAE_ERR_MASS), "");
+}
+END_TEST
+
+/* M(q) = [[1, 0], [x, 1]]: symmetric at x = 0 alone. From theta = 0 moving, the step's end has
+ * x != 0, where Phi^-1 evaluates M: refused there (every evaluation of M is checked), the
+ * state kept; lambda refuses it at any x != 0. */
+static int skewing_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)params;
+  M[0] = 1.0, M[1] = 0.0, M[2] = q[0], M[3] = 1.0;
+  return 0;
+}
+
+START_TEST(mass_not_symmetric_away_from_the_start) {
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
+  sdae_options o = options(sdae_map_euler);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], lambda = 7.0;
+  sys.mass = skewing_mass;
+  mech_pendulum_state(&p, 0.0, 2.0, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_MASS);
+  mech_pendulum_state(&p, 0.2, 2.0, q, v);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
+  ck_assert_double_eq(lambda, 7.0);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* ---- a singular mass whose reduced mass is positive definite ---- */
+
+/* a bead of mass m free in x, massless in y (M = diag(m, 0)), on the unit circle c = (|q|^2 -
+ * 1)/2, a constant load w pulling y down: T = m x'^2 / 2 = m cos^2 theta theta'^2 / 2 > 0 for
+ * |theta| < pi/2, V = w y. The y row of M a = F - G^T lambda, 0 = -w - y lambda, gives the
+ * multiplier exactly: lambda = -w / y. */
+typedef struct bead {
+  mech_pendulum p; /* first: the pendulum's constraint and jacobian read its L */
+  double w;
+} bead;
+
+static int bead_mass(double t, const double *q, double *M, void *params) {
+  const bead *b = params;
+  (void)t, (void)q;
+  M[0] = b->p.m, M[1] = 0.0, M[2] = 0.0, M[3] = 0.0;
+  return 0;
+}
+
+static int bead_force(double t, const double *q, const double *v, double *F, void *params) {
+  const bead *b = params;
+  (void)t, (void)q, (void)v;
+  F[0] = 0.0, F[1] = -b->w;
+  return 0;
+}
+
+static int bead_potential(double t, const double *q, double *V, void *params) {
+  const bead *b = params;
+  (void)t;
+  *V = b->w * q[1];
+  return 0;
+}
+
+/* the discrete gradient keeps T + V to Newton's tolerance, c at rounding, lambda = -w / y */
+START_TEST(singular_mass_with_positive_reduced_mass_runs) {
+  bead b = {.p = {.L = 1.0, .m = 2.0}, .w = 3.0};
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_dgrad);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], E0, E, lambda;
+  mech_pendulum_system(&sys, &b.p);
+  sys.mass = bead_mass, sys.force = bead_force, sys.potential = bead_potential;
+  sys.damping = NULL, sys.params = &b;
+  mech_pendulum_state(&b.p, 0.6, 0.0, q, v);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E0), SDAE_OK);
+  for (int k = 0; k < 300; k++) {
+    ck_assert_int_eq(sdae_mbs_step(s, 0.01 * k, 0.01, q, v), SDAE_OK);
+    ck_assert_double_le(fabs(0.5 * (q[0] * q[0] + q[1] * q[1] - 1.0)), 4.0 * DBL_EPSILON);
+    ck_assert_int_eq(sdae_mbs_energy(s, 0.01 * (k + 1), q, v, &E), SDAE_OK);
+    ck_assert_double_le(fabs(E - E0), 1e-11 * b.w);
+    ck_assert_int_eq(sdae_mbs_lambda(s, 0.01 * (k + 1), q, v, &lambda), SDAE_OK);
+    ck_assert_double_le(fabs(lambda + b.w / q[1]), 1e-12 * fabs(b.w / q[1]));
+  }
+  sdae_mbs_stepper_free(s);
 }
 END_TEST
 
@@ -1119,6 +1207,8 @@ int main(void) {
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
   ADD_CASE(s, failed_step_counts_nothing);
+  ADD_CASE(s, mass_not_symmetric_away_from_the_start);
+  ADD_CASE(s, singular_mass_with_positive_reduced_mass_runs);
   ADD_CASE(s, failed_steps_leave_no_trace);
   return run_suite(s);
 }

@@ -23,7 +23,10 @@ extern "C" {
  * and receives params. Matrices are row-major. */
 typedef struct sdae_mbs {
   size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
-  int (*mass)(double t, const double *q, double *M, void *params); /* n_q x n_q, SPD */
+  /* n_q x n_q, symmetric; the reduced mass W^T M W (M on the constraints' tangent space, W
+   * spanning ker G) positive definite: M itself may be singular (massless points). Checked
+   * wherever M is evaluated (SDAE_ERR_MASS), the same in a step and in sdae_mbs_lambda. */
+  int (*mass)(double t, const double *q, double *M, void *params);
   int (*force)(double t, const double *q, const double *v, double *F, void *params); /* n_q */
   int (*constraint)(double t, const double *q, double *c, void *params);             /* n_c */
   /* optional: dc/dq, n_c x n_q; NULL: fourth-order central differences of c. Without it the
@@ -121,8 +124,10 @@ SDAE_API size_t sdae_mbs_state_size(const sdae_mbs_stepper *s);
 SDAE_API int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len);
 SDAE_API int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len);
 
-/* The constraint forces lambda (n_c) at a state: (G M^-1 G^T) lambda = G M^-1 F + gamma, from
- * G v' + gamma = 0, gamma the derivative of G v + dc/dt along (1, v) with v fixed. */
+/* The constraint forces lambda (n_c) at a state, from M v' = F - G^T lambda and G v' + gamma = 0,
+ * gamma the derivative of G v + dc/dt along (1, v) with v fixed: solved on the null space of G
+ * (G^T = Q R), so it needs of M what a step needs (a singular M with a positive definite
+ * reduced mass too). F includes input_force. */
 SDAE_API int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                              double *lambda);
 /* The constraint coordinates xi (2 n_c: c_j and G_j v + dc_j/dt, constraint by constraint), the

@@ -166,14 +166,23 @@ void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const
  * 3.6e-15 n of max|A|: an asymmetry of 1e-8 of it, a model's error and not rounding, is still
  * refused up to n = 2.8e6. */
 #define SYM_TERMS 8.0
-int sdae__cholesky_factor(double *A, size_t n) {
-  double scale = 0.0, tol, sym_tol;
+static double max_entry(const double *A, size_t n) {
+  double scale = 0.0;
   for (size_t i = 0; i < n * n; i++) scale = fabs(A[i]) > scale ? fabs(A[i]) : scale;
-  tol = (double)n * DBL_EPSILON * scale;
-  sym_tol = 2.0 * SYM_TERMS * tol;
+  return scale;
+}
+
+int sdae__symmetric(const double *A, size_t n) {
+  double sym_tol = 2.0 * SYM_TERMS * (double)n * DBL_EPSILON * max_entry(A, n);
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < i; j++)
-      if (!(fabs(A[i * n + j] - A[j * n + i]) <= sym_tol)) return SDAE_ERR_MASS;
+      if (!(fabs(A[i * n + j] - A[j * n + i]) <= sym_tol)) return 0;
+  return 1;
+}
+
+int sdae__cholesky_factor(double *A, size_t n) {
+  double tol = (double)n * DBL_EPSILON * max_entry(A, n);
+  if (!sdae__symmetric(A, n)) return SDAE_ERR_MASS;
   for (size_t j = 0; j < n; j++) {
     double d = A[j * n + j];
     for (size_t k = 0; k < j; k++) d -= A[j * n + k] * A[j * n + k];

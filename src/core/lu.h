@@ -24,6 +24,9 @@ int sdae__lu_small_factor(double *A, unsigned *piv, size_t n);
 void sdae__lu_small_solve(const double *LU, const unsigned *piv, size_t n, const double *b,
                           double *x);
 
+/* A (n x n) is symmetric to rounding: its triangles differ by at most 16 n eps max|A| (a
+ * symmetric product formed entry by entry, lu.c) */
+int sdae__symmetric(const double *A, size_t n);
 /* Symmetric positive definite A (n x n) in place: Cholesky's factor, SDAE_ERR_MASS when A is not
  * symmetric positive definite to working precision; then x = A^-1 x with the factor. */
 int sdae__cholesky_factor(double *A, size_t n);

@@ -59,7 +59,6 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->base_c = sdae__take(a, n_c, 1);
   co->base_ct = sdae__take(a, n_c, 1);
   co->dq_I = sdae__take(a, n_f, 1);
-  co->M_spd = sdae__take(a, n_q, n_q);
   co->Mv = sdae__take(a, n_q, 1);
   co->res = sdae__take(a, n_c, 1);
   co->dq_D = sdae__take(a, n_c, 1);
@@ -141,8 +140,6 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
   int rc;
   co->valid = 0; /* the point's M is about to be the start's */
   if (!co->at_start && (rc = sdae__mbs_mass(co->eval, t, q, co->M)) != SDAE_OK) return rc;
-  memcpy(co->M_spd, co->M, co->n_q * co->n_q * sizeof *co->M);
-  if ((rc = sdae__cholesky_factor(co->M_spd, co->n_q)) != SDAE_OK) return rc;
   mat_vec(co->M, co->n_q, v, co->Mv);
   for (size_t k = 0; k < co->n_f; k++) mu[k] = q[ch->ind[k]];
   sdae__mbs_Wt(ch, co->Mv, mu + co->n_f);

@@ -33,7 +33,6 @@ typedef struct sdae_mbs_coords {
   double base_t;
   int base_here; /* the point's q, G, dc/dt, M and reduced mass are the base's */
   /* scratch, one array a role */
-  double *M_spd;          /* n_q x n_q: M at the step's start, factored to test it is SPD */
   double *Mv;             /* n_q: M v at the point */
   double *res, *dq_D;     /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
   double *dq_I;           /* n_f: q_I's move from the base */
@@ -60,7 +59,7 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a);
 int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const double *v,
                         double *xi);
 /* a step's start at (t, q, v), the chart factored at q: M at q into the point (SDAE_ERR_MASS
- * unless SPD), mu (2 n_f) in the chart, and q as Phi^-1's start */
+ * unless symmetric), mu (2 n_f) in the chart, and q as Phi^-1's start */
 int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const double *v,
                            double *mu);
 /* the floors of xi (2 n_c) at the step's start (t, q, v), after sdae__mbs_coords_xi: per

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/callback.h"
+#include "core/lu.h"
 #include "mbs_eval.h"
 
 static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
@@ -46,8 +47,13 @@ int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const 
   return sdae__all_finite(q, e->n_q) && sdae__all_finite(v, e->n_q) ? SDAE_OK : SDAE_ERR_STATE;
 }
 
+/* M symmetric wherever it is evaluated: what the front-end needs of M itself (the reduced mass
+ * W^T M W positive definite is checked where it is factored: a singular M, massless points, may
+ * still give one) */
 int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
-  return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
+  int rc = sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
+  if (rc == SDAE_OK && !sdae__symmetric(M, e->n_q)) return SDAE_ERR_MASS;
+  return rc;
 }
 
 int sdae__mbs_input_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F) {

@@ -16,11 +16,13 @@ typedef struct sdae_mbs_query {
   double *c, *G, *ct, *xi; /* n_c, n_c x n_q, n_c, 2 n_c */
   /* sdae_mbs_energy: M at q */
   double *M; /* n_q x n_q */
-  /* sdae_mbs_lambda: G, gamma and F at the state, M's Cholesky factor, Y = G M^-1, G Y^T
-   * factored, the right side G M^-1 F + gamma solved in place */
-  double *lam_G, *gamma, *F; /* n_c x n_q, n_c, n_q */
-  double *M_chol, *Y, *GY;   /* n_q x n_q, n_c x n_q, n_c x n_c */
-  double *lambda;            /* n_c */
+  /* sdae_mbs_lambda: G, gamma, F and M at the state; G^T = Q R (Householder QR: Q = [Y Z], Z
+   * spanning ker G), the reduced mass Z^T M Z factored, the acceleration and the residual force */
+  double *lam_G, *gamma, *F, *lam_M; /* n_c x n_q, n_c, n_q, n_q x n_q */
+  double *GT, *tau, *Q, *R;          /* n_q x n_c, n_c, n_q x n_q, n_q x n_c */
+  double *MZ, *Mr;                   /* n_q x n_f, n_f x n_f */
+  double *acc, *res, *w;             /* n_q, n_q, n_q */
+  double *lambda;                    /* n_c */
 } sdae_mbs_query;
 
 void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a);
