@@ -7,10 +7,19 @@ static int mass(double t, const double *q, double *M, void *params) {
   return USER(params)->mass(t, q, M, USER(params)->params);
 }
 
-/* F + u: the inputs enter as generalized forces */
 static int force(double t, const double *q, const double *v, double *F, void *params) {
+  return USER(params)->force(t, q, v, F, USER(params)->params);
+}
+
+/* the user's forces from outside the Lagrangian (if any) + u: the inputs enter as generalized
+ * forces from outside, a port of the energy for the discrete gradients */
+static int input_force(double t, const double *q, const double *v, double *F, void *params) {
   const fmu_forces *w = params;
-  int rc = w->user.force(t, q, v, F, w->user.params);
+  int rc = 0;
+  if (w->user.input_force)
+    rc = w->user.input_force(t, q, v, F, w->user.params);
+  else
+    for (size_t i = 0; i < w->user.n_q; i++) F[i] = 0.0;
   if (rc != 0) return rc;
   for (size_t i = 0; i < w->user.n_q; i++) F[i] += w->u[i];
   return 0;
@@ -64,5 +73,6 @@ void fmu_forces_wrap(sdae_mbs *sys, fmu_forces *w) {
       .mass_dot_v = u->mass_dot_v ? mass_dot_v : NULL,
       .jacobian_dot = u->jacobian_dot ? jacobian_dot : NULL,
       .constraint_t_dot = u->constraint_t_dot ? constraint_t_dot : NULL,
+      .input_force = input_force,
   };
 }

@@ -1,12 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The FMU state (canGetAndSetFMUState, canSerializeFMUState): one block holding the clock, every
- * variable and the bytes of the stepper's block. The stepper's block is self-contained (its
- * pointers point into itself or to the instance's mechanism), so its bytes put back at the same
- * address in the same instance of the same binary are the stepper exactly as it was: its chart
- * and the Newton matrix it keeps, so that a step after a roll-back is bit for bit the step taken
- * before. A state set into another instance (or deserialized in another process) puts back the
- * time and every variable, and builds a new stepper at that state: the motion continues from the
- * same point, the chart and Newton's matrix chosen anew (equal to Newton's tolerance). */
+ * variable and the stepper's state as the library writes it (sdae_mbs_get_state: its chart, the
+ * point it keeps, Newton's matrix, its counters; no pointer). Set into any instance of this
+ * model (this one after a roll-back, a fresh one, one in another process), it puts back the
+ * time and every variable, builds the stepper at those parameters and sets the stepper's state
+ * into it: the motion continues bit for bit. */
 #ifndef STABDAE_FMI_FMU_STATE_H
 #define STABDAE_FMI_FMU_STATE_H
 

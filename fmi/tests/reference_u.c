@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The reference for the FMUs' inputs: the example programs' four-bar or slider crank with a
- * constant generalized force u added to F, integrated by sdae_mbs_integrate from the programs'
+ * constant generalized force u as its forces from outside the Lagrangian (input_force),
+ * integrated by sdae_mbs_integrate from the programs'
  * start with their settings (scheme 15, delta 2, epsilon 1, map dgrad), written as CSV
  * t,q1..qn,v1..vn every `every` steps (and the last). Its own force wrapper, not the FMU's.
  *   fmi_reference_u fourbar|slider_crank T nsteps every u1 ... un */
@@ -15,15 +16,14 @@
 
 #define NMAX 8
 
-/* the program's one mechanism: its force and the constant u (a test program may keep these) */
-static int (*base_force)(double, const double *, const double *, double *, void *);
+/* the program's one mechanism's constant u (a test program may keep these) */
 static double u[NMAX];
 static size_t n_q;
 
-static int pushed_force(double t, const double *q, const double *v, double *F, void *params) {
-  int rc = base_force(t, q, v, F, params);
-  for (size_t i = 0; rc == 0 && i < n_q; i++) F[i] += u[i];
-  return rc;
+static int push(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  memcpy(F, u, n_q * sizeof *F);
+  return 0;
 }
 
 static int observe(size_t step, double t, const double *q, const double *v, void *data) {
@@ -59,8 +59,7 @@ int main(int argc, char **argv) {
     return 2;
   }
   for (size_t i = 0; i < n_q; i++) u[i] = strtod(argv[5 + i], NULL);
-  base_force = sys.force;
-  sys.force = pushed_force;
+  sys.input_force = push;
   T = strtod(argv[2], NULL);
   sdae_options_default(&o);
   o.scheme = SDAE_SCHEME_SEMI_IMPLICIT;
