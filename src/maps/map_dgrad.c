@@ -127,11 +127,13 @@ static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu, cons
     P.v[i] = mu_next[i] - mu[i];
   }
   rc = sdae__call_checked(m->grad_H, m, tm, P.mid, P.grad, n);
+  /* the input right after grad H at the same point (a front-end evaluates both where it
+   * evaluated q0 there), then the correction's H elsewhere */
+  if (rc == SDAE_OK && m->input) rc = sdae__call_checked(m->input, m, tm, P.mid, P.Bu, n);
   if (rc == SDAE_OK) rc = correction(m, tm, mu, mu_next, &P);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) P.grad[i] += P.inc[0] * P.v[i]; /* gradbar H */
   if ((rc = apply_S(m, tm, &P, 1, P.grad, out)) != SDAE_OK || !m->input) return rc;
-  if ((rc = sdae__call_checked(m->input, m, tm, P.mid, P.Bu, n)) != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) out[i] += P.Bu[i];
   return SDAE_OK;
 }
