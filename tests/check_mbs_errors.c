@@ -267,6 +267,29 @@ END_TEST
  * with 1e-6). At q = (0.6, -0.8, 0): the minors are m_xy = 0, m_xz = 0.6e-6,
  * m_yz = -0.8e-6, so the best chart is q_D = (y, z) with measure |m_xz / m_yz| = 0.75. The
  * angle between the two gradients, about 1e-6, is above SDAE_MBS_CHART_MIN. */
+/* the pendulum at q = 0, where G = q^T = 0 (the jacobian given, or by differences of c =
+ * (|q|^2 - L^2)/2, which are exact for it): no constraint gradient, SDAE_ERR_RANK for every map,
+ * in the step and in lambda, not a failure of Phi^-1 */
+START_TEST(zero_jacobian_at_the_start_is_rank) {
+  const char *const maps[] = {"euler", "midpoint", "dgrad", "dg4", "rk4", "rk8"};
+  for (int differences = 0; differences < 2; differences++)
+    for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
+      mech_pendulum p = PENDULUM;
+      sdae_mbs sys;
+      sdae_options o = options(sdae_map_by_name(maps[m]));
+      sdae_mbs_stepper *s;
+      double q[2] = {0.0, 0.0}, v[2] = {0.0, 0.0}, lambda = 7.0;
+      mech_pendulum_system(&sys, &p);
+      if (differences) sys.jacobian = NULL, sys.jacobian_dot = NULL;
+      ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+      expect_step_fails(s, 0.0, 0.01, q, v, 2, SDAE_ERR_RANK);
+      ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, &lambda), SDAE_ERR_RANK);
+      ck_assert_double_eq(lambda, 7.0);
+      sdae_mbs_stepper_free(s);
+    }
+}
+END_TEST
+
 START_TEST(nearly_parallel_constraints_have_a_chart) {
   sphere p = {1e-6};
   sdae_mbs sys = sphere_mbs(&p);
@@ -1207,6 +1230,7 @@ int main(void) {
   ADD_CASE(s, bad_step_size);
   ADD_CASE(s, integrate_failure_keeps_last_good_state);
   ADD_CASE(s, failed_step_counts_nothing);
+  ADD_CASE(s, zero_jacobian_at_the_start_is_rank);
   ADD_CASE(s, mass_not_symmetric_away_from_the_start);
   ADD_CASE(s, singular_mass_with_positive_reduced_mass_runs);
   ADD_CASE(s, failed_steps_leave_no_trace);
