@@ -184,13 +184,13 @@ def set_real(fmu, version, refs, values):
     (fmu.setFloat64 if version == "fmi3" else fmu.setReal)(refs, values)
 
 
-def start(fmu, version, logger=None):
+def start(fmu, version, logger=None, t0=0.0):
     if version == "fmi3":
         fmu.instantiate(logMessage=logger)
-        fmu.enterInitializationMode()
+        fmu.enterInitializationMode(startTime=t0)
     else:
         fmu.instantiate(callbacks=logger)
-        fmu.setupExperiment(startTime=0.0)
+        fmu.setupExperiment(startTime=t0)
         fmu.enterInitializationMode()
 
 
@@ -257,6 +257,37 @@ def test_constant_input(version, name):
     free_run = simulate_fmu(fmu_path(version, name), stop_time=1.0, output_interval=10 * T,
                             output=["q[1]"])
     assert np.max(np.abs(free_run["q[1]"] - res["q[1]"])) > 1e-6
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("t0", [1e9, 1e6])
+def test_communication_point_in_steps(version, t0):
+    """the communication point must be the FMU's time to a small fraction of T at any start
+    time: 0.5 s, 0.9 T and 0.01 T off are refused and change nothing; the points t0 + n T are
+    accepted (also one ulp off: rounding), the FMU's time is then t0 + n T (a count of steps,
+    no drift, whatever the points passed) and the state is the
+    one of a run from 0, bit for bit (the four-bar does not depend on t: the same steps)"""
+    name, n = "fourbar", 50
+    refs = outputs(name)
+    runs = []
+    for start_time in (0.0, t0):
+        fmu, vr, _ = slave(version, fmu_path(version, name))
+        start(fmu, version, t0=start_time)
+        fmu.exitInitializationMode()
+        for i in range(n):
+            t = start_time + i * T
+            if start_time:
+                before = bits(get(fmu, version, [vr["time"]] + [vr[o] for o in refs]))
+                for off in (0.5, 0.9 * T, -0.9 * T, 0.01 * T):
+                    with pytest.raises(FMICallException):
+                        do_step(fmu, t + off, T)
+                assert bits(get(fmu, version, [vr["time"]] + [vr[o] for o in refs])) == before
+            do_step(fmu, np.nextafter(t, np.inf) if i % 2 else t, T)  # a point rounded apart
+            assert get(fmu, version, [vr["time"]]) == [start_time + (i + 1) * T]
+        runs.append(bits(get(fmu, version, [vr[o] for o in refs])))
+        fmu.terminate()
+        fmu.freeInstance()
+    assert runs[0] == runs[1]
 
 
 class Log:
