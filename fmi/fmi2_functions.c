@@ -156,8 +156,12 @@ fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
 }
 
 fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
+  fmu_status rc;
   if (!c) return fmi2Error;
-  return (fmi2Status)fmu_state_set(FI(c), FMUstate);
+  rc = fmu_state_set(FI(c), FMUstate);
+  /* a state got after a set of u holds outputs of the u before: computed on the next get */
+  if (rc == FMU_OK) FI(c)->outputs_stale = 1;
+  return (fmi2Status)rc;
 }
 
 fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {

@@ -160,8 +160,12 @@ fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {
 }
 
 fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState) {
+  fmu_status rc;
   if (!instance) return fmi3Error;
-  return (fmi3Status)fmu_state_set(FI(instance), FMUState);
+  rc = fmu_state_set(FI(instance), FMUState);
+  /* a state got after a set of u holds outputs of the u before: computed on the next get */
+  if (rc == FMU_OK) FI(instance)->outputs_stale = 1;
+  return (fmi3Status)rc;
 }
 
 fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *FMUState) {

@@ -112,20 +112,36 @@ static void variable2(FILE *out, const fmu_instance *fi, const fmu_var *v) {
   fputs("    </ScalarVariable>\n", out);
 }
 
-/* the outputs and initial unknowns: by value reference (3.0) or by index in the list (2.0,
- * 1-based: the list is in value reference order) */
+/* An output's direct dependencies on the inputs at a communication point: lambda depends on
+ * every u (the constraint forces balance the applied ones), q, v, max_abs_c and energy on none
+ * (u moves them only through the steps). References by value reference (3.0) or by index in
+ * the list (2.0, 1-based: the list is in value reference order). */
+static void dependencies(FILE *out, const fmu_layout *L, size_t vr, size_t base) {
+  fputs(" dependencies=\"", out);
+  if (vr >= L->lambda && vr < L->max_abs_c)
+    for (size_t i = 0; i < L->n_q; i++) fprintf(out, "%s%zu", i ? " " : "", L->u + i + base);
+  fputs("\"", out);
+}
+
+/* the outputs and initial unknowns (these depending on every known: no dependencies given) */
 static void structure(FILE *out, const fmu_instance *fi, int version) {
   const fmu_layout *L = &fi->layout;
   fputs("  <ModelStructure>\n", out);
   if (version == 3) {
-    for (size_t vr = L->q; vr < L->count; vr++)
-      fprintf(out, "    <Output valueReference=\"%zu\"/>\n", vr);
+    for (size_t vr = L->q; vr < L->count; vr++) {
+      fprintf(out, "    <Output valueReference=\"%zu\"", vr);
+      dependencies(out, L, vr, 0);
+      fputs("/>\n", out);
+    }
     for (size_t vr = L->q; vr < L->count; vr++)
       fprintf(out, "    <InitialUnknown valueReference=\"%zu\"/>\n", vr);
   } else {
     fputs("    <Outputs>\n", out);
-    for (size_t vr = L->q; vr < L->count; vr++)
-      fprintf(out, "      <Unknown index=\"%zu\"/>\n", vr + 1);
+    for (size_t vr = L->q; vr < L->count; vr++) {
+      fprintf(out, "      <Unknown index=\"%zu\"", vr + 1);
+      dependencies(out, L, vr, 1);
+      fputs("/>\n", out);
+    }
     fputs("    </Outputs>\n    <InitialUnknowns>\n", out);
     for (size_t vr = L->q; vr < L->count; vr++)
       fprintf(out, "      <Unknown index=\"%zu\"/>\n", vr + 1);

@@ -220,6 +220,7 @@ static int outputs(fmu_instance *fi, double t, const double *q, const double *v)
   out[L->max_abs_c] = worst;
   memmove(out + L->q, q, L->n_q * sizeof *q); /* q may be the outputs themselves */
   memmove(out + L->v, v, L->n_q * sizeof *v);
+  fi->outputs_stale = 0;
   return SDAE_OK;
 }
 
@@ -401,6 +402,19 @@ static fmu_status lookup(const fmu_instance *fi, const char *call, unsigned vr, 
   return FMU_OK;
 }
 
+/* the outputs at the current inputs, when one was set since they were computed (the Reference
+ * FMUs' way: outputs computed on the get that needs them). Not in the failed state, whose
+ * outputs stay those of the last good communication point. */
+static fmu_status fresh_outputs(fmu_instance *fi) {
+  const fmu_layout *L = &fi->layout;
+  int rc;
+  if (!fi->outputs_stale || !fi->stepper || fi->clock.phase == FMU_FAILED) return FMU_OK;
+  if ((rc = outputs(fi, fi->clock.t, fi->values + L->q, fi->values + L->v)) == SDAE_OK)
+    return FMU_OK;
+  fmu_log(fi, FMU_ERROR, "getReal: the outputs at the inputs set: %s", sdae_strerror(rc));
+  return FMU_ERROR;
+}
+
 fmu_status fmu_get_real(fmu_instance *fi, const unsigned *vr, size_t n, double *value) {
   fmu_var var;
   if (n > 0 && (!vr || !value)) {
@@ -416,6 +430,7 @@ fmu_status fmu_get_real(fmu_instance *fi, const unsigned *vr, size_t n, double *
       fmu_log(fi, FMU_ERROR, "getReal: %s is computed from initialization mode on", var.name);
       return FMU_ERROR;
     }
+    if (var.role == FMU_OUTPUT && fresh_outputs(fi) != FMU_OK) return FMU_ERROR;
     value[i] = var.role == FMU_TIME ? fi->clock.t : fi->values[vr[i]];
   }
   return FMU_OK;
@@ -459,6 +474,7 @@ fmu_status fmu_set_real(fmu_instance *fi, const unsigned *vr, size_t n, const do
     /* a start value set to the one it holds (an importer writing back every start value of
      * the XML) leaves the start to the mechanism's parameters */
     if (var.role == FMU_START && value[i] != fi->values[vr[i]]) fi->clock.start_set = 1;
+    if (var.role == FMU_INPUT) fi->outputs_stale = 1;
     fi->values[vr[i]] = value[i];
   }
   /* outputs got in initialization mode came from the values before: computed anew when asked */

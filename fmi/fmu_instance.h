@@ -56,6 +56,9 @@ typedef struct fmu_instance {
   size_t block_len;
   sdae_mbs_stepper *stepper; /* in block; NULL before exitInitializationMode */
   double *work;              /* 2 n_q + 2 n_c: a communication step's q, v; lambda, c */
+  /* an input was set, or an FMU state put back, since the outputs were computed: lambda
+   * depends on u directly, so the next get computes the outputs again */
+  int outputs_stale;
 } fmu_instance;
 
 /* size bytes, zeroed, from the allocator a (malloc without one); NULL when there is no room */

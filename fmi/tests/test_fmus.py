@@ -290,6 +290,48 @@ def test_communication_point_in_steps(version, t0):
     assert runs[0] == runs[1]
 
 
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_outputs_follow_inputs(version, name):
+    """a get after a set of u, before any doStep, answers outputs at the new u: lambda (which
+    depends on u directly) is that of a fresh instance started at the same time and state with
+    that u, and not the one before; q, v, max_abs_c and energy (which do not) stay as they were.
+    The model structure says so: lambda depends on every u, the other outputs on none."""
+    n_q, n_c = sizes(name)
+    u = [0.3, -0.2, 0.25, 0.1][:n_q]
+    fmu, vr, _ = slave(version, fmu_path(version, name))
+    refs = [vr[o] for o in outputs(name)]
+    lam = slice(2 * n_q, 2 * n_q + n_c)
+    start(fmu, version)
+    fmu.exitInitializationMode()
+    for i in range(10):
+        do_step(fmu, i * 0.01, 0.01)
+    before = get(fmu, version, refs)
+    set_real(fmu, version, [vr[f"u[{i + 1}]"] for i in range(n_q)], u)
+    after = get(fmu, version, refs)
+    state = get(fmu, version, [vr["time"]] + refs[:2 * n_q])
+    fmu.terminate()
+    fmu.freeInstance()
+    fresh, vr2, _ = slave(version, fmu_path(version, name))
+    start(fresh, version, t0=state[0])
+    set_real(fresh, version, [vr2[f"{x}0[{i + 1}]"] for x in "qv" for i in range(n_q)] +
+             [vr2[f"u[{i + 1}]"] for i in range(n_q)], state[1:] + u)
+    fresh.exitInitializationMode()
+    reference = get(fresh, version, refs)
+    fresh.terminate()
+    fresh.freeInstance()
+    assert np.max(np.abs(np.subtract(after[lam], before[lam]))) > 1e-3, "lambda did not move"
+    assert_close(after[lam], reference[lam], f"{name} {version} lambda")
+    assert bits(after[:lam.start] + after[lam.stop:]) == bits(before[:lam.start] +
+                                                              before[lam.stop:])
+    md = read_model_description(fmu_path(version, name))
+    inputs = {f"u[{i + 1}]" for i in range(n_q)}
+    for out in md.outputs:
+        deps = {v.name for v in out.dependencies}
+        assert deps == (inputs if out.variable.name.startswith("lambda[") else set()), \
+            out.variable.name
+
+
 class Log:
     """the FMU's messages, by status"""
 
