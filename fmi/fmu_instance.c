@@ -26,19 +26,34 @@ void fmu_mem_put(const sdae_allocator *a, void *p, size_t size) {
 
 /* ---- messages ------------------------------------------------------------------------------ */
 
-void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
+/* the message through log, with the instance's name: errors and warnings always, information
+ * when info is on */
+static void vlog(fmu_logger log, void *env, const char *instance, int info, fmu_status status,
+                 const char *fmt, va_list ap) {
   static const char *const category[] = {"logInfo", "logStatusWarning", "logStatusWarning",
                                          "logStatusError", "logStatusError"};
   char msg[512];
-  va_list ap;
-  if (!fi->log || (status == FMU_OK && !fi->logging_on)) return;
-  va_start(ap, fmt);
+  if (!log || (status == FMU_OK && !info)) return;
   vsnprintf(msg, sizeof msg, fmt, ap);
-  va_end(ap);
   /* FMI 2.0's logger takes the message as a format: none of ours holds a conversion */
   for (char *c = msg; *c; c++)
     if (*c == '%') *c = '#';
-  fi->log(fi->env, status, category[status], msg);
+  log(env, instance, status, category[status], msg);
+}
+
+void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(fi->log, fi->env, fi->name, fi->logging_on, status, fmt, ap);
+  va_end(ap);
+}
+
+/* an error before the instance holds its name (out of memory for it) */
+static void early_error(fmu_logger log, void *env, const char *instance, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(log, env, instance, 0, FMU_ERROR, fmt, ap);
+  va_end(ap);
 }
 
 /* Errors and warnings always reach the logger (a refused call names its reason); the info
@@ -144,19 +159,22 @@ void fmu_free(fmu_instance *fi) {
   fmu_mem_put(&a, fi, sizeof *fi);
 }
 
+const char *fmu_instance_name(const char *name) {
+  return name && *name ? name : sdae_fmu_model.name;
+}
+
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,
                               fmu_logger log, void *env, int logging_on) {
   const sdae_allocator plain = {NULL, NULL, NULL};
-  const fmu_instance quiet = {.log = log, .env = env}; /* for the messages before fi exists */
   const sdae_fmu *m = &sdae_fmu_model;
   fmu_instance *fi = fmu_mem_get(a ? a : &plain, sizeof *fi);
+  name = fmu_instance_name(name);
   if (!fi) {
-    fmu_log(&quiet, FMU_ERROR, "instantiate: out of memory");
+    early_error(log, env, name, "instantiate: out of memory");
     return NULL;
   }
   *fi = (fmu_instance){
       .alloc = a ? *a : plain, .log = log, .env = env, .logging_on = logging_on, .model = m};
-  if (!name) name = m->name;
   fi->name = fmu_mem_get(&fi->alloc, strlen(name) + 1);
   fi->params = fmu_mem_get(&fi->alloc, m->params_size ? m->params_size : 1);
   if (!fi->name || !fi->params) goto nomem;
@@ -176,7 +194,7 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
           fi->layout.n_c);
   return fi;
 nomem:
-  fmu_log(fi, FMU_ERROR, "instantiate: out of memory");
+  early_error(log, env, name, "instantiate: out of memory");
   fmu_free(fi);
   return NULL;
 }

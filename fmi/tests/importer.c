@@ -71,25 +71,34 @@ static void attribute(const char *xml, const char *attr, char *out, size_t len) 
 
 /* ---- one FMI version behind a few calls ---------------------------------------------------- */
 
-/* what the logger saw: the calls with an error status since the last look */
+/* what the logger saw: the calls with an error status since the last look; messages that were
+ * empty or did not name the instance (FMI 2.0's instanceName; FMI 3.0's logger has no such
+ * argument, the message begins with it) */
+#define INSTANCE "importer"
 static int errors_logged;
 static int messages_empty;
+static int messages_unnamed;
 
-static void note(int error, const char *message) {
+static void note(int error, const char *message, int named) {
   if (error) errors_logged++;
   if (!message || !*message) messages_empty++;
+  if (!named) {
+    fprintf(stderr, "importer: a message without the instance's name: %s\n", message);
+    messages_unnamed++;
+  }
 }
 
 static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category,
                     fmi3String message) {
   (void)env, (void)category;
-  note(status == fmi3Error, message);
+  note(status == fmi3Error, message,
+       message && strncmp(message, INSTANCE ": ", strlen(INSTANCE ": ")) == 0);
 }
 
 static void logger2(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
                     fmi2String category, fmi2String message, ...) {
-  (void)env, (void)name, (void)category;
-  note(status == fmi2Error, message);
+  (void)env, (void)category;
+  note(status == fmi2Error, message, name && strcmp(name, INSTANCE) == 0);
 }
 
 /* FMI 2.0's memory callbacks, counted: every block given back */
@@ -132,12 +141,12 @@ static void *instantiate(fmu *f, const char *token) {
   if (f->version == 3) {
     fmi3InstantiateCoSimulationTYPE *inst =
         (fmi3InstantiateCoSimulationTYPE *)SYM(f, "fmi3InstantiateCoSimulation");
-    return inst("importer", token, NULL, fmi3False, fmi3False, fmi3False, fmi3False, NULL, 0, NULL,
+    return inst(INSTANCE, token, NULL, fmi3False, fmi3True, fmi3False, fmi3False, NULL, 0, NULL,
                 logger3, NULL);
   } else {
     static const fmi2CallbackFunctions cb = {logger2, alloc2, free2, NULL, NULL};
     fmi2InstantiateTYPE *inst = (fmi2InstantiateTYPE *)SYM(f, "fmi2Instantiate");
-    return inst("importer", fmi2CoSimulation, token, NULL, &cb, fmi2False, fmi2False);
+    return inst(INSTANCE, fmi2CoSimulation, token, NULL, &cb, fmi2False, fmi2True);
   }
 }
 
@@ -455,6 +464,7 @@ static void run(fmu *f, const vars *v) {
   CHECK(reset(f) == 0);
   free_instance(f);
   CHECK(messages_empty == 0);
+  CHECK(messages_unnamed == 0);
   if (f->version == 2) CHECK(live_blocks == 0);
 }
 

@@ -333,10 +333,12 @@ def test_outputs_follow_inputs(version, name):
 
 
 class Log:
-    """the FMU's messages, by status"""
+    """the FMU's messages, by status, and the instance each named (FMI 2.0's instanceName; FMI
+    3.0's logger has none: the message begins with the name)"""
 
     def __init__(self, version):
         self.errors = []
+        self.named = []
         if version == "fmi3":
             self.callback = self.log3
         else:
@@ -347,10 +349,12 @@ class Log:
             self.callback = cb
 
     def log3(self, env, status, category, message):
+        self.named.append(message.decode().split(": ", 1)[0])
         if status == 3:
             self.errors.append(message.decode())
 
     def log2(self, env, name, status, category, message):
+        self.named.append(name.decode() if name else None)
         if status == 3:
             self.errors.append(message.decode())
 
@@ -364,6 +368,32 @@ def refused(call, log, word):
         call()
     errors = log.take()
     assert errors and word in errors[-1], errors
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_messages_name_the_instance(version):
+    """every message carries the instance's name, also those logged inside instantiate: a token
+    that is not the binary's, and the information message with logging on"""
+    path = fmu_path(version, "fourbar")
+    md = read_model_description(path)
+    unzipdir = extract(path)
+    log = Log(version)
+    cls = FMU3Slave if version == "fmi3" else FMU2Slave
+    for guid in ("{00000000-0000-0000-0000-000000000000}", md.guid):
+        fmu = cls(guid=guid, unzipDirectory=unzipdir, instanceName="pump_7",
+                  modelIdentifier=md.coSimulation.modelIdentifier)
+        if version == "fmi3":
+            instantiate = lambda: fmu.instantiate(loggingOn=True, logMessage=log.callback)
+        else:
+            instantiate = lambda: fmu.instantiate(loggingOn=True, callbacks=log.callback)
+        if guid == md.guid:
+            instantiate()
+            fmu.freeInstance()
+        else:
+            with pytest.raises(Exception):
+                instantiate()
+    assert len(log.take()) == 1 and len(log.named) == 2
+    assert log.named == ["pump_7", "pump_7"]
 
 
 @pytest.mark.parametrize("version", VERSIONS)
