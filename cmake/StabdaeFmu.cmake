@@ -105,7 +105,7 @@ function(stabdae_add_fmu name)
       COMMAND ${CMAKE_COMMAND} -E rm -f ${fmu}
       COMMAND ${CMAKE_COMMAND} -E chdir ${stage} ${CMAKE_COMMAND} -E tar cf ${fmu} --format=zip
               modelDescription.xml binaries documentation
-      DEPENDS ${lib} ${name}_describe ${STABDAE_FMU_DATA}/licenses/README.txt
+      DEPENDS ${lib} ${name}_describe ${STABDAE_FMU_DATA}/licenses/license.txt
       COMMENT "FMU ${fmu}"
       VERBATIM)
     list(APPEND fmus ${fmu})

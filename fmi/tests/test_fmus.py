@@ -97,6 +97,26 @@ def test_binary_stands_alone(version, name, tmp_path):
 
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name", NAMES)
+def test_license_entry_point(version, name, tmp_path):
+    """FMI 3.0 section 2.5: documentation/licenses/ has license.txt as its entry point (in the
+    FMI 2.0 FMU too); it names the licences, GPL-3.0-or-later and BSD-2-Clause, and every other
+    file of the folder, each of which holds its licence's text"""
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    licenses = tmp_path / "documentation" / "licenses"
+    entry = (licenses / "license.txt").read_text()
+    assert "GPL-3.0-or-later" in entry and "BSD-2-Clause" in entry
+    others = {p.name for p in licenses.iterdir()} - {"license.txt"}
+    assert others == {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"}
+    for other in others:
+        assert other in entry
+    assert "GNU GENERAL PUBLIC LICENSE" in (licenses / "stabdae-GPL-3.0-or-later.txt").read_text()
+    assert "Redistribution and use in source and binary forms" in \
+        (licenses / "fmi-headers-BSD-2-Clause.txt").read_text()
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
 @pytest.mark.parametrize("k, tf", [(1, 0.2), (10, 2.0)])
 def test_matches_program(version, name, k, tf, tmp_path):
     """an output interval of k T: the program's rows every k steps, to 1e-14"""
