@@ -6,9 +6,11 @@ Every check has an independent reference: FMPy's own validator; the example prog
 taken twice from one FMU state; a program of its own (fmi_reference_u) for the inputs. The
 build directory comes from STABDAE_BUILD (ctest sets it: fmi.fmpy, label fmi).
 """
+import json
 import os
 import struct
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
@@ -93,6 +95,49 @@ def test_binary_stands_alone(version, name, tmp_path):
     assert exported and all(sym.startswith(version) for sym in exported), exported
     docs = {p.name for p in (tmp_path / "documentation").rglob("*")}
     assert {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"} <= docs
+
+
+POISONED_RUN = """
+import ctypes, json, sys
+from fmpy import simulate_fmu
+poison = ctypes.CDLL(sys.argv[1], mode=ctypes.RTLD_GLOBAL)
+try:
+    res = simulate_fmu(sys.argv[2], stop_time=0.5, output_interval=0.01, output=sys.argv[3:])
+    rows = [[float(x).hex() for x in row] for row in res]
+except Exception as e:  # a step failed on the poisoned numbers
+    rows = str(e)
+print(json.dumps({"calls": ctypes.c_long.in_dll(poison, "poison_calls").value, "rows": rows}))
+"""
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_cblas_bound_inside(version, name, tmp_path):
+    """GSL's CBLAS is bound inside the binary: in a process that loaded a CBLAS of its own first
+    (fmi_poison_cblas, RTLD_GLOBAL: first in the symbol lookup; each of its routines counts its
+    calls and writes NaN), the FMU never calls it and gives the numbers it gives alone, bit for
+    bit. The binary has no RPATH or RUNPATH, needs no CBLAS and has no cblas_ symbol a process
+    could see or interpose."""
+    poison = BUILD / "fmi" / "tests" / "libfmi_poison_cblas.so"
+    p = subprocess.run([sys.executable, "-c", POISONED_RUN, str(poison), fmu_path(version, name)]
+                       + outputs(name), check=True, capture_output=True, text=True)
+    poisoned = json.loads(p.stdout.splitlines()[-1])
+    alone = simulate_fmu(fmu_path(version, name), stop_time=0.5, output_interval=0.01,
+                         output=outputs(name))
+    assert poisoned["calls"] == 0
+    assert poisoned["rows"] == [[float(x).hex() for x in row] for row in alone]
+    platform = "x86_64-linux" if version == "fmi3" else "linux64"
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    binary = str(tmp_path / "binaries" / platform / f"{name}.so")
+    dynamic = subprocess.run(["readelf", "-d", binary], check=True, capture_output=True,
+                             text=True).stdout
+    assert "RPATH" not in dynamic and "RUNPATH" not in dynamic
+    needed = [line.split("[")[1].rstrip("]") for line in dynamic.splitlines() if "(NEEDED)" in line]
+    assert set(needed) <= {"libc.so.6", "libm.so.6"}, needed
+    symbols = subprocess.run(["nm", "-D", binary], check=True, capture_output=True,
+                             text=True).stdout
+    assert "cblas_" not in symbols
 
 
 @pytest.mark.parametrize("version", VERSIONS)
