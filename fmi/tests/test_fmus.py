@@ -73,6 +73,61 @@ def test_validate(version, name):
     assert validate_fmu(fmu_path(version, name)) == []
 
 
+def expected_units(name):
+    """the units each variable has in SI, from the mechanism's physics (models/mechanisms.c,
+    models/benchmarks.c): the four-bar's coordinates are lengths, its constraints
+    (|X - Y|^2 - L^2) / 2 in m^2, so lambda is in N/m; the slider crank's are an angle, a length
+    and an angle, its constraints lengths whose rows of G are in m per rad and 1, so lambda is in
+    N. Time in s, epsilon a rate; delta, map and max_abs_c (mixed constraints) have none."""
+    n_q, n_c = sizes(name)
+    if name == "fourbar":
+        params = {"a": "m", "b": "m", "e": "m", "d": "m", "mB": "kg", "mC": "kg",
+                  "ga": "m/s^2", "theta0": "rad", "omega0": "rad/s"}
+        q, u, lam = ["m"] * 4, ["N"] * 4, ["N/m"] * 3
+    else:
+        params = {"a": "m", "J1": "kg*m^2", "m2": "kg", "J2": "kg*m^2", "k": "N/m",
+                  "c": "N*s/m", "l0": "m", "F": "N"}
+        q, u, lam = ["rad", "m", "rad"], ["N*m", "N", "N*m"], ["N", "N"]
+    units = {"time": "s", "T": "s", "delta": None, "epsilon": "1/s", "map": None,
+             "max_abs_c": None, "energy": "J", **params}
+    for i in range(n_q):
+        units.update({f"q0[{i + 1}]": q[i], f"q[{i + 1}]": q[i], f"v0[{i + 1}]": q[i] + "/s",
+                      f"v[{i + 1}]": q[i] + "/s", f"u[{i + 1}]": u[i]})
+    units.update({f"lambda[{j + 1}]": lam[j] for j in range(n_c)})
+    return units
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_units(version, name):
+    """every variable has its unit (and those without one none), each defined once in
+    UnitDefinitions, none defined that no variable has"""
+    md = read_model_description(fmu_path(version, name))
+    got = {v.name: v.unit for v in md.modelVariables}
+    assert got == expected_units(name)
+    defined = [u.name for u in md.unitDefinitions]
+    assert len(defined) == len(set(defined))
+    assert set(defined) == {u for u in got.values() if u}
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_default_experiment(version, tmp_path):
+    """DefaultExperiment: start 0, step T, stop the example program's tf (10 s), a whole number
+    of steps; FMPy run with nothing given stops there, on the program's states bit for bit (its
+    output interval is the step doubled until there are at most 1000: 16 T)"""
+    name = "fourbar"
+    experiment = read_model_description(fmu_path(version, name)).defaultExperiment
+    start, stop, step = (float(experiment.startTime), float(experiment.stopTime),
+                         float(experiment.stepSize))
+    assert (start, stop, step) == (0.0, 10.0, T)
+    assert (stop - start) / step == round((stop - start) / step)
+    res = simulate_fmu(fmu_path(version, name), output=outputs(name)[:8])
+    ref = run_program(name, 10.0, 16, tmp_path)
+    assert res["time"][-1] == stop and len(res) == len(ref) == 626
+    for out, col in zip(outputs(name)[:8], program_columns(name)[:8]):
+        assert bits(res[out]) == bits(ref[col]), f"{version} {out}"
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name", NAMES)
 def test_binary_stands_alone(version, name, tmp_path):
