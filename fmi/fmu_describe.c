@@ -49,7 +49,9 @@ static int units_ok(const sdae_fmu *m, const char *what, const char *const *unit
 }
 
 /* the DefaultExperiment's stop time: the table's, or 1000 steps of T */
-static double stop_time(const sdae_fmu *m) { return m->stop_time > 0.0 ? m->stop_time : 1000.0 * m->T; }
+static double stop_time(const sdae_fmu *m) {
+  return m->stop_time > 0.0 ? m->stop_time : 1000.0 * m->T;
+}
 
 /* T positive and finite; a stop time of the table's own (0: the default) a whole number of
  * steps of T, so that an importer stepping by the XML's stepSize lands on it */

@@ -27,8 +27,8 @@ typedef enum fmu_phase {
 
 /* instance: the instance's name, on every message; category: "logStatusError",
  * "logStatusWarning" or "logInfo" */
-typedef void (*fmu_logger)(void *env, const char *instance, fmu_status status,
-                           const char *category, const char *message);
+typedef void (*fmu_logger)(void *env, const char *instance, fmu_status status, const char *category,
+                           const char *message);
 
 /* What a snapshot of the FMU state copies, apart from the variables and the stepper's block. */
 typedef struct fmu_clock {

@@ -108,8 +108,8 @@ void cblas_dger(const enum CBLAS_ORDER order, const int M, const int N, const do
 
 void cblas_dgemm(const enum CBLAS_ORDER Order, const enum CBLAS_TRANSPOSE TransA,
                  const enum CBLAS_TRANSPOSE TransB, const int M, const int N, const int K,
-                 const double alpha, const double *A, const int lda, const double *B,
-                 const int ldb, const double beta, double *C, const int ldc) {
+                 const double alpha, const double *A, const int lda, const double *B, const int ldb,
+                 const double beta, double *C, const int ldc) {
   (void)Order, (void)TransA, (void)TransB, (void)K, (void)alpha, (void)A, (void)lda, (void)B,
       (void)ldb, (void)beta, (void)ldc;
   spoil(C, count(M) * count(N) > 0 ? 1 : 0, 1);

@@ -72,7 +72,8 @@ static int checked(const sdae_fmu *m, const char *word) {
   if (!fgets(line, sizeof line, err)) line[0] = '\0';
   fclose(err);
   if (word ? !strstr(line, word) : line[0] != '\0') {
-    fprintf(stderr, "table_macros: the line \"%s\" does not say %s\n", line, word ? word : "nothing");
+    fprintf(stderr, "table_macros: the line \"%s\" does not say %s\n", line,
+            word ? word : "nothing");
     return -3;
   }
   return rc;
@@ -80,9 +81,16 @@ static int checked(const sdae_fmu *m, const char *word) {
 
 static void checks(void) {
   sdae_fmu_param p[2] = {by_hand[0], by_hand[1]};
-  const sdae_fmu good = {.name = "gen", .params_size = sizeof(gen3_params), .params = p,
-                         .n_params = 2, .mbs = no_mbs, .T = 1e-3, .delta = 2.0, .epsilon = 1.0,
-                         .map = "dgrad", .stop_time = 2.5};
+  const sdae_fmu good = {.name = "gen",
+                         .params_size = sizeof(gen3_params),
+                         .params = p,
+                         .n_params = 2,
+                         .mbs = no_mbs,
+                         .T = 1e-3,
+                         .delta = 2.0,
+                         .epsilon = 1.0,
+                         .map = "dgrad",
+                         .stop_time = 2.5};
   sdae_fmu m = good;
   CHECK(checked(&good, NULL) == 0);
   p[1].unit = "0123456789012345678901234567890123456789x"; /* SDAE_FMU_UNIT_MAX + 1 */

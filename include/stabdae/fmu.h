@@ -79,12 +79,11 @@ typedef struct sdae_fmu {
  * params_default, and optionally its unit: SDAE_FMU_PARAM(pendulum_params, L, "rod length") or
  * SDAE_FMU_PARAM(pendulum_params, L, "rod length", "m"). */
 #define SDAE_FMU_PARAM(TYPE, FIELD, ...)                                                           \
-  {#FIELD, 0.0, SDAE_FMU_FIRST_(__VA_ARGS__, NULL), offsetof(TYPE, FIELD),                         \
-   SDAE_FMU_SECOND_(__VA_ARGS__, NULL, NULL)}
-/* the description and the unit, which may be left out (NULL): a variadic macro needs one
- * argument in its ... at least, hence the NULLs appended */
-#define SDAE_FMU_FIRST_(A, ...) A
-#define SDAE_FMU_SECOND_(A, B, ...) B
+  SDAE_FMU_PARAM_(#FIELD, 0.0, offsetof(TYPE, FIELD), __VA_ARGS__, NULL, NULL)
+/* one entry from the description and the unit, which may be left out (NULL): the NULLs appended
+ * fill it in, and leave the ... an argument at least, as C before C23 needs */
+#define SDAE_FMU_PARAM_(NAME, START, OFFSET, DESCRIPTION, UNIT, ...)                               \
+  { NAME, START, DESCRIPTION, OFFSET, UNIT }
 
 /* The table of the FMU being built, defined by the user's file. */
 extern const sdae_fmu sdae_fmu_model;
@@ -110,8 +109,8 @@ extern const sdae_fmu sdae_fmu_model;
   typedef NAME##_params sdae_fmu_generated_params;                                                 \
   static const sdae_fmu_param NAME##_fmu_params[] = {TABLE(SDAE_FMU_GENERATED_PARAM)}
 #define SDAE_FMU_GENERATED_PARAM(FIELD, VALUE, ...)                                                \
-  {#FIELD, VALUE, SDAE_FMU_FIRST_(__VA_ARGS__, NULL), offsetof(sdae_fmu_generated_params, FIELD),  \
-   SDAE_FMU_SECOND_(__VA_ARGS__, NULL, NULL)},
+  SDAE_FMU_PARAM_(#FIELD, VALUE, offsetof(sdae_fmu_generated_params, FIELD), __VA_ARGS__, NULL,    \
+                  NULL),
 
 #ifdef __cplusplus
 }
