@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* s with the five XML entities */
@@ -137,6 +138,77 @@ static void unit_attribute(FILE *out, const fmu_var *v) {
   fputs("\"", out);
 }
 
+/* the SI dimensions, in the order of BaseUnit's attributes */
+#define FMU_DIMS 8
+static const char *const dim_name[FMU_DIMS] = {"kg", "m", "s", "A", "K", "mol", "cd", "rad"};
+
+/* the dimensions of the symbol s[0..len): 0, or -1 when it is none of the SI units below */
+static int symbol_dims(const char *s, size_t len, int dims[FMU_DIMS]) {
+  static const struct {
+    const char *name;
+    int dims[FMU_DIMS];
+  } known[] = {{"1", {0}},
+               {"kg", {1}},
+               {"m", {0, 1}},
+               {"s", {0, 0, 1}},
+               {"A", {0, 0, 0, 1}},
+               {"K", {0, 0, 0, 0, 1}},
+               {"mol", {0, 0, 0, 0, 0, 1}},
+               {"cd", {0, 0, 0, 0, 0, 0, 1}},
+               {"rad", {0, 0, 0, 0, 0, 0, 0, 1}},
+               {"N", {1, 1, -2}},
+               {"J", {1, 2, -2}},
+               {"W", {1, 2, -3}},
+               {"Pa", {1, -1, -2}},
+               {"Hz", {0, 0, -1}}};
+  for (size_t k = 0; k < sizeof known / sizeof *known; k++)
+    if (strlen(known[k].name) == len && strncmp(s, known[k].name, len) == 0) {
+      memcpy(dims, known[k].dims, sizeof known[k].dims);
+      return 0;
+    }
+  return -1;
+}
+
+/* The dimensions of a unit written as symbols of symbol_dims joined by '*' and '/' (read from
+ * the left), each with an optional integer power: "N*s/m", "kg*m^2", "m/s^2", "1/s". 0, or -1
+ * when it is not written so: the unit is then a name alone. */
+static int unit_dims(const char *u, int dims[FMU_DIMS]) {
+  int sign = 1;
+  memset(dims, 0, FMU_DIMS * sizeof *dims);
+  for (;;) {
+    size_t len = strcspn(u, "*/^");
+    int f[FMU_DIMS];
+    long power = 1;
+    if (len == 0 || symbol_dims(u, len, f) != 0) return -1;
+    u += len;
+    if (*u == '^') {
+      char *end;
+      power = strtol(u + 1, &end, 10);
+      if (end == u + 1 || power < -99 || power > 99) return -1;
+      u = end;
+    }
+    for (int d = 0; d < FMU_DIMS; d++) dims[d] += sign * (int)power * f[d];
+    if (*u == '\0') return 0;
+    if (*u != '*' && *u != '/') return -1;
+    sign = *u++ == '/' ? -1 : 1;
+  }
+}
+
+/* one Unit, with its BaseUnit when its name is written in SI symbols (unit_dims) */
+static void unit_definition(FILE *out, const char *unit) {
+  int dims[FMU_DIMS];
+  fputs("    <Unit name=\"", out);
+  xml_text(out, unit);
+  if (unit_dims(unit, dims) != 0) {
+    fputs("\"/>\n", out);
+    return;
+  }
+  fputs("\">\n      <BaseUnit", out);
+  for (int d = 0; d < FMU_DIMS; d++)
+    if (dims[d]) fprintf(out, " %s=\"%d\"", dim_name[d], dims[d]);
+  fputs("/>\n    </Unit>\n", out);
+}
+
 /* UnitDefinitions: every unit a variable has, once, in the order of the value references */
 static void unit_definitions(FILE *out, const fmu_layout *L) {
   fmu_var v, w;
@@ -147,9 +219,7 @@ static void unit_definitions(FILE *out, const fmu_layout *L) {
       seen = strcmp(v.unit, w.unit) == 0;
     if (seen) continue;
     fputs(any++ ? "" : "  <UnitDefinitions>\n", out);
-    fputs("    <Unit name=\"", out);
-    xml_text(out, v.unit);
-    fputs("\"/>\n", out);
+    unit_definition(out, v.unit);
   }
   if (any) fputs("  </UnitDefinitions>\n", out);
 }

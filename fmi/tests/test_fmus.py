@@ -97,17 +97,30 @@ def expected_units(name):
     return units
 
 
+# the units' SI base units, from their definitions (N = kg m s^-2, J = N m)
+SI = {"s": {"s": 1}, "1/s": {"s": -1}, "m": {"m": 1}, "kg": {"kg": 1}, "rad": {"rad": 1},
+      "m/s": {"m": 1, "s": -1}, "rad/s": {"rad": 1, "s": -1}, "m/s^2": {"m": 1, "s": -2},
+      "kg*m^2": {"kg": 1, "m": 2}, "N": {"kg": 1, "m": 1, "s": -2}, "N/m": {"kg": 1, "s": -2},
+      "N*s/m": {"kg": 1, "s": -1}, "N*m": {"kg": 1, "m": 2, "s": -2},
+      "J": {"kg": 1, "m": 2, "s": -2}}
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name", NAMES)
 def test_units(version, name):
     """every variable has its unit (and those without one none), each defined once in
-    UnitDefinitions, none defined that no variable has"""
+    UnitDefinitions with its SI base units, none defined that no variable has"""
     md = read_model_description(fmu_path(version, name))
     got = {v.name: v.unit for v in md.modelVariables}
     assert got == expected_units(name)
     defined = [u.name for u in md.unitDefinitions]
     assert len(defined) == len(set(defined))
     assert set(defined) == {u for u in got.values() if u}
+    for unit in md.unitDefinitions:
+        base = unit.baseUnit
+        exponents = {k: getattr(base, k) for k in ("kg", "m", "s", "A", "K", "mol", "cd", "rad")}
+        assert {k: e for k, e in exponents.items() if e} == SI[unit.name], unit.name
+        assert (base.factor, base.offset) == (1.0, 0.0)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
