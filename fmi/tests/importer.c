@@ -408,6 +408,23 @@ static void roll_back(fmu *f, const vars *v, double t, double h) {
   CHECK(free_state(f, &state) == 0 && state == NULL);
 }
 
+/* a set of u reaches the outputs at the next get, without a step: some output (lambda) moves,
+ * q[1] does not, and u set back gives the outputs of before bit for bit (computed again at the
+ * same state and inputs) */
+static void inputs_reach_outputs(fmu *f, const vars *v) {
+  double before[MAXOUT], pushed[MAXOUT], back[MAXOUT];
+  int moved = 0;
+  outputs(f, v, before);
+  CHECK(set_real(f, v->u1, 0.5) == 0);
+  outputs(f, v, pushed);
+  for (size_t i = 0; i < v->n_out; i++) moved |= pushed[i] != before[i];
+  CHECK(moved);
+  CHECK(memcmp(&pushed[0], &before[0], sizeof *before) == 0); /* q[1] */
+  CHECK(set_real(f, v->u1, 0.0) == 0);
+  outputs(f, v, back);
+  CHECK(memcmp(back, before, v->n_out * sizeof *back) == 0);
+}
+
 /* a step that fails (a force of 1e200 leaves the state finite nowhere): an error, the outputs
  * of the last good point, every later call answered, then reset and a new run */
 static void failure(fmu *f, const vars *v, double t) {
@@ -457,6 +474,7 @@ static void run(fmu *f, const vars *v) {
   CHECK(do_step(f, 0.1, 0.0025) == 0); /* not a multiple of T = 1e-3: equal substeps */
   outputs(f, v, x);
   for (size_t i = 0; i < v->n_out; i++) CHECK(isfinite(x[i]));
+  inputs_reach_outputs(f, v);
   roll_back(f, v, 0.1025, 1e-2);
   another_instance(f, v);
   failure(f, v, 0.1225);
