@@ -9,10 +9,11 @@
 # builds OUTPUT_DIRECTORY/fmi3/NAME.fmu and OUTPUT_DIRECTORY/fmi2/NAME.fmu (default: the current
 # binary directory) with the target NAME_fmu, part of `all`. Each FMU holds modelDescription.xml
 # (written at build time by NAME_describe from the same table as the binary), the binary
-# binaries/<platform>/NAME.so with stabdae and GSL linked in and GSL's CBLAS, libgslcblas.so.0,
-# beside it (found through an RPATH of $ORIGIN: Debian's libgslcblas.a is not position
-# independent), and documentation/ (a page on the variables, the licences). The binary exports
-# the FMI functions only. Linux on x86_64 (FMI platforms x86_64-linux and linux64).
+# binaries/<platform>/NAME.so with stabdae, GSL and GSL's CBLAS linked in, and documentation/ (a
+# page on the variables, the licences). The binary exports the FMI functions only and needs
+# libc and libm alone: its GSL calls the CBLAS inside it, whatever cblas_* the importer's process
+# loaded before (a shared CBLAS beside it would be bound to the first one loaded). Linux on
+# x86_64 (FMI platforms x86_64-linux and linux64).
 #
 # What it reads: the targets stabdae::stabdae_fmi3, stabdae::stabdae_fmi2,
 # stabdae::stabdae_fmu_describe, and STABDAE_FMU_DATA (the export maps and the licences).
@@ -23,10 +24,12 @@ if(NOT DEFINED STABDAE_FMU_DATA)
   set(STABDAE_FMU_DATA ${CMAKE_CURRENT_LIST_DIR}/fmi)
 endif()
 
-# GSL as a static archive (libgsl.a, position independent on Debian) and CBLAS as the shared
-# library the FMU carries
+# GSL and its CBLAS as static archives: libgsl.a is position independent on Debian; the objects
+# of libgslcblas.a are position-independent executable code, which links into a shared object
+# when its symbols bind inside it (the version script makes them local) but for the error
+# handler xerbla.o, which stabdae_fmi3 and stabdae_fmi2 replace (fmi/fmu_cblas_xerbla.c)
 find_library(STABDAE_GSL_STATIC NAMES libgsl.a)
-find_library(STABDAE_GSLCBLAS_SHARED NAMES libgslcblas.so.0 gslcblas)
+find_library(STABDAE_GSLCBLAS_STATIC NAMES libgslcblas.a)
 
 function(stabdae_add_fmu name)
   cmake_parse_arguments(PARSE_ARGV 1 fmu "" "OUTPUT_DIRECTORY" "SOURCES;LIBRARIES;INCLUDE_DIRECTORIES")
@@ -39,14 +42,13 @@ function(stabdae_add_fmu name)
   if(NOT CMAKE_SYSTEM_NAME STREQUAL "Linux" OR NOT CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
     message(FATAL_ERROR "stabdae_add_fmu: Linux on x86_64 only (FMI platform x86_64-linux)")
   endif()
-  if(NOT STABDAE_GSL_STATIC OR NOT STABDAE_GSLCBLAS_SHARED)
-    message(FATAL_ERROR "stabdae_add_fmu: libgsl.a and libgslcblas.so.0 are needed "
+  if(NOT STABDAE_GSL_STATIC OR NOT STABDAE_GSLCBLAS_STATIC)
+    message(FATAL_ERROR "stabdae_add_fmu: libgsl.a and libgslcblas.a are needed "
                         "(Debian: libgsl-dev)")
   endif()
   if(NOT fmu_OUTPUT_DIRECTORY)
     set(fmu_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   endif()
-  get_filename_component(cblas ${STABDAE_GSLCBLAS_SHARED} REALPATH)
 
   # the model's own code, compiled once for the binaries and the describer
   add_library(${name}_model OBJECT ${fmu_SOURCES})
@@ -70,11 +72,13 @@ function(stabdae_add_fmu name)
     endif()
     set(lib ${name}_fmi${version})
     add_library(${lib} SHARED $<TARGET_OBJECTS:${name}_model>)
-    # the FMI functions whole (nothing in the FMU calls them), then stabdae and GSL linked in;
-    # --as-needed drops the shared libgsl that GSL::gsl names, every symbol found in libgsl.a
+    # the FMI functions whole (nothing in the FMU calls them), then stabdae, GSL and its CBLAS
+    # linked in; --as-needed drops the shared libgsl and libgslcblas that GSL::gsl names, every
+    # symbol found in the archives
     target_link_libraries(${lib} PRIVATE
       "$<LINK_LIBRARY:WHOLE_ARCHIVE,stabdae::stabdae_fmi${version}>" stabdae::stabdae_fmi
-      ${fmu_LIBRARIES} stabdae::stabdae_static ${STABDAE_GSL_STATIC} ${cblas} m)
+      ${fmu_LIBRARIES} stabdae::stabdae_static ${STABDAE_GSL_STATIC} ${STABDAE_GSLCBLAS_STATIC}
+      m)
     target_link_options(${lib} PRIVATE -Wl,--as-needed
                         -Wl,--version-script=${STABDAE_FMU_DATA}/fmi${version}.map)
     # every symbol resolved at link time (a table the sources forgot fails here, not at
@@ -86,7 +90,7 @@ function(stabdae_add_fmu name)
     set_target_properties(${lib} PROPERTIES
       PREFIX "" OUTPUT_NAME ${name}
       LIBRARY_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version}_binary
-      BUILD_WITH_INSTALL_RPATH ON INSTALL_RPATH "$ORIGIN"
+      SKIP_BUILD_RPATH ON
       LINK_DEPENDS ${STABDAE_FMU_DATA}/fmi${version}.map)
 
     set(stage ${stage_root}/fmi${version})
@@ -99,13 +103,12 @@ function(stabdae_add_fmu name)
       COMMAND ${name}_describe ${version} ${stage}/modelDescription.xml
               ${stage}/documentation/${page} ${name}
       COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${lib}> ${bin}/${name}.so
-      COMMAND ${CMAKE_COMMAND} -E copy ${cblas} ${bin}/libgslcblas.so.0
       COMMAND ${CMAKE_COMMAND} -E copy_directory ${STABDAE_FMU_DATA}/licenses
               ${stage}/documentation/licenses
       COMMAND ${CMAKE_COMMAND} -E rm -f ${fmu}
       COMMAND ${CMAKE_COMMAND} -E chdir ${stage} ${CMAKE_COMMAND} -E tar cf ${fmu} --format=zip
               modelDescription.xml binaries documentation
-      DEPENDS ${lib} ${name}_describe ${STABDAE_FMU_DATA}/licenses/README.txt
+      DEPENDS ${lib} ${name}_describe ${STABDAE_FMU_DATA}/licenses/license.txt
       COMMENT "FMU ${fmu}"
       VERBATIM)
     list(APPEND fmus ${fmu})

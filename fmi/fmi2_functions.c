@@ -32,11 +32,11 @@ static void free2(void *ud, void *ptr, size_t size) {
   h->cb.freeMemory(ptr);
 }
 
-static void log_fmi2(void *env, fmu_status status, const char *category, const char *message) {
+static void log_fmi2(void *env, const char *instance, fmu_status status, const char *category,
+                     const char *message) {
   const fmi2_handle *h = env;
-  const char *name = h->fi ? h->fi->name : "";
   if (h->cb.logger)
-    h->cb.logger(h->cb.componentEnvironment, name, (fmi2Status)status, category, message);
+    h->cb.logger(h->cb.componentEnvironment, instance, (fmi2Status)status, category, message);
 }
 
 fmi2Status fmi2_unsupported(fmi2Component c, const char *function) {
@@ -66,7 +66,8 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
   h->cb = *functions;
   h->alloc = (sdae_allocator){alloc2, free2, h};
   if (fmuType != fmi2CoSimulation) {
-    log_fmi2(h, FMU_ERROR, "logStatusError", "instantiate: this FMU offers co-simulation only");
+    log_fmi2(h, fmu_instance_name(instanceName), FMU_ERROR, "logStatusError",
+             "instantiate: this FMU offers co-simulation only");
     functions->freeMemory(h);
     return NULL;
   }

@@ -2,6 +2,7 @@
 /* FMI 3.0 co-simulation over the co-simulation layer (fmu_instance.h, fmu_state.h): each
  * function checks its instance, maps its arguments and answers the layer's status as an
  * fmi3Status. Variables are Float64 scalars but map, a String. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,9 +16,13 @@ typedef struct fmi3_env {
   fmi3LogMessageCallback log;
 } fmi3_env;
 
-static void log_fmi3(void *env, fmu_status status, const char *category, const char *message) {
+/* FMI 3.0's logMessage has no argument for the instance's name: the message begins with it */
+static void log_fmi3(void *env, const char *instance, fmu_status status, const char *category,
+                     const char *message) {
   const fmi3_env *e = env;
-  if (e->log) e->log(e->env, (fmi3Status)status, category, message);
+  char named[640];
+  snprintf(named, sizeof named, "%s: %s", instance, message);
+  if (e->log) e->log(e->env, (fmi3Status)status, category, named);
 }
 
 /* each instance keeps its environment beside it: one allocation, freed with it */
@@ -52,12 +57,13 @@ fmi3Instance fmi3InstantiateCoSimulation(
   (void)resourcePath, (void)visible, (void)earlyReturnAllowed, (void)intermediateUpdate;
   (void)requiredIntermediateVariables;
   if (eventModeUsed || nRequiredIntermediateVariables > 0) {
-    log_fmi3(&e, FMU_ERROR, "logStatusError",
+    log_fmi3(&e, fmu_instance_name(instanceName), FMU_ERROR, "logStatusError",
              "instantiate: event mode and intermediate variables are not offered");
     return NULL;
   }
   if (!(h = malloc(sizeof *h))) {
-    log_fmi3(&e, FMU_ERROR, "logStatusError", "instantiate: out of memory");
+    log_fmi3(&e, fmu_instance_name(instanceName), FMU_ERROR, "logStatusError",
+             "instantiate: out of memory");
     return NULL;
   }
   h->env = e;

@@ -11,10 +11,13 @@
 
 /* The table alone, before an instance reads it: 0, or -1 with a line on err when it is
  * incomplete, a name is not an identifier (or too long), an offset is past the params struct,
- * or its name is not `name`, the FMU's (stabdae_add_fmu's NAME). */
+ * a parameter's unit is too long or holds a control character, T is not positive and finite or
+ * stop_time not 0 or a multiple of T, or its name is not `name`, the FMU's (stabdae_add_fmu's
+ * NAME). */
 int fmu_table_check(const sdae_fmu *m, const char *name, FILE *err);
 /* The instance's variables: 0, or -1 with a line on err when the sizes are not
- * 1 <= n_c < n_q or two variables have one name. */
+ * 1 <= n_c < n_q, two variables have one name, or a unit of the coordinates, forces,
+ * multipliers or energy is too long or holds a control character. */
 int fmu_describe_check(const fmu_instance *fi, FILE *err);
 /* version 3 or 2; 0, or -1 when a write fails */
 int fmu_describe_xml(const fmu_instance *fi, int version, const char *generator, FILE *out);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 #include "fmu_instance.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -25,19 +26,34 @@ void fmu_mem_put(const sdae_allocator *a, void *p, size_t size) {
 
 /* ---- messages ------------------------------------------------------------------------------ */
 
-void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
+/* the message through log, with the instance's name: errors and warnings always, information
+ * when info is on */
+static void vlog(fmu_logger log, void *env, const char *instance, int info, fmu_status status,
+                 const char *fmt, va_list ap) {
   static const char *const category[] = {"logInfo", "logStatusWarning", "logStatusWarning",
                                          "logStatusError", "logStatusError"};
   char msg[512];
-  va_list ap;
-  if (!fi->log || (status == FMU_OK && !fi->logging_on)) return;
-  va_start(ap, fmt);
+  if (!log || (status == FMU_OK && !info)) return;
   vsnprintf(msg, sizeof msg, fmt, ap);
-  va_end(ap);
   /* FMI 2.0's logger takes the message as a format: none of ours holds a conversion */
   for (char *c = msg; *c; c++)
     if (*c == '%') *c = '#';
-  fi->log(fi->env, status, category[status], msg);
+  log(env, instance, status, category[status], msg);
+}
+
+void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(fi->log, fi->env, fi->name, fi->logging_on, status, fmt, ap);
+  va_end(ap);
+}
+
+/* an error before the instance holds its name (out of memory for it) */
+static void early_error(fmu_logger log, void *env, const char *instance, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  vlog(log, env, instance, 0, FMU_ERROR, fmt, ap);
+  va_end(ap);
 }
 
 /* Errors and warnings always reach the logger (a refused call names its reason); the info
@@ -143,19 +159,22 @@ void fmu_free(fmu_instance *fi) {
   fmu_mem_put(&a, fi, sizeof *fi);
 }
 
+const char *fmu_instance_name(const char *name) {
+  return name && *name ? name : sdae_fmu_model.name;
+}
+
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,
                               fmu_logger log, void *env, int logging_on) {
   const sdae_allocator plain = {NULL, NULL, NULL};
-  const fmu_instance quiet = {.log = log, .env = env}; /* for the messages before fi exists */
   const sdae_fmu *m = &sdae_fmu_model;
   fmu_instance *fi = fmu_mem_get(a ? a : &plain, sizeof *fi);
+  name = fmu_instance_name(name);
   if (!fi) {
-    fmu_log(&quiet, FMU_ERROR, "instantiate: out of memory");
+    early_error(log, env, name, "instantiate: out of memory");
     return NULL;
   }
   *fi = (fmu_instance){
       .alloc = a ? *a : plain, .log = log, .env = env, .logging_on = logging_on, .model = m};
-  if (!name) name = m->name;
   fi->name = fmu_mem_get(&fi->alloc, strlen(name) + 1);
   fi->params = fmu_mem_get(&fi->alloc, m->params_size ? m->params_size : 1);
   if (!fi->name || !fi->params) goto nomem;
@@ -175,7 +194,7 @@ fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_al
           fi->layout.n_c);
   return fi;
 nomem:
-  fmu_log(fi, FMU_ERROR, "instantiate: out of memory");
+  early_error(log, env, name, "instantiate: out of memory");
   fmu_free(fi);
   return NULL;
 }
@@ -219,6 +238,7 @@ static int outputs(fmu_instance *fi, double t, const double *q, const double *v)
   out[L->max_abs_c] = worst;
   memmove(out + L->q, q, L->n_q * sizeof *q); /* q may be the outputs themselves */
   memmove(out + L->v, v, L->n_q * sizeof *v);
+  fi->outputs_stale = 0;
   return SDAE_OK;
 }
 
@@ -299,26 +319,34 @@ fmu_status fmu_exit_init(fmu_instance *fi) {
 /* Steps of T from the grid t_grid + i T when h is a multiple of T, so that k T reproduces a
  * fixed-step run exactly; otherwise k equal steps of h / k (k = ceil(h / T)), all ending at
  * t + h, the grid starting anew there. */
-static int substeps(fmu_instance *fi, double t, double h, unsigned long long k, double *q,
-                    double *v, double *t_end) {
+static int substeps(fmu_instance *fi, double h, unsigned long long k, double *q, double *v) {
   fmu_clock *c = &fi->clock;
-  double T = fi->values[FMU_VR_T];
+  double T = fi->values[FMU_VR_T], t = c->t;
   int rc = SDAE_OK;
   if (fabs(h - (double)k * T) <= 1e-9 * T) {
     for (unsigned long long i = 0; i < k && rc == SDAE_OK; i++) {
       rc = sdae_mbs_step(fi->stepper, c->t_grid + (double)c->n_grid * T, T, q, v);
       if (rc == SDAE_OK) c->n_grid++;
     }
-    *t_end = c->t_grid + (double)c->n_grid * T;
   } else {
     double Th = h / (double)k;
     for (unsigned long long i = 0; i < k && rc == SDAE_OK; i++)
       rc = sdae_mbs_step(fi->stepper, t + (double)i * Th, Th, q, v);
-    *t_end = t + h;
     c->t_grid = t + h;
     c->n_grid = 0;
   }
+  /* the FMU's time is the grid's origin and a count of steps, never a running sum of the
+   * importer's steps: it does not drift from t0 + n T, whatever t0 */
+  c->t = c->t_grid + (double)c->n_grid * T;
   return rc;
+}
+
+/* The importer's communication point is the FMU's time up to rounding: within T / 1000, an
+ * absolute bound in units of the step (a relative one admits whole steps off at a large t0),
+ * or two ulps of a time so large that T / 1000 is below its resolution. */
+static int at_own_time(const fmu_instance *fi, double t) {
+  double own = fi->clock.t;
+  return fabs(t - own) <= fmax(1e-3 * fi->values[FMU_VR_T], 4.0 * DBL_EPSILON * fabs(own));
 }
 
 /* k = ceil(h / T) steps (a hair below a multiple of T counts as it, as the programs' rule
@@ -331,7 +359,7 @@ static unsigned long long steps_in(double h, double T) {
 
 fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
   const fmu_layout *L = &fi->layout;
-  double *q = fi->work, *v = fi->work + L->n_q, t_end;
+  double *q = fi->work, *v = fi->work + L->n_q;
   fmu_clock before = fi->clock;
   unsigned long long k;
   int rc;
@@ -340,8 +368,9 @@ fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
     fmu_log(fi, FMU_ERROR, "doStep: the communication step %g is not positive and finite", h);
     return FMU_ERROR;
   }
-  if (!(fabs(t - fi->clock.t) <= 1e-9 * fmax(1.0, fabs(fi->clock.t)))) {
-    fmu_log(fi, FMU_ERROR, "doStep: the communication point %.17g is not the FMU's time %.17g", t,
+  if (!at_own_time(fi, t)) {
+    fmu_log(fi, FMU_ERROR,
+            "doStep: the communication point %.17g is not the FMU's time %.17g (to T/1000)", t,
             fi->clock.t);
     return FMU_ERROR;
   }
@@ -352,8 +381,8 @@ fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
   }
   memcpy(q, fi->values + L->q, L->n_q * sizeof *q);
   memcpy(v, fi->values + L->v, L->n_q * sizeof *v);
-  rc = substeps(fi, t, h, k, q, v, &t_end);
-  if (rc == SDAE_OK) rc = outputs(fi, t_end, q, v);
+  rc = substeps(fi, h, k, q, v);
+  if (rc == SDAE_OK) rc = outputs(fi, fi->clock.t, q, v);
   if (rc != SDAE_OK) {
     /* the outputs stay those of t; nothing more until reset */
     fi->clock = before;
@@ -361,10 +390,9 @@ fmu_status fmu_do_step(fmu_instance *fi, double t, double h) {
     fmu_log(fi, FMU_ERROR,
             "doStep: a step between %.17g and %.17g failed: %s (the outputs are those at %.17g; "
             "reset the FMU)",
-            t, t + h, sdae_strerror(rc), t);
+            t, t + h, sdae_strerror(rc), before.t);
     return FMU_ERROR;
   }
-  fi->clock.t = t + h;
   return FMU_OK;
 }
 
@@ -392,6 +420,19 @@ static fmu_status lookup(const fmu_instance *fi, const char *call, unsigned vr, 
   return FMU_OK;
 }
 
+/* the outputs at the current inputs, when one was set since they were computed (the Reference
+ * FMUs' way: outputs computed on the get that needs them). Not in the failed state, whose
+ * outputs stay those of the last good communication point. */
+static fmu_status fresh_outputs(fmu_instance *fi) {
+  const fmu_layout *L = &fi->layout;
+  int rc;
+  if (!fi->outputs_stale || !fi->stepper || fi->clock.phase == FMU_FAILED) return FMU_OK;
+  if ((rc = outputs(fi, fi->clock.t, fi->values + L->q, fi->values + L->v)) == SDAE_OK)
+    return FMU_OK;
+  fmu_log(fi, FMU_ERROR, "getReal: the outputs at the inputs set: %s", sdae_strerror(rc));
+  return FMU_ERROR;
+}
+
 fmu_status fmu_get_real(fmu_instance *fi, const unsigned *vr, size_t n, double *value) {
   fmu_var var;
   if (n > 0 && (!vr || !value)) {
@@ -407,6 +448,7 @@ fmu_status fmu_get_real(fmu_instance *fi, const unsigned *vr, size_t n, double *
       fmu_log(fi, FMU_ERROR, "getReal: %s is computed from initialization mode on", var.name);
       return FMU_ERROR;
     }
+    if (var.role == FMU_OUTPUT && fresh_outputs(fi) != FMU_OK) return FMU_ERROR;
     value[i] = var.role == FMU_TIME ? fi->clock.t : fi->values[vr[i]];
   }
   return FMU_OK;
@@ -450,6 +492,7 @@ fmu_status fmu_set_real(fmu_instance *fi, const unsigned *vr, size_t n, const do
     /* a start value set to the one it holds (an importer writing back every start value of
      * the XML) leaves the start to the mechanism's parameters */
     if (var.role == FMU_START && value[i] != fi->values[vr[i]]) fi->clock.start_set = 1;
+    if (var.role == FMU_INPUT) fi->outputs_stale = 1;
     fi->values[vr[i]] = value[i];
   }
   /* outputs got in initialization mode came from the values before: computed anew when asked */

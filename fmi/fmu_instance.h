@@ -25,8 +25,10 @@ typedef enum fmu_phase {
   FMU_FAILED        /* a step failed: outputs of the last good point; reset or free */
 } fmu_phase;
 
-/* category: "logStatusError", "logStatusWarning" or "logInfo" */
-typedef void (*fmu_logger)(void *env, fmu_status status, const char *category, const char *message);
+/* instance: the instance's name, on every message; category: "logStatusError",
+ * "logStatusWarning" or "logInfo" */
+typedef void (*fmu_logger)(void *env, const char *instance, fmu_status status, const char *category,
+                           const char *message);
 
 /* What a snapshot of the FMU state copies, apart from the variables and the stepper's block. */
 typedef struct fmu_clock {
@@ -56,11 +58,17 @@ typedef struct fmu_instance {
   size_t block_len;
   sdae_mbs_stepper *stepper; /* in block; NULL before exitInitializationMode */
   double *work;              /* 2 n_q + 2 n_c: a communication step's q, v; lambda, c */
+  /* an input was set, or an FMU state put back, since the outputs were computed: lambda
+   * depends on u directly, so the next get computes the outputs again */
+  int outputs_stale;
 } fmu_instance;
 
 /* size bytes, zeroed, from the allocator a (malloc without one); NULL when there is no room */
 void *fmu_mem_get(const sdae_allocator *a, size_t size);
 void fmu_mem_put(const sdae_allocator *a, void *p, size_t size); /* p NULL is fine */
+
+/* the instance's name: the importer's, or the model's when the importer gives none */
+const char *fmu_instance_name(const char *name);
 
 /* NULL (after a message through log) when the token is not this binary's or memory fails. */
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,

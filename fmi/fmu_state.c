@@ -113,6 +113,8 @@ fmu_status fmu_state_set(fmu_instance *fi, const fmu_state *s) {
   fi->clock = s->clock;
   fi->clock.map = sdae_map_by_name(s->map);
   fi->stepper = NULL;
+  /* a state got after a set of u holds outputs of the u before: computed on the next get */
+  fi->outputs_stale = 1;
   if (s->stepper_len == 0) return FMU_OK;
   /* the stepper at the state's parameters and map, then its own state: the chart and what it
    * keeps, so that the next step is the one the state's instance would have taken */

@@ -27,6 +27,16 @@ static const char *coordinate(const fmu_layout *L, size_t i) {
   return L->model->coordinates && L->model->coordinates[i] ? L->model->coordinates[i] : "";
 }
 
+/* entry i of a table's optional list of units, or "" */
+static const char *unit_of(const char *const *units, size_t i) {
+  return units && units[i] ? units[i] : "";
+}
+
+/* the unit u, per s when per_s (a velocity's, from its coordinate's); none stays none */
+static void set_unit(fmu_var *var, const char *u, int per_s) {
+  snprintf(var->unit, sizeof var->unit, "%s%s", u ? u : "", u && *u && per_s ? "/s" : "");
+}
+
 /* an array element: name[i + 1], its role and a description naming the coordinate */
 static void element(fmu_var *var, const fmu_layout *L, const char *name, size_t i, fmu_role role,
                     const char *what, int per_coordinate) {
@@ -47,27 +57,36 @@ static void named(fmu_var *var, const char *name, fmu_role role, const char *des
 
 static void solver_var(fmu_var *var, size_t vr) {
   static const char *const names[] = {"time", "T", "delta", "epsilon", "map"};
+  /* epsilon is a rate (T epsilon is a number); delta's unit depends on the mechanism's */
+  static const char *const units[] = {"s", "s", "", "1/s", ""};
   static const char *const what[] = {
       "simulation time", "the internal fixed step (a communication step is cut into steps of T)",
       "the stabilization's delta (gains k_i = -(delta^2/2) |q_i|^2 - epsilon)",
       "the stabilization's epsilon (each constraint decays at least as 1/(1 + T epsilon))",
       "the mu-map by name: euler, midpoint, dgrad, dg4, dg6, midpoint4, midpoint6, rk4, rk8"};
   named(var, names[vr], vr == FMU_VR_TIME ? FMU_TIME : FMU_SOLVER, what[vr]);
+  set_unit(var, units[vr], 0);
   var->is_string = vr == FMU_VR_MAP;
 }
 
-/* the outputs: q[], v[], lambda[], max_abs_c, energy */
+/* the outputs: q[], v[], lambda[], max_abs_c (no unit: the constraints' may differ), energy */
 static void output_var(const fmu_layout *L, size_t vr, fmu_var *var) {
-  if (vr < L->v)
+  const sdae_fmu *m = L->model;
+  if (vr < L->v) {
     element(var, L, "q", vr - L->q, FMU_OUTPUT, "position", 1);
-  else if (vr < L->lambda)
+    set_unit(var, unit_of(m->coordinate_units, vr - L->q), 0);
+  } else if (vr < L->lambda) {
     element(var, L, "v", vr - L->v, FMU_OUTPUT, "velocity", 1);
-  else if (vr < L->max_abs_c)
+    set_unit(var, unit_of(m->coordinate_units, vr - L->v), 1);
+  } else if (vr < L->max_abs_c) {
     element(var, L, "lambda", vr - L->lambda, FMU_OUTPUT, "constraint force (multiplier)", 0);
-  else if (vr == L->max_abs_c)
+    set_unit(var, unit_of(m->multiplier_units, vr - L->lambda), 0);
+  } else if (vr == L->max_abs_c) {
     named(var, "max_abs_c", FMU_OUTPUT, "the largest |c_j(t, q)|: the constraints' drift");
-  else
+  } else {
     named(var, "energy", FMU_OUTPUT, "the energy v^T M v / 2 + V(q)");
+    set_unit(var, m->energy_unit, 0);
+  }
 }
 
 int fmu_var_at(const fmu_layout *L, size_t vr, fmu_var *var) {
@@ -79,12 +98,16 @@ int fmu_var_at(const fmu_layout *L, size_t vr, fmu_var *var) {
   } else if (vr < L->q0) {
     const sdae_fmu_param *p = &L->model->params[vr - L->params];
     named(var, p->name, FMU_PARAM, p->description);
+    set_unit(var, p->unit, 0);
   } else if (vr < L->v0) {
     element(var, L, "q0", vr - L->q0, FMU_START, "start position", 1);
+    set_unit(var, unit_of(L->model->coordinate_units, vr - L->q0), 0);
   } else if (vr < L->u) {
     element(var, L, "v0", vr - L->v0, FMU_START, "start velocity", 1);
+    set_unit(var, unit_of(L->model->coordinate_units, vr - L->v0), 1);
   } else if (vr < L->q) {
     element(var, L, "u", vr - L->u, FMU_INPUT, "generalized force added to F", 1);
+    set_unit(var, unit_of(L->model->force_units, vr - L->u), 0);
   } else {
     output_var(L, vr, var);
   }
@@ -111,6 +134,7 @@ void fmu_token(const fmu_layout *L, const double *defaults, char out[40]) {
   for (size_t vr = 0; fmu_var_at(L, vr, &var) == 0; vr++) {
     h1 = fnv(h1, var.name);
     h2 = fnv(h2, var.description);
+    h2 = fnv(h2, var.unit);
     if (var.role == FMU_SOLVER || var.role == FMU_PARAM || var.role == FMU_START) {
       snprintf(buf, sizeof buf, "%.17g", defaults[vr]);
       h1 = fnv(h1, buf);

@@ -33,6 +33,8 @@ typedef struct fmu_layout {
 
 /* the longest variable name, its terminating 0 included */
 #define FMU_NAME_LEN 64
+/* the longest unit: a table's, "/s" appended for a velocity, the terminating 0 */
+#define FMU_UNIT_LEN (SDAE_FMU_UNIT_MAX + 3)
 
 typedef struct fmu_var {
   size_t vr;
@@ -40,6 +42,7 @@ typedef struct fmu_var {
   int is_string;           /* map; every other variable is a double */
   char name[FMU_NAME_LEN]; /* q[3], T, ... */
   char description[160];
+  char unit[FMU_UNIT_LEN]; /* "" when it has none */
 } fmu_var;
 
 /* the layout of a model whose mechanism has n_q coordinates and n_c constraints */

@@ -2,7 +2,8 @@
 /* The four-bar linkage written by the generator from examples/models/sym/fourbar.py (the library
  * sym_fourbar) as an FMU, build/fmus/fmi3|fmi2/fourbar_generated.fmu: the table of
  * <stabdae/fmu.h> from the generated header's, nothing written by hand but the solver's
- * defaults, the example program's (T 0.001, delta 2, epsilon 1, map dgrad). */
+ * defaults, the example program's (T 0.001, delta 2, epsilon 1, map dgrad, tf 10). Its units
+ * come when the generator writes them. */
 #include <stddef.h>
 
 #include <stabdae/fmu.h>
@@ -28,4 +29,5 @@ const sdae_fmu sdae_fmu_model = {
     .delta = 2.0,
     .epsilon = 1.0,
     .map = "dgrad",
+    .stop_time = 10.0, /* the example program's tf, as the hand-written four-bar's */
 };

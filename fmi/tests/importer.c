@@ -71,25 +71,34 @@ static void attribute(const char *xml, const char *attr, char *out, size_t len) 
 
 /* ---- one FMI version behind a few calls ---------------------------------------------------- */
 
-/* what the logger saw: the calls with an error status since the last look */
+/* what the logger saw: the calls with an error status since the last look; messages that were
+ * empty or did not name the instance (FMI 2.0's instanceName; FMI 3.0's logger has no such
+ * argument, the message begins with it) */
+#define INSTANCE "importer"
 static int errors_logged;
 static int messages_empty;
+static int messages_unnamed;
 
-static void note(int error, const char *message) {
+static void note(int error, const char *message, int named) {
   if (error) errors_logged++;
   if (!message || !*message) messages_empty++;
+  if (!named) {
+    fprintf(stderr, "importer: a message without the instance's name: %s\n", message);
+    messages_unnamed++;
+  }
 }
 
 static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category,
                     fmi3String message) {
   (void)env, (void)category;
-  note(status == fmi3Error, message);
+  note(status == fmi3Error, message,
+       message && strncmp(message, INSTANCE ": ", strlen(INSTANCE ": ")) == 0);
 }
 
 static void logger2(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
                     fmi2String category, fmi2String message, ...) {
-  (void)env, (void)name, (void)category;
-  note(status == fmi2Error, message);
+  (void)env, (void)category;
+  note(status == fmi2Error, message, name && strcmp(name, INSTANCE) == 0);
 }
 
 /* FMI 2.0's memory callbacks, counted: every block given back */
@@ -132,12 +141,12 @@ static void *instantiate(fmu *f, const char *token) {
   if (f->version == 3) {
     fmi3InstantiateCoSimulationTYPE *inst =
         (fmi3InstantiateCoSimulationTYPE *)SYM(f, "fmi3InstantiateCoSimulation");
-    return inst("importer", token, NULL, fmi3False, fmi3False, fmi3False, fmi3False, NULL, 0, NULL,
+    return inst(INSTANCE, token, NULL, fmi3False, fmi3True, fmi3False, fmi3False, NULL, 0, NULL,
                 logger3, NULL);
   } else {
     static const fmi2CallbackFunctions cb = {logger2, alloc2, free2, NULL, NULL};
     fmi2InstantiateTYPE *inst = (fmi2InstantiateTYPE *)SYM(f, "fmi2Instantiate");
-    return inst("importer", fmi2CoSimulation, token, NULL, &cb, fmi2False, fmi2False);
+    return inst(INSTANCE, fmi2CoSimulation, token, NULL, &cb, fmi2False, fmi2True);
   }
 }
 
@@ -399,6 +408,23 @@ static void roll_back(fmu *f, const vars *v, double t, double h) {
   CHECK(free_state(f, &state) == 0 && state == NULL);
 }
 
+/* a set of u reaches the outputs at the next get, without a step: some output (lambda) moves,
+ * q[1] does not, and u set back gives the outputs of before bit for bit (computed again at the
+ * same state and inputs) */
+static void inputs_reach_outputs(fmu *f, const vars *v) {
+  double before[MAXOUT], pushed[MAXOUT], back[MAXOUT];
+  int moved = 0;
+  outputs(f, v, before);
+  CHECK(set_real(f, v->u1, 0.5) == 0);
+  outputs(f, v, pushed);
+  for (size_t i = 0; i < v->n_out; i++) moved |= pushed[i] != before[i];
+  CHECK(moved);
+  CHECK(memcmp(&pushed[0], &before[0], sizeof *before) == 0); /* q[1] */
+  CHECK(set_real(f, v->u1, 0.0) == 0);
+  outputs(f, v, back);
+  CHECK(memcmp(back, before, v->n_out * sizeof *back) == 0);
+}
+
 /* a step that fails (a force of 1e200 leaves the state finite nowhere): an error, the outputs
  * of the last good point, every later call answered, then reset and a new run */
 static void failure(fmu *f, const vars *v, double t) {
@@ -448,6 +474,7 @@ static void run(fmu *f, const vars *v) {
   CHECK(do_step(f, 0.1, 0.0025) == 0); /* not a multiple of T = 1e-3: equal substeps */
   outputs(f, v, x);
   for (size_t i = 0; i < v->n_out; i++) CHECK(isfinite(x[i]));
+  inputs_reach_outputs(f, v);
   roll_back(f, v, 0.1025, 1e-2);
   another_instance(f, v);
   failure(f, v, 0.1225);
@@ -455,6 +482,7 @@ static void run(fmu *f, const vars *v) {
   CHECK(reset(f) == 0);
   free_instance(f);
   CHECK(messages_empty == 0);
+  CHECK(messages_unnamed == 0);
   if (f->version == 2) CHECK(live_blocks == 0);
 }
 

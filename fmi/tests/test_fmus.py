@@ -6,9 +6,11 @@ Every check has an independent reference: FMPy's own validator; the example prog
 taken twice from one FMU state; a program of its own (fmi_reference_u) for the inputs. The
 build directory comes from STABDAE_BUILD (ctest sets it: fmi.fmpy, label fmi).
 """
+import json
 import os
 import struct
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
@@ -71,6 +73,74 @@ def test_validate(version, name):
     assert validate_fmu(fmu_path(version, name)) == []
 
 
+def expected_units(name):
+    """the units each variable has in SI, from the mechanism's physics (models/mechanisms.c,
+    models/benchmarks.c): the four-bar's coordinates are lengths, its constraints
+    (|X - Y|^2 - L^2) / 2 in m^2, so lambda is in N/m; the slider crank's are an angle, a length
+    and an angle, its constraints lengths whose rows of G are in m per rad and 1, so lambda is in
+    N. Time in s, epsilon a rate; delta, map and max_abs_c (mixed constraints) have none."""
+    n_q, n_c = sizes(name)
+    if name == "fourbar":
+        params = {"a": "m", "b": "m", "e": "m", "d": "m", "mB": "kg", "mC": "kg",
+                  "ga": "m/s^2", "theta0": "rad", "omega0": "rad/s"}
+        q, u, lam = ["m"] * 4, ["N"] * 4, ["N/m"] * 3
+    else:
+        params = {"a": "m", "J1": "kg*m^2", "m2": "kg", "J2": "kg*m^2", "k": "N/m",
+                  "c": "N*s/m", "l0": "m", "F": "N"}
+        q, u, lam = ["rad", "m", "rad"], ["N*m", "N", "N*m"], ["N", "N"]
+    units = {"time": "s", "T": "s", "delta": None, "epsilon": "1/s", "map": None,
+             "max_abs_c": None, "energy": "J", **params}
+    for i in range(n_q):
+        units.update({f"q0[{i + 1}]": q[i], f"q[{i + 1}]": q[i], f"v0[{i + 1}]": q[i] + "/s",
+                      f"v[{i + 1}]": q[i] + "/s", f"u[{i + 1}]": u[i]})
+    units.update({f"lambda[{j + 1}]": lam[j] for j in range(n_c)})
+    return units
+
+
+# the units' SI base units, from their definitions (N = kg m s^-2, J = N m)
+SI = {"s": {"s": 1}, "1/s": {"s": -1}, "m": {"m": 1}, "kg": {"kg": 1}, "rad": {"rad": 1},
+      "m/s": {"m": 1, "s": -1}, "rad/s": {"rad": 1, "s": -1}, "m/s^2": {"m": 1, "s": -2},
+      "kg*m^2": {"kg": 1, "m": 2}, "N": {"kg": 1, "m": 1, "s": -2}, "N/m": {"kg": 1, "s": -2},
+      "N*s/m": {"kg": 1, "s": -1}, "N*m": {"kg": 1, "m": 2, "s": -2},
+      "J": {"kg": 1, "m": 2, "s": -2}}
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_units(version, name):
+    """every variable has its unit (and those without one none), each defined once in
+    UnitDefinitions with its SI base units, none defined that no variable has"""
+    md = read_model_description(fmu_path(version, name))
+    got = {v.name: v.unit for v in md.modelVariables}
+    assert got == expected_units(name)
+    defined = [u.name for u in md.unitDefinitions]
+    assert len(defined) == len(set(defined))
+    assert set(defined) == {u for u in got.values() if u}
+    for unit in md.unitDefinitions:
+        base = unit.baseUnit
+        exponents = {k: getattr(base, k) for k in ("kg", "m", "s", "A", "K", "mol", "cd", "rad")}
+        assert {k: e for k, e in exponents.items() if e} == SI[unit.name], unit.name
+        assert (base.factor, base.offset) == (1.0, 0.0)
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_default_experiment(version, tmp_path):
+    """DefaultExperiment: start 0, step T, stop the example program's tf (10 s), a whole number
+    of steps; FMPy run with nothing given stops there, on the program's states bit for bit (its
+    output interval is the step doubled until there are at most 1000: 16 T)"""
+    name = "fourbar"
+    experiment = read_model_description(fmu_path(version, name)).defaultExperiment
+    start, stop, step = (float(experiment.startTime), float(experiment.stopTime),
+                         float(experiment.stepSize))
+    assert (start, stop, step) == (0.0, 10.0, T)
+    assert (stop - start) / step == round((stop - start) / step)
+    res = simulate_fmu(fmu_path(version, name), output=outputs(name)[:8])
+    ref = run_program(name, 10.0, 16, tmp_path)
+    assert res["time"][-1] == stop and len(res) == len(ref) == 626
+    for out, col in zip(outputs(name)[:8], program_columns(name)[:8]):
+        assert bits(res[out]) == bits(ref[col]), f"{version} {out}"
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("name", NAMES)
 def test_binary_stands_alone(version, name, tmp_path):
@@ -93,6 +163,69 @@ def test_binary_stands_alone(version, name, tmp_path):
     assert exported and all(sym.startswith(version) for sym in exported), exported
     docs = {p.name for p in (tmp_path / "documentation").rglob("*")}
     assert {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"} <= docs
+
+
+POISONED_RUN = """
+import ctypes, json, sys
+from fmpy import simulate_fmu
+poison = ctypes.CDLL(sys.argv[1], mode=ctypes.RTLD_GLOBAL)
+try:
+    res = simulate_fmu(sys.argv[2], stop_time=0.5, output_interval=0.01, output=sys.argv[3:])
+    rows = [[float(x).hex() for x in row] for row in res]
+except Exception as e:  # a step failed on the poisoned numbers
+    rows = str(e)
+print(json.dumps({"calls": ctypes.c_long.in_dll(poison, "poison_calls").value, "rows": rows}))
+"""
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_cblas_bound_inside(version, name, tmp_path):
+    """GSL's CBLAS is bound inside the binary: in a process that loaded a CBLAS of its own first
+    (fmi_poison_cblas, RTLD_GLOBAL: first in the symbol lookup; each of its routines counts its
+    calls and writes NaN), the FMU never calls it and gives the numbers it gives alone, bit for
+    bit. The binary has no RPATH or RUNPATH, needs no CBLAS and has no cblas_ symbol a process
+    could see or interpose."""
+    poison = BUILD / "fmi" / "tests" / "libfmi_poison_cblas.so"
+    p = subprocess.run([sys.executable, "-c", POISONED_RUN, str(poison), fmu_path(version, name)]
+                       + outputs(name), check=True, capture_output=True, text=True)
+    poisoned = json.loads(p.stdout.splitlines()[-1])
+    alone = simulate_fmu(fmu_path(version, name), stop_time=0.5, output_interval=0.01,
+                         output=outputs(name))
+    assert poisoned["calls"] == 0
+    assert poisoned["rows"] == [[float(x).hex() for x in row] for row in alone]
+    platform = "x86_64-linux" if version == "fmi3" else "linux64"
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    binary = str(tmp_path / "binaries" / platform / f"{name}.so")
+    dynamic = subprocess.run(["readelf", "-d", binary], check=True, capture_output=True,
+                             text=True).stdout
+    assert "RPATH" not in dynamic and "RUNPATH" not in dynamic
+    needed = [line.split("[")[1].rstrip("]") for line in dynamic.splitlines() if "(NEEDED)" in line]
+    assert set(needed) <= {"libc.so.6", "libm.so.6"}, needed
+    symbols = subprocess.run(["nm", "-D", binary], check=True, capture_output=True,
+                             text=True).stdout
+    assert "cblas_" not in symbols
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_license_entry_point(version, name, tmp_path):
+    """FMI 3.0 section 2.5: documentation/licenses/ has license.txt as its entry point (in the
+    FMI 2.0 FMU too); it names the licences, GPL-3.0-or-later and BSD-2-Clause, and every other
+    file of the folder, each of which holds its licence's text"""
+    with zipfile.ZipFile(fmu_path(version, name)) as z:
+        z.extractall(tmp_path)
+    licenses = tmp_path / "documentation" / "licenses"
+    entry = (licenses / "license.txt").read_text()
+    assert "GPL-3.0-or-later" in entry and "BSD-2-Clause" in entry
+    others = {p.name for p in licenses.iterdir()} - {"license.txt"}
+    assert others == {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"}
+    for other in others:
+        assert other in entry
+    assert "GNU GENERAL PUBLIC LICENSE" in (licenses / "stabdae-GPL-3.0-or-later.txt").read_text()
+    assert "Redistribution and use in source and binary forms" in \
+        (licenses / "fmi-headers-BSD-2-Clause.txt").read_text()
 
 
 @pytest.mark.parametrize("version", VERSIONS)
@@ -184,13 +317,13 @@ def set_real(fmu, version, refs, values):
     (fmu.setFloat64 if version == "fmi3" else fmu.setReal)(refs, values)
 
 
-def start(fmu, version, logger=None):
+def start(fmu, version, logger=None, t0=0.0):
     if version == "fmi3":
         fmu.instantiate(logMessage=logger)
-        fmu.enterInitializationMode()
+        fmu.enterInitializationMode(startTime=t0)
     else:
         fmu.instantiate(callbacks=logger)
-        fmu.setupExperiment(startTime=0.0)
+        fmu.setupExperiment(startTime=t0)
         fmu.enterInitializationMode()
 
 
@@ -259,11 +392,86 @@ def test_constant_input(version, name):
     assert np.max(np.abs(free_run["q[1]"] - res["q[1]"])) > 1e-6
 
 
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("t0", [1e9, 1e6])
+def test_communication_point_in_steps(version, t0):
+    """the communication point must be the FMU's time to a small fraction of T at any start
+    time: 0.5 s, 0.9 T and 0.01 T off are refused and change nothing; the points t0 + n T are
+    accepted (also one ulp off: rounding), the FMU's time is then t0 + n T (a count of steps,
+    no drift, whatever the points passed) and the state is the
+    one of a run from 0, bit for bit (the four-bar does not depend on t: the same steps)"""
+    name, n = "fourbar", 50
+    refs = outputs(name)
+    runs = []
+    for start_time in (0.0, t0):
+        fmu, vr, _ = slave(version, fmu_path(version, name))
+        start(fmu, version, t0=start_time)
+        fmu.exitInitializationMode()
+        for i in range(n):
+            t = start_time + i * T
+            if start_time:
+                before = bits(get(fmu, version, [vr["time"]] + [vr[o] for o in refs]))
+                for off in (0.5, 0.9 * T, -0.9 * T, 0.01 * T):
+                    with pytest.raises(FMICallException):
+                        do_step(fmu, t + off, T)
+                assert bits(get(fmu, version, [vr["time"]] + [vr[o] for o in refs])) == before
+            do_step(fmu, np.nextafter(t, np.inf) if i % 2 else t, T)  # a point rounded apart
+            assert get(fmu, version, [vr["time"]]) == [start_time + (i + 1) * T]
+        runs.append(bits(get(fmu, version, [vr[o] for o in refs])))
+        fmu.terminate()
+        fmu.freeInstance()
+    assert runs[0] == runs[1]
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+@pytest.mark.parametrize("name", NAMES)
+def test_outputs_follow_inputs(version, name):
+    """a get after a set of u, before any doStep, answers outputs at the new u: lambda (which
+    depends on u directly) is that of a fresh instance started at the same time and state with
+    that u, and not the one before; q, v, max_abs_c and energy (which do not) stay as they were.
+    The model structure says so: lambda depends on every u, the other outputs on none."""
+    n_q, n_c = sizes(name)
+    u = [0.3, -0.2, 0.25, 0.1][:n_q]
+    fmu, vr, _ = slave(version, fmu_path(version, name))
+    refs = [vr[o] for o in outputs(name)]
+    lam = slice(2 * n_q, 2 * n_q + n_c)
+    start(fmu, version)
+    fmu.exitInitializationMode()
+    for i in range(10):
+        do_step(fmu, i * 0.01, 0.01)
+    before = get(fmu, version, refs)
+    set_real(fmu, version, [vr[f"u[{i + 1}]"] for i in range(n_q)], u)
+    after = get(fmu, version, refs)
+    state = get(fmu, version, [vr["time"]] + refs[:2 * n_q])
+    fmu.terminate()
+    fmu.freeInstance()
+    fresh, vr2, _ = slave(version, fmu_path(version, name))
+    start(fresh, version, t0=state[0])
+    set_real(fresh, version, [vr2[f"{x}0[{i + 1}]"] for x in "qv" for i in range(n_q)] +
+             [vr2[f"u[{i + 1}]"] for i in range(n_q)], state[1:] + u)
+    fresh.exitInitializationMode()
+    reference = get(fresh, version, refs)
+    fresh.terminate()
+    fresh.freeInstance()
+    assert np.max(np.abs(np.subtract(after[lam], before[lam]))) > 1e-3, "lambda did not move"
+    assert_close(after[lam], reference[lam], f"{name} {version} lambda")
+    assert bits(after[:lam.start] + after[lam.stop:]) == bits(before[:lam.start] +
+                                                              before[lam.stop:])
+    md = read_model_description(fmu_path(version, name))
+    inputs = {f"u[{i + 1}]" for i in range(n_q)}
+    for out in md.outputs:
+        deps = {v.name for v in out.dependencies}
+        assert deps == (inputs if out.variable.name.startswith("lambda[") else set()), \
+            out.variable.name
+
+
 class Log:
-    """the FMU's messages, by status"""
+    """the FMU's messages, by status, and the instance each named (FMI 2.0's instanceName; FMI
+    3.0's logger has none: the message begins with the name)"""
 
     def __init__(self, version):
         self.errors = []
+        self.named = []
         if version == "fmi3":
             self.callback = self.log3
         else:
@@ -274,10 +482,12 @@ class Log:
             self.callback = cb
 
     def log3(self, env, status, category, message):
+        self.named.append(message.decode().split(": ", 1)[0])
         if status == 3:
             self.errors.append(message.decode())
 
     def log2(self, env, name, status, category, message):
+        self.named.append(name.decode() if name else None)
         if status == 3:
             self.errors.append(message.decode())
 
@@ -291,6 +501,32 @@ def refused(call, log, word):
         call()
     errors = log.take()
     assert errors and word in errors[-1], errors
+
+
+@pytest.mark.parametrize("version", VERSIONS)
+def test_messages_name_the_instance(version):
+    """every message carries the instance's name, also those logged inside instantiate: a token
+    that is not the binary's, and the information message with logging on"""
+    path = fmu_path(version, "fourbar")
+    md = read_model_description(path)
+    unzipdir = extract(path)
+    log = Log(version)
+    cls = FMU3Slave if version == "fmi3" else FMU2Slave
+    for guid in ("{00000000-0000-0000-0000-000000000000}", md.guid):
+        fmu = cls(guid=guid, unzipDirectory=unzipdir, instanceName="pump_7",
+                  modelIdentifier=md.coSimulation.modelIdentifier)
+        if version == "fmi3":
+            instantiate = lambda: fmu.instantiate(loggingOn=True, logMessage=log.callback)
+        else:
+            instantiate = lambda: fmu.instantiate(loggingOn=True, callbacks=log.callback)
+        if guid == md.guid:
+            instantiate()
+            fmu.freeInstance()
+        else:
+            with pytest.raises(Exception):
+                instantiate()
+    assert len(log.take()) == 1 and len(log.named) == 2
+    assert log.named == ["pump_7", "pump_7"]
 
 
 @pytest.mark.parametrize("version", VERSIONS)

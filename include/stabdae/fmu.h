@@ -32,6 +32,7 @@ typedef struct sdae_fmu_param {
   double start;            /* its default (unused when the table gives params_default) */
   const char *description; /* one line, or NULL */
   size_t offset;           /* offsetof in the params struct */
+  const char *unit;        /* optional: its unit, "m", "kg*m^2", "N/m"; NULL or "": none */
 } sdae_fmu_param;
 
 typedef struct sdae_fmu {
@@ -57,12 +58,32 @@ typedef struct sdae_fmu {
    * name (scheme 15 always) */
   double T, delta, epsilon;
   const char *map;
+  /* Optional, the units in modelDescription.xml (NULL, or a NULL or "" entry: none; at most
+   * SDAE_FMU_UNIT_MAX characters each). Time is in s. coordinate_units: n_q, those of q and q0;
+   * v's and v0's are these per s ("m" gives "m/s"). force_units: n_q, those of the inputs u,
+   * the generalized force along each coordinate ("N" along a length, "N*m" along an angle).
+   * multiplier_units: n_c, those of lambda (the generalized force per unit of the constraint:
+   * "N/m" for a constraint in m^2 on coordinates in m). energy_unit: the energy's ("J"). */
+  const char *const *coordinate_units;
+  const char *const *force_units;
+  const char *const *multiplier_units;
+  const char *energy_unit;
+  /* optional: the DefaultExperiment's stop time, a multiple of T; 0: 1000 steps of T */
+  double stop_time;
 } sdae_fmu;
 
+/* the longest unit a table may give */
+#define SDAE_FMU_UNIT_MAX 40
+
 /* A parameter that is the field FIELD of the params struct TYPE, its default from the table's
- * params_default: SDAE_FMU_PARAM(pendulum_params, L, "rod length"). */
-#define SDAE_FMU_PARAM(TYPE, FIELD, DESCRIPTION)                                                   \
-  { #FIELD, 0.0, DESCRIPTION, offsetof(TYPE, FIELD) }
+ * params_default, and optionally its unit: SDAE_FMU_PARAM(pendulum_params, L, "rod length") or
+ * SDAE_FMU_PARAM(pendulum_params, L, "rod length", "m"). */
+#define SDAE_FMU_PARAM(TYPE, FIELD, ...)                                                           \
+  SDAE_FMU_PARAM_(#FIELD, 0.0, offsetof(TYPE, FIELD), __VA_ARGS__, NULL, NULL)
+/* one entry from the description and the unit, which may be left out (NULL): the NULLs appended
+ * fill it in, and leave the ... an argument at least, as C before C23 needs */
+#define SDAE_FMU_PARAM_(NAME, START, OFFSET, DESCRIPTION, UNIT, ...)                               \
+  { NAME, START, DESCRIPTION, OFFSET, UNIT }
 
 /* The table of the FMU being built, defined by the user's file. */
 extern const sdae_fmu sdae_fmu_model;
@@ -80,14 +101,16 @@ extern const sdae_fmu sdae_fmu_model;
   }
 
 /* The parameters of a mechanism written by the generator, from its header's table (the X-macro
- * NAME_PARAMETERS: field, default, description): SDAE_FMU_GENERATED_PARAMS(fourbar,
- * FOURBAR_PARAMETERS) defines the array fourbar_fmu_params of FOURBAR_N_PARAMS entries (at least
- * one: C has no empty initializer). One per file. */
+ * NAME_PARAMETERS: field, default, description and, from the generator that writes units, the
+ * unit): SDAE_FMU_GENERATED_PARAMS(fourbar, FOURBAR_PARAMETERS) defines the array
+ * fourbar_fmu_params of FOURBAR_N_PARAMS entries (at least one: C has no empty initializer).
+ * One per file. */
 #define SDAE_FMU_GENERATED_PARAMS(NAME, TABLE)                                                     \
   typedef NAME##_params sdae_fmu_generated_params;                                                 \
   static const sdae_fmu_param NAME##_fmu_params[] = {TABLE(SDAE_FMU_GENERATED_PARAM)}
-#define SDAE_FMU_GENERATED_PARAM(FIELD, VALUE, DESCRIPTION)                                        \
-  {#FIELD, VALUE, DESCRIPTION, offsetof(sdae_fmu_generated_params, FIELD)},
+#define SDAE_FMU_GENERATED_PARAM(FIELD, VALUE, ...)                                                \
+  SDAE_FMU_PARAM_(#FIELD, VALUE, offsetof(sdae_fmu_generated_params, FIELD), __VA_ARGS__, NULL,    \
+                  NULL),
 
 #ifdef __cplusplus
 }

@@ -48,13 +48,11 @@ for prog in "$build"/tests/fuzz/fuzz_*; do
   memcheck "$prog" "$ROOT/tests/fuzz/corpus/${name#fuzz_}"
 done
 # the FMUs' binaries loaded by our own importer (fmi/tests/importer.c), FMI 3.0 and 2.0: bad
-# input, steps, roll-back, a failing step, reset and free; the dynamic loader's own report on
-# an RPATH of $ORIGIN suppressed (fmi/tests/valgrind.supp)
+# input, steps, roll-back, a failing step, reset and free
 if [ -x "$build/fmi/tests/fmi_importer" ]; then
   for name in fourbar slider_crank; do
     for version in 3 2; do
-      VALGRIND_OPTS="--suppressions=$ROOT/fmi/tests/valgrind.supp" memcheck \
-        "$build/fmi/tests/fmi_importer" "$version" \
+      memcheck "$build/fmi/tests/fmi_importer" "$version" \
         "$build/examples/fmus/${name}_fmu/fmi$version" "$name"
     done
   done
