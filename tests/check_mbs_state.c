@@ -282,11 +282,14 @@ END_TEST
 
 /* the header: magic (8 bytes), format (4), build (8), identity (8), length (8); a field
  * changed and the checksum made anew is no longer damaged but another build or format */
-static void rewrite(unsigned char *state, size_t len, size_t at) {
-  uint64_t sum;
-  state[at] ^= 1;
-  sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
+static void reseal(unsigned char *state, size_t len) {
+  uint64_t sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
   memcpy(state + len - sizeof sum, &sum, sizeof sum);
+}
+
+static void rewrite(unsigned char *state, size_t len, size_t at) {
+  state[at] ^= 1;
+  reseal(state, len);
 }
 
 START_TEST(another_build_or_format_is_foreign) {
@@ -312,6 +315,26 @@ START_TEST(another_build_or_format_is_foreign) {
   ck_assert_str_ne(sdae_strerror(SDAE_ERR_STATE_FOREIGN), "unknown status");
   expect_untouched(&a, &twin);
   free(bad), free(state);
+  sdae_mbs_stepper_free(a.s), sdae_mbs_stepper_free(twin.s);
+}
+END_TEST
+
+/* dgrad's kept Newton matrix (2 x 2 on the four-bar's mu) ends the state with its two pivots,
+ * before the checksum: one made to index far outside, the checksum made anew, is refused and
+ * nothing is changed (a solve with it would write outside the factors) */
+START_TEST(a_pivot_out_of_range_is_refused) {
+  run a, twin;
+  size_t len;
+  unsigned pivot = 1000;
+  unsigned char *state;
+  run_start(&a, "dgrad"), run_start(&twin, "dgrad");
+  run_steps(&a, 20), run_steps(&twin, 20);
+  state = state_of(&a, &len);
+  memcpy(state + len - sizeof(uint64_t) - 2 * sizeof pivot, &pivot, sizeof pivot);
+  reseal(state, len);
+  ck_assert_int_eq(sdae_mbs_set_state(a.s, state, len), SDAE_ERR_STATE_DAMAGED);
+  expect_untouched(&a, &twin);
+  free(state);
   sdae_mbs_stepper_free(a.s), sdae_mbs_stepper_free(twin.s);
 }
 END_TEST
@@ -342,6 +365,7 @@ int main(int argc, char **argv) {
   ADD_CASE(s, every_damaged_byte_is_refused);
   ADD_CASE(s, a_foreign_state_is_refused);
   ADD_CASE(s, another_build_or_format_is_foreign);
+  ADD_CASE(s, a_pivot_out_of_range_is_refused);
   ADD_CASE(s, bad_arguments);
   return run_suite(s);
 }

@@ -69,6 +69,12 @@ void sdae__newton_state(sdae_newton *nw, sdae_bytes *b) {
   sdae__bytes(b, nw->piv, n * sizeof *nw->piv);
 }
 
+int sdae__newton_state_valid(const sdae_newton *nw) {
+  for (size_t i = 0; nw->kept && i < nw->n; i++)
+    if (nw->piv[i] >= nw->n) return 0;
+  return 1;
+}
+
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
 

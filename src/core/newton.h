@@ -59,5 +59,7 @@ void sdae__newton_forget(sdae_newton *nw);
 /* what the next solve depends on (the kept matrix: its factors, coefficient and age), counted,
  * written or read (core/bytes.h) */
 void sdae__newton_state(sdae_newton *nw, sdae_bytes *b);
+/* the kept factors' pivots index rows of the matrix (what bytes read may not hold) */
+int sdae__newton_state_valid(const sdae_newton *nw);
 
 #endif /* STABDAE_SRC_CORE_NEWTON_H */

@@ -48,7 +48,6 @@ void sdae__mbs_chart_carve(sdae_mbs_atlas *ch, sdae_arena *a) {
   ch->W = sdae__take(a, n_q, n_f);
   ch->col = sdae__take(a, n_c, 1);
   ch->sol = sdae__take(a, n_c, 1);
-  ch->check = sdae__take_indices(a, n_q);
 }
 
 /* G_D's LU from the chart dep's columns of G: the small dense one for up to SDAE_SMALL_DENSE
@@ -207,20 +206,14 @@ void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b) {
   sdae__bytes_doubles(b, &ch->measure, 1);
 }
 
-int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in) {
-  sdae_mbs_atlas probe = *ch;
-  sdae_bytes b = {NULL, in, 0};
-  size_t n_q = ch->n_q, n_c = ch->n_c, *seen = ch->check;
-  size_t i = 0, j = n_c;
-  probe.dep = seen;
-  probe.ind = seen + n_c;
-  sdae__mbs_chart_state(&probe, &b);
-  if (!probe.have) return 1;
+int sdae__mbs_chart_valid(const sdae_mbs_atlas *ch) {
+  size_t n_q = ch->n_q, n_c = ch->n_c, i = 0, j = 0;
+  if (!ch->have) return 1;
   /* dep and ind, each ascending, merged: every coordinate once */
   for (size_t x = 0; x < n_q; x++) {
-    if (i < n_c && seen[i] == x)
+    if (i < n_c && ch->dep[i] == x)
       i++;
-    else if (j < n_q && seen[j] == x)
+    else if (j < ch->n_f && ch->ind[j] == x)
       j++;
     else
       return 0;

@@ -28,7 +28,6 @@ typedef struct sdae_mbs_atlas {
   double *A;         /* n_c x n_f: G_D^-1 G_I */
   double *W;         /* n_q x n_f: dq/dq_I, spans ker G */
   double *col, *sol; /* n_c each: a column of G_I and G_D^-1 of it */
-  size_t *check;     /* n_q: a chart read from bytes (dep, then ind), checked before it is taken */
   /* counters */
   unsigned long switches; /* charts replaced (the first one is not) */
   double measure;         /* max |A| of the current chart where it was chosen */
@@ -56,10 +55,9 @@ void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x);
 void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out);
 
 /* the chart and its counters (what the next step depends on), counted, written or read
- * (core/bytes.h); read, the dependent and independent coordinates are not checked here */
+ * (core/bytes.h) */
 void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b);
-/* the chart the bytes at b hold is a split of the coordinates (or no chart): read into the
- * atlas' scratch alone, nothing of the chart changed */
-int sdae__mbs_chart_state_ok(sdae_mbs_atlas *ch, const unsigned char *in);
+/* the chart is a split of the coordinates (or there is none): what bytes read may not hold */
+int sdae__mbs_chart_valid(const sdae_mbs_atlas *ch);
 
 #endif /* STABDAE_SRC_MBS_MBS_CHART_H */

@@ -142,8 +142,13 @@ int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
   sdae_bytes b = {NULL, in, header_size()};
   int rc;
   if ((rc = verify(s, in, len)) != SDAE_OK) return rc;
-  /* whole and ours, yet a chart that is no split of q could only have been made by hand */
-  if (!sdae__mbs_chart_state_ok(&s->chart, in + b.at)) return SDAE_ERR_STATE_DAMAGED;
+  /* whole and ours, yet what indexes memory (the chart, Newton's pivots) may have been made by
+   * hand: read, checked, and the stepper put back as it was when it is not whole */
+  sdae__mbs_rollback_save(s);
   parts(s, &b);
+  if (!sdae__mbs_chart_valid(&s->chart) || !sdae__stepper_state_valid(s->inner)) {
+    sdae__mbs_rollback(s);
+    return SDAE_ERR_STATE_DAMAGED;
+  }
   return SDAE_OK;
 }

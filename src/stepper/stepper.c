@@ -238,3 +238,7 @@ size_t sdae__stepper_state_bytes(const sdae_model *m, const sdae_options *o) {
   sdae__stepper_state(&probe, &b);
   return b.at;
 }
+
+int sdae__stepper_state_valid(const sdae_stepper *s) {
+  return !sdae__map_uses_newton(s->opt.map) || sdae__newton_state_valid(&s->newton);
+}

@@ -27,6 +27,8 @@ void sdae__stepper_state(sdae_stepper *s, sdae_bytes *b);
 /* the bytes sdae__stepper_state counts for a stepper of this model and options, before one is
  * built (a front-end's block holds a copy) */
 size_t sdae__stepper_state_bytes(const sdae_model *m, const sdae_options *o);
+/* what was read indexes nothing outside the stepper (Newton's pivots) */
+int sdae__stepper_state_valid(const sdae_stepper *s);
 
 /* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
  * step and the last; step and observe receive ctx (integrate.c) */
