@@ -18,6 +18,10 @@
 
 extern char **environ;
 
+/* this program, run again as the other process (argv[0]: under valgrind /proc/self/exe would
+ * be valgrind's) */
+static const char *self;
+
 static const mech_fourbar FOURBAR = {
     .a = 1.0, .b = 4.0, .e = 3.0, .d = 4.5, .mB = 1.0, .mC = 1.0, .ga = 9.81};
 static const double T = 0.01;
@@ -173,7 +177,7 @@ START_TEST(another_process_continues_bit_for_bit) {
     run a;
     size_t len, head = sizeof a.q + sizeof a.v + sizeof a.k;
     unsigned char *state;
-    char *args[] = {"/proc/self/exe", "continue", (char *)MAPS[m], in, out, NULL};
+    char *args[] = {(char *)self, "continue", (char *)MAPS[m], in, out, NULL};
     pid_t pid;
     int status;
     double qv[8];
@@ -357,6 +361,7 @@ END_TEST
 
 int main(int argc, char **argv) {
   Suite *s;
+  self = argv[0];
   if (argc == 5 && strcmp(argv[1], "continue") == 0) return continue_elsewhere(argv);
   s = suite_create("mbs_state");
   ADD_CASE(s, fresh_stepper_continues_bit_for_bit);

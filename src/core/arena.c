@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* One block of memory, handed out array by array: the stepper's workspace, certify's search and
  * the model check's arrays. The same walk serves twice: without a base it only counts
- * (overflow-checked), with a base it hands out the pointers. */
+ * (overflow-checked), with a base it hands out the pointers, each array zeroed: a part's state
+ * before its first use is defined bytes (a fresh stepper's state as bytes is the same every
+ * time). Only a part's set-up carves, never a step. */
 #include <stdalign.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <stabdae/stabdae.h>
 
@@ -24,7 +27,9 @@ void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align) {
     return NULL;
   }
   a->used = at + bytes;
-  return a->base ? a->base + at : NULL;
+  if (!a->base) return NULL;
+  memset(a->base + at, 0, bytes);
+  return a->base + at;
 }
 
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2) {
