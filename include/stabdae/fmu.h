@@ -80,13 +80,14 @@ extern const sdae_fmu sdae_fmu_model;
   }
 
 /* The parameters of a mechanism written by the generator, from its header's table (the X-macro
- * NAME_PARAMETERS: field, default, description): SDAE_FMU_GENERATED_PARAMS(fourbar,
+ * NAME_PARAMETERS: field, default, description, unit): SDAE_FMU_GENERATED_PARAMS(fourbar,
  * FOURBAR_PARAMETERS) defines the array fourbar_fmu_params of FOURBAR_N_PARAMS entries (at least
  * one: C has no empty initializer). One per file. */
 #define SDAE_FMU_GENERATED_PARAMS(NAME, TABLE)                                                     \
   typedef NAME##_params sdae_fmu_generated_params;                                                 \
   static const sdae_fmu_param NAME##_fmu_params[] = {TABLE(SDAE_FMU_GENERATED_PARAM)}
-#define SDAE_FMU_GENERATED_PARAM(FIELD, VALUE, DESCRIPTION)                                        \
+/* the unit is not in the table yet (sdae_fmu_param has no field for it): ignored */
+#define SDAE_FMU_GENERATED_PARAM(FIELD, VALUE, DESCRIPTION, UNIT)                                  \
   {#FIELD, VALUE, DESCRIPTION, offsetof(sdae_fmu_generated_params, FIELD)},
 
 #ifdef __cplusplus
