@@ -165,12 +165,17 @@ def write(out, files):
     if os.path.exists(out) and not os.path.isdir(out):
         raise ModelError(f"--out {out}: not a directory")
     staged, created = [], not os.path.exists(out)
+    # mkstemp makes its file readable by its owner alone: the files get the mode a new file
+    # gets (0666 less the umask), as a compiler's output does, for an install or another user
+    umask = os.umask(0)
+    os.umask(umask)
     try:
         os.makedirs(out, exist_ok=True)
         for name, text in files.items():
             fd, tmp = tempfile.mkstemp(prefix=f".{name}.", dir=out)
             with os.fdopen(fd, "w") as f:
                 f.write(text)
+            os.chmod(tmp, 0o666 & ~umask)
             staged.append((tmp, os.path.join(out, name)))
         for tmp, final in staged:
             os.replace(tmp, final)

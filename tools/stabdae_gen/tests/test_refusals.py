@@ -149,11 +149,16 @@ def test_start_violation_says_by_how_much(model, tmp_path):
 
 
 def test_good_description_is_written(model, tmp_path):
-    """The same description unchanged: the control of the cases above."""
+    """The same description unchanged: the control of the cases above. The files have the
+    mode of a new file (0666 less the umask), not the temporary file's 0600."""
     path = model(PENDULUM + "return Mechanism('pendulum', t, q, v, **args)\n")
     rc, stdout, stderr = run_mbsgen(path, "--out", str(tmp_path / "out"))
     assert rc == 0, stderr
     assert sorted(os.listdir(tmp_path / "out")) == ["pendulum.c", "pendulum.h"]
+    umask = os.umask(0)
+    os.umask(umask)
+    for name in ("pendulum.c", "pendulum.h"):
+        assert os.stat(tmp_path / "out" / name).st_mode & 0o777 == 0o666 & ~umask
 
 
 @pytest.mark.parametrize("body,words", [
