@@ -54,17 +54,27 @@ def timed_mbsgen(*args):
     return (*result, cpu)
 
 
-@pytest.fixture(scope="session")
-def generated(tmp_path_factory):
-    """Every model of MODELS generated once: {model path: (output dir, name, CPU seconds)}."""
-    out = {}
-    for model in MODELS:
-        d = tmp_path_factory.mktemp(os.path.basename(model)[:-3])
+class _Generated(dict):
+    """model path -> (output dir, name, CPU seconds), each model generated when first asked
+    for (a test file that needs one model does not wait for the others)."""
+
+    def __init__(self, tmp_path_factory):
+        super().__init__()
+        self.tmp_path_factory = tmp_path_factory
+
+    def __missing__(self, model):
+        d = self.tmp_path_factory.mktemp(os.path.basename(model)[:-3])
         rc, stdout, stderr, cpu = timed_mbsgen(model, "--out", str(d))
         assert rc == 0, stderr
         name = re.search(r"mbsgen: (\w+):", stdout).group(1)
-        out[model] = (d, name, cpu)
-    return out
+        self[model] = (d, name, cpu)
+        return self[model]
+
+
+@pytest.fixture(scope="session")
+def generated(tmp_path_factory):
+    """Every model of the tree generated once a session, when a test first needs it."""
+    return _Generated(tmp_path_factory)
 
 
 # A program that evaluates every callback of a generated mechanism at its default parameters:
