@@ -75,7 +75,7 @@ def _said(err):
     (its __str__ may fail)."""
     try:
         message = str(err)
-    except Exception:  # noqa: BLE001 - any failure of the model's own __str__
+    except Exception:  # any failure of the model's own __str__
         message = "(its message cannot be printed)"
     return f"{type(err).__name__}: {message}" if message else type(err).__name__
 
