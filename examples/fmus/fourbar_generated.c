@@ -2,8 +2,9 @@
 /* The four-bar linkage written by the generator from examples/models/sym/fourbar.py (the library
  * sym_fourbar) as an FMU, build/fmus/fmi3|fmi2/fourbar_generated.fmu: the table of
  * <stabdae/fmu.h> from the generated header's, nothing written by hand but the solver's
- * defaults, the example program's (T 0.001, delta 2, epsilon 1, map dgrad, tf 10). Its units
- * come when the generator writes them. */
+ * defaults, the example program's (T 0.001, delta 2, epsilon 1, map dgrad, tf 10). The units of
+ * the parameters and coordinates come from the header too; the generator writes none for the
+ * inputs, the multipliers and the energy, which then have none. */
 #include <stddef.h>
 
 #include <stabdae/fmu.h>
@@ -14,6 +15,7 @@ SDAE_FMU_GENERATED(fourbar)
 SDAE_FMU_GENERATED_PARAMS(fourbar, FOURBAR_PARAMETERS);
 
 static const char *const coordinates[] = FOURBAR_COORDINATE_NAMES;
+static const char *const coordinate_units[] = FOURBAR_COORDINATE_UNITS;
 
 const sdae_fmu sdae_fmu_model = {
     .name = "fourbar_generated",
@@ -25,6 +27,7 @@ const sdae_fmu sdae_fmu_model = {
     .mbs = fourbar_fmu_mbs,
     .start = fourbar_fmu_start,
     .coordinates = coordinates,
+    .coordinate_units = coordinate_units,
     .T = 0.001,
     .delta = 2.0,
     .epsilon = 1.0,

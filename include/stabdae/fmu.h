@@ -101,8 +101,8 @@ extern const sdae_fmu sdae_fmu_model;
   }
 
 /* The parameters of a mechanism written by the generator, from its header's table (the X-macro
- * NAME_PARAMETERS: field, default, description and, from the generator that writes units, the
- * unit): SDAE_FMU_GENERATED_PARAMS(fourbar, FOURBAR_PARAMETERS) defines the array
+ * NAME_PARAMETERS: field, default, description, unit; a table of three columns works too):
+ * SDAE_FMU_GENERATED_PARAMS(fourbar, FOURBAR_PARAMETERS) defines the array
  * fourbar_fmu_params of FOURBAR_N_PARAMS entries (at least one: C has no empty initializer).
  * One per file. */
 #define SDAE_FMU_GENERATED_PARAMS(NAME, TABLE)                                                     \

@@ -78,7 +78,7 @@ echo "cart: 10000 steps in $(((end - start) / 1000000)) ms"
 [ -s "$dir/cart.png" ] || fail "plot.py wrote no $dir/cart.png"
 
 # the rod's length, the scale of its constraint, from the generated parameter table
-L=$(sed -n 's/^ *X(L, \([^,]*\),.*/\1/p' "$dir/build/cart_pendulum/cart_pendulum.h")
+L=$(sed -n 's/^ *SDAE_X(L, \([^,]*\),.*/\1/p' "$dir/build/cart_pendulum/cart_pendulum.h")
 [ -n "$L" ] || fail "no parameter L in the generated cart_pendulum.h"
 # the columns by name; every row's energy against the first row's
 awk -F, -v L="$L" '

@@ -27,12 +27,19 @@ CALLBACKS = {
     "mass_dot_v": "(d/ds M(t + s, q + s v)) v",
     "jacobian_dot": "d/ds G(t + s, q + s v)",
     "constraint_t_dot": "d/ds (dc/dt)(t + s, q + s v)",
+    "input_force": "Q(t, q, v), the forces given as force=, not the Lagrangian's",
 }
 
 
 # the powers written as products (of a temporary, where the base is not a symbol): pow(x, 2) is
 # not exact in every libm and is slower where the compiler does not expand it
 PRODUCT_POWERS = frozenset(sp.Rational(k, 2) for k in (4, 6, 8, 3, -4, -6, -8, -3))
+
+
+# this many zero entries of a callback's output and more are written by a loop and the others
+# one by one: the 8000 zero stores of a 64-coordinate chain's mass matrix and jacobians, one
+# statement each, took GCC 12 s to compile at -O2
+ZERO_LOOP = 16
 
 
 class _Printer(C99CodePrinter):
@@ -144,7 +151,14 @@ def _prologue(name, uses, args):
 def _callback(mech, printer, names, field, spec):
     args, out, matrix = spec
     targets = [f"{out}[{k}]" for k in range(len(matrix))]
-    lines, uses = _body(printer, names, targets, list(matrix), field.replace("_", " "))
+    exprs = list(matrix)
+    fill = []
+    if sum(e == 0 for e in exprs) >= ZERO_LOOP:
+        fill = [f"  for (size_t k = 0; k < {len(exprs)}; k++) {out}[k] = 0;"]
+        kept = [k for k, e in enumerate(exprs) if e != 0]
+        targets, exprs = [targets[k] for k in kept], [exprs[k] for k in kept]
+    lines, uses = _body(printer, names, targets, exprs, field.replace("_", " "))
+    lines = fill + lines
     signature = (f"static int {mech.name}_{field}({ARGUMENTS[args]}, double *{out}, "
                  "void *params)")
     head = [f"/* {CALLBACKS[field]} */", signature + " {"]
@@ -182,14 +196,16 @@ def _coordinate_name(mech):
 
 
 def _system(mech, fields):
+    """name_mbs: the struct by designated initializers, every callback named (NULL where the
+    description has none), so that a reader sees which the library gets."""
     lines = [f"sdae_mbs {mech.name}_mbs({mech.name}_params *p) {{",
-             "  sdae_mbs sys = {0};",
-             f"  sys.n_q = {mech.n};",
-             f"  sys.n_c = {len(mech.c)};"]
+             "  sdae_mbs sys = {",
+             f"      .n_q = {mech.n},",
+             f"      .n_c = {len(mech.c)},"]
     for field in CALLBACKS:
-        if field in fields:
-            lines.append(f"  sys.{field} = {mech.name}_{field};")
-    return "\n".join(lines + ["  sys.params = p;", "  return sys;", "}"])
+        value = f"{mech.name}_{field}" if field in fields else "NULL"
+        lines.append(f"      .{field} = {value},")
+    return "\n".join(lines + ["      .params = p,", "  };", "  return sys;", "}"])
 
 
 def _comment(text):
@@ -198,22 +214,36 @@ def _comment(text):
 
 
 def _c_string(text):
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    """text as a C string literal: quotes and backslashes escaped, and every ? that follows a ?
+    written \\? so that no trigraph (??/ is a backslash under -std=c99) forms."""
+    out, previous = [], ""
+    for ch in text:
+        if ch in "\\\"" or (ch == "?" and previous == "?"):
+            out.append("\\")
+        out.append(ch)
+        previous = ch
+    return '"' + "".join(out) + '"'
 
 
 def _tables(mech):
-    """The parameters as an X-macro, X(field, default, "description") each, and the coordinates'
-    names as an initializer: tables for code that describes the mechanism generically (an
-    FMU's variables, a command line's flags) without the generator knowing it."""
+    """The parameters as an X-macro, X(field, default, "description", "unit") each, and the
+    coordinates' names and units as initializers: tables for code that describes the mechanism
+    generically (an FMU's variables, a command line's flags) without the generator knowing it.
+    The macro's own parameter is SDAE_X, a name no parameter may have (the prefix is the
+    library's): one named X would be replaced by the caller's macro in X(X, ...)."""
     N = mech.name.upper()
-    rows = [f"  X({s.name}, {_c_double(mech.defaults[s])}, "
-            f"{_c_string(mech.descriptions[s])})" for s in mech.params]
-    lines = ["/* the parameters: X(field, default, \"description\") for each field of "
-             f"{mech.name}_params */", f"#define {N}_PARAMETERS(X)" + (" \\" if rows else "")]
+    rows = [f"  SDAE_X({s.name}, {_c_double(mech.defaults[s])}, "
+            f"{_c_string(mech.descriptions[s])}, {_c_string(mech.units[s])})"
+            for s in mech.params]
+    lines = ["/* the parameters: X(field, default, \"description\", \"unit\") for each field of "
+             f"{mech.name}_params (\"\": no unit) */",
+             f"#define {N}_PARAMETERS(SDAE_X)" + (" \\" if rows else "")]
     lines += [r + " \\" for r in rows[:-1]] + rows[-1:]
     names = ", ".join(_c_string(s) for s in mech.coordinate_names)
-    lines += ["/* the coordinates' names, an initializer of n_q strings */",
-              f"#define {N}_COORDINATE_NAMES {{{names}}}"]
+    units = ", ".join(_c_string(s) for s in mech.coordinate_units)
+    lines += ["/* the coordinates' names and units, initializers of n_q strings (\"\": no unit) */",
+              f"#define {N}_COORDINATE_NAMES {{{names}}}",
+              f"#define {N}_COORDINATE_UNITS {{{units}}}"]
     return lines
 
 

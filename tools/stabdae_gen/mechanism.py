@@ -21,12 +21,28 @@ from sympy.core.function import AppliedUndef
 
 from .errors import ModelError
 
-# C99 and C11 keywords
+# C99, C11 and C23 keywords (C23, gcc 15's default, makes bool, true, false, ... keywords), and
+# GNU C's asm and typeof (keywords under gcc's default -std=gnu17)
 C_KEYWORDS = frozenset(
     """auto break case char const continue default do double else enum extern float for goto if
     inline int long register restrict return short signed sizeof static struct switch typedef
     union unsigned void volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic
-    _Imaginary _Noreturn _Static_assert _Thread_local""".split())
+    _Imaginary _Noreturn _Static_assert _Thread_local alignas alignof bool constexpr false
+    nullptr static_assert thread_local true typeof typeof_unqual _BitInt _Decimal32 _Decimal64
+    _Decimal128 asm""".split())
+# C++20's keywords and alternative tokens beyond C's: the header is included from C++ too
+CPP_KEYWORDS = frozenset(
+    """and and_eq bitand bitor catch char8_t char16_t char32_t class co_await co_return co_yield
+    compl concept const_cast consteval constinit decltype delete dynamic_cast explicit export
+    friend mutable namespace new noexcept not not_eq operator or or_eq private protected public
+    reinterpret_cast requires static_cast template this throw try typeid typename using virtual
+    wchar_t xor xor_eq""".split())
+# the system-specific macros GCC predefines outside the reserved namespace in its GNU modes (the
+# default, -std=gnu17): linux and unix on Linux, i386 on 32-bit x86, the others on other
+# targets; `double linux;` is `double 1;` there
+SYSTEM_MACROS = frozenset(
+    """linux unix i386 sun sparc mips MIPSEB MIPSEL R3000 R4000 vax mc68000 m68k PPC powerpc
+    AVR BSD""".split())
 C_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 # the stems of C11's standard headers: a generated name.h on the include path would hide one
 C_HEADERS = frozenset(
@@ -48,16 +64,38 @@ CHECK_DPS = 30
 
 
 def check_identifier(name, what):
-    """A C identifier that is not a keyword, a macro of the headers a generated file includes,
-    or of the library's prefixes; or ModelError naming `what`."""
+    """A C identifier that compiles as a name of its own in C99, GNU C and C++: not a keyword of
+    either, not reserved, not a macro the compiler predefines or the headers a generated file
+    includes define, not of the library's prefixes; or ModelError naming `what`."""
     if not isinstance(name, str) or not C_IDENTIFIER.match(name):
         raise ModelError(f"{what} {name!r} is not a C identifier")
     if name in C_KEYWORDS:
         raise ModelError(f"{what} {name!r} is a C keyword")
+    if name in CPP_KEYWORDS:
+        raise ModelError(f"{what} {name!r} is a C++ keyword (the header is included from C++)")
+    if name.startswith("__") or re.match(r"_[A-Z]", name) or "__" in name:
+        raise ModelError(f"{what} {name!r} is reserved in C (a name beginning with two "
+                         "underscores or an underscore and a capital letter) or in C++ (one "
+                         "holding two underscores)")
+    if name in SYSTEM_MACROS:
+        raise ModelError(f"{what} {name!r} is a macro GCC predefines (as linux, unix, i386)")
     if name in C_MACROS or name.startswith(RESERVED_PREFIXES):
         raise ModelError(f"{what} {name!r} is reserved (a macro of <math.h> or <stddef.h>, or "
                          "the prefix M_, sdae or stabdae)")
     return name
+
+
+# a unit, for the FMI unit attributes: a short word of SI symbols and operators ("kg", "m/s^2",
+# "N.m", "rad/s"); the empty string is none
+UNIT = re.compile(r"^[A-Za-z0-9/.*^-]{0,32}$")
+
+
+def check_unit(unit, what):
+    """A unit (UNIT), or ModelError naming `what`."""
+    if not isinstance(unit, str) or not UNIT.match(unit):
+        raise ModelError(f"{what} {unit!r} is not a unit (at most 32 of the characters "
+                         "A-Z a-z 0-9 / . * ^ -)")
+    return unit
 
 
 def check_text(text, what):
@@ -130,15 +168,28 @@ class Mechanism:
     params: Symbol -> default value, or Symbol -> (default, description).
     q0, v0: the start state at t = 0 (numbers or expressions of the params; None: zeros).
     coordinate_names: n names (default: the names of q).
+    units: param Symbol -> unit ("kg", "m/s^2"; the FMI unit attributes); params not named
+      have none ("").
+    coordinate_units: n units, one per coordinate, or a dict coordinate Symbol -> unit (those
+      not named have none).
 
     The library is told of the potential (and damping), which enables the discrete-gradient
-    maps, when every force is the Lagrangian's: no `force`, and T = v^T M v / 2 with M not
-    depending on t. Otherwise V and D v are part of F alone.
+    maps, when F without the `force` terms is exactly the Lagrangian's: T = v^T M v / 2 (no
+    terms linear in v or free of v) with M not depending on t. The `force` terms Q, forces from
+    outside the Lagrangian, then go into the callback input_force, which the library adds to F
+    as a port of the energy balance, and `force` keeps the Lagrangian's forces
+    -dV/dq + dT/dq - (d2T/dv dq) v - D v.
+    Otherwise V, D v and Q are all part of F and no potential is declared: with T depending on
+    t (or linear in v) the energy v^T M v / 2 + V is not what the Lagrangian's motion keeps (the
+    terms in d2T/dv dt do work), so no discrete gradient applies and nothing is gained by
+    keeping Q apart. A description with `force` but neither a potential nor a damping keeps its
+    forces in F as well (car_axis: every force given as such): there is no potential to
+    declare.
     """
 
     def __init__(self, name, t, q, v, kinetic=None, potential=0, force=None, damping=None,
                  constraints=(), params=None, q0=None, v0=None, coordinate_names=None,
-                 mass=None):
+                 mass=None, units=None, coordinate_units=None):
         self.name = check_identifier(name, "the name")
         if name in C_HEADERS:
             raise ModelError(f"the name {name!r} would make {name}.h, which hides the C "
@@ -156,6 +207,7 @@ class Mechanism:
         if len(set(self.q) | set(self.v) | {t}) != 2 * n + 1:
             raise ModelError("t, q and v must be distinct Symbols")
         self.n = n
+        self._G = None
         self._params(params or {})
         both = set(self.params) & (set(self.q) | set(self.v) | {t})
         if both:
@@ -166,10 +218,13 @@ class Mechanism:
         self._forces(force, damping)
         self._constraints(constraints)
         self.coordinate_names = self._names(coordinate_names)
+        self._units(units, coordinate_units)
         self.q0 = self._start(q0, "q0")
         self.v0 = self._start(v0, "v0")
         self._check_symbols()
-        self.lagrangian_forces = force is None and self.homogeneous and not self.M.has(t)
+        # the class's docstring says why
+        self.declares_potential = self.homogeneous and not self.M.has(t) and (
+            self.Q is None or self.V != 0 or self.D is not None)
         self._check_start()
 
     # ---- the description, checked ---------------------------------------------------------
@@ -203,6 +258,9 @@ class Mechanism:
             if not isinstance(sym, sp.Symbol):
                 raise ModelError(f"params: key {sym!r} is not a sympy Symbol")
             check_identifier(sym.name, "the parameter")
+            if sym.name.startswith(self.name.upper() + "_"):
+                raise ModelError(f"the parameter {sym.name!r} is reserved (the prefix "
+                                 f"{self.name.upper()}_ of the generated header's macros)")
             if sym.name in seen:
                 raise ModelError(f"params: two parameters are named {sym.name!r}")
             seen.add(sym.name)
@@ -232,6 +290,7 @@ class Mechanism:
             self.M = M
             vv = sp.Matrix(v)
             self.T = (vv.T * M * vv)[0, 0] / 2
+            self.p = M * vv
             self.homogeneous = True
             return
         T = self._real(_sympify(kinetic, "kinetic"))
@@ -244,7 +303,10 @@ class Mechanism:
             raise ModelError("the kinetic energy is not quadratic in v (a polynomial of degree "
                              "at most 2 in the velocities)")
         self.T = T
-        self.M = sp.hessian(T, v)
+        # p = dT/dv once, and M = dp/dv from it: sympy's hessian differentiates all of T n^2
+        # times (seconds at 64 coordinates)
+        self.p = sp.Matrix([T.diff(vi) for vi in v])
+        self.M = _jacobian(self.p, v)
         self.homogeneous = all(sum(m) == 2 for m in poly.monoms())
 
     def _forces(self, force, damping):
@@ -303,6 +365,42 @@ class Mechanism:
             check_text(s, "the coordinate name")
         return names
 
+    def _units(self, units, coordinate_units):
+        """self.units (param -> unit) and self.coordinate_units (n units), "" where none."""
+        self.units = {s: "" for s in self.params}
+        by_name = {s.name: s for s in self.params}
+        if units is not None:
+            if not isinstance(units, dict):
+                raise ModelError("units must be a dict parameter Symbol -> unit")
+            for sym, unit in units.items():
+                if not isinstance(sym, sp.Symbol) or sym.name not in by_name:
+                    raise ModelError(f"units: {sym!r} is not a parameter")
+                self.units[by_name[sym.name]] = check_unit(unit, f"the unit of {sym.name}")
+        if coordinate_units is None:
+            self.coordinate_units = [""] * self.n
+        elif isinstance(coordinate_units, dict):
+            index = {s.name: i for i, s in enumerate(self.q)}
+            self.coordinate_units = [""] * self.n
+            for sym, unit in coordinate_units.items():
+                if not isinstance(sym, sp.Symbol) or sym.name not in index:
+                    raise ModelError(f"coordinate_units: {sym!r} is not a coordinate")
+                self.coordinate_units[index[sym.name]] = check_unit(
+                    unit, f"the unit of {sym.name}")
+        else:
+            if isinstance(coordinate_units, str):
+                raise ModelError(f"coordinate_units must be {self.n} units or a dict "
+                                 "coordinate Symbol -> unit, not one string")
+            try:
+                units = list(coordinate_units)
+            except TypeError:
+                raise ModelError(f"coordinate_units must be {self.n} units or a dict "
+                                 "coordinate Symbol -> unit") from None
+            if len(units) != self.n:
+                raise ModelError(f"coordinate_units has {len(units)} entries, not {self.n} "
+                                 "(one per coordinate)")
+            self.coordinate_units = [check_unit(u, f"the unit of {s.name}")
+                                     for u, s in zip(units, self.q)]
+
     def _start(self, value, what):
         if value is None:
             return sp.zeros(self.n, 1)
@@ -359,7 +457,10 @@ class Mechanism:
                         f"{_float(values[worst]):.3g} at constraint {worst + 1} (more than "
                         f"{START_TOL:g})")
             G = self._numeric(self.jacobian())
-            rank = G.rank(iszerofunc=lambda x: abs(x) < 1e-20 * (1 + max(abs(g) for g in G)))
+            # the threshold once: sympy calls iszerofunc for every entry it visits, and a max
+            # over G there made the check quadratic in G's size (a minute at 64 coordinates)
+            zero = 1e-20 * (1 + max(abs(g) for g in G))
+            rank = G.rank(iszerofunc=lambda x: abs(x) < zero)
             if rank < len(self.c):
                 raise ModelError(f"the constraints are redundant at the start state: their "
                                  f"jacobian has rank {rank}, not {len(self.c)}")
@@ -367,7 +468,9 @@ class Mechanism:
     # ---- the callbacks' expressions ----------------------------------------------------------
 
     def jacobian(self):
-        return self.c.jacobian(self.q)
+        if self._G is None:  # the checks and the callbacks use it: formed once
+            self._G = _jacobian(self.c, self.q)
+        return self._G
 
     def constraint_t(self):
         return self.c.diff(self.t)
@@ -376,24 +479,29 @@ class Mechanism:
         return self.jacobian() * sp.Matrix(self.v) + self.constraint_t()
 
     def along(self, expr):
-        """d/ds expr(t + s, q + s v) at s = 0, v held fixed."""
-        out = expr.diff(self.t)
-        for qk, vk in zip(self.q, self.v):
-            out += expr.diff(qk) * vk
-        return out
+        """d/ds expr(t + s, q + s v) at s = 0, v held fixed (of each entry of a Matrix)."""
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.along)
+        free = expr.free_symbols
+        # in the symbols the expression holds only: most entries of a large mechanism's G hold
+        # two coordinates of many
+        terms = [expr.diff(self.t)] if self.t in free else []
+        terms += [expr.diff(qk) * vk for qk, vk in zip(self.q, self.v) if qk in free]
+        return sp.Add(*terms)
 
-    def force(self):
-        """F = Q - dV/dq + dT/dq - (dp/dq) v - dp/dt - D v, p = dT/dv."""
-        q, v = self.q, self.v
-        vv = sp.Matrix(v)
-        p = sp.Matrix([self.T.diff(vi) for vi in v])
-        F = sp.Matrix([self.T.diff(qi) - self.V.diff(qi) for qi in q])
-        F -= p.jacobian(q) * vv + p.diff(self.t)
-        if self.Q is not None:
-            F += self.Q
+    def lagrangian_force(self):
+        """The Lagrangian's forces, -dV/dq + dT/dq - (dp/dq) v - dp/dt - D v, p = dT/dv."""
+        vv = sp.Matrix(self.v)
+        F = sp.Matrix([self.T.diff(qi) - self.V.diff(qi) for qi in self.q])
+        F -= _jacobian(self.p, self.q) * vv + self.p.diff(self.t)
         if self.D is not None:
             F -= self.D * vv
         return F
+
+    def force(self):
+        """F = Q + lagrangian_force(): every force."""
+        F = self.lagrangian_force()
+        return F if self.Q is None else F + self.Q
 
     def callbacks(self):
         """The callbacks of sdae_mbs this description determines: field -> (arguments, output
@@ -403,7 +511,8 @@ class Mechanism:
         ct = self.constraint_t()
         out = {
             "mass": ("tq", "M", self.M),
-            "force": ("tqv", "F", self.force()),
+            "force": ("tqv", "F",
+                      self.lagrangian_force() if self.declares_potential else self.force()),
             "constraint": ("tq", "c", self.c),
             "jacobian": ("tq", "G", G),
             "constraint_t": ("tq", "ct", ct),
@@ -411,11 +520,24 @@ class Mechanism:
             "jacobian_dot": ("tqv", "Gdot", self.along(G)),
             "constraint_t_dot": ("tqv", "out", self.along(ct)),
         }
-        if self.lagrangian_forces:
+        if self.declares_potential:
             out["potential"] = ("tq", "V", sp.Matrix([self.V]))
             if self.D is not None:
                 out["damping"] = ("tq", "D", self.D)
+            if self.Q is not None:
+                out["input_force"] = ("tqv", "F", self.Q)
         return out
+
+
+def _jacobian(exprs, symbols):
+    """d exprs_i / d symbols_j as a Matrix, differentiating each expression in the symbols it
+    holds only: sympy's Matrix.jacobian differentiates every pair, and most are 0 in a large
+    mechanism (its callbacks took seconds at 64 coordinates)."""
+    rows = []
+    for e in exprs:
+        free = e.free_symbols
+        rows.append([e.diff(s) if s in free else sp.S.Zero for s in symbols])
+    return sp.Matrix(len(rows), len(symbols), [x for row in rows for x in row])
 
 
 def _float(value):

@@ -25,6 +25,11 @@ CONSTANTS = [
     ("u", 4e-2), ("ua", 1228e-5), ("ub", 449e-5), ("zf", 2e-2), ("zt", 4e-2), ("fa", 1421e-5),
     ("mom", 33e-3)]
 
+# the constants' SI units (the Test Set's: kg, m, N): masses, moments of inertia, the spring's
+# stiffness, the driving torque; every other constant is a length
+UNITS = {**{f"m{i}": "kg" for i in range(1, 8)}, **{f"i{i}": "kg.m^2" for i in range(1, 8)},
+         "c0": "N/m", "mom": "N.m"}
+
 # the Test Set's consistent position (its init; Hairer and Wanner II, VII.7)
 START = ["-0.0617138900142764496358948458001", "0",
          "0.455279819163070380255912382449", "0.222668390165885884674473185609",
@@ -76,4 +81,6 @@ def mechanism():
                      bx - zf * sp.cos(omega + epsilon) - u * sp.sin(epsilon) - xa,
                      by - zf * sp.sin(omega + epsilon) + u * sp.cos(epsilon) - ya],
         params={P[name]: value for name, value in CONSTANTS},
+        units={P[name]: UNITS.get(name, "m") for name, _ in CONSTANTS},
+        coordinate_units=["rad"] * 7,
         q0=[sp.Float(x, 30) for x in START], v0=[0] * 7)

@@ -38,4 +38,7 @@ def mechanism():
                 L: (1.0, "the axis' length"), L0: (0.5, "the springs' rest length"),
                 r: (0.1, "the bump's height"), w: (10.0, "the road's angular frequency"),
                 g: (1.0, "gravitational acceleration")},
+        # the Test Set's springs have the stiffness 1 N/m, written nowhere
+        units={eps: "1", mass: "kg", L: "m", L0: "m", r: "m", w: "rad/s", g: "m/s^2"},
+        coordinate_units=["m"] * 4,
         q0=[0, L0, L, L0], v0=[vx0, 0, vx0, 0])

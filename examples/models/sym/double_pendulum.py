@@ -37,4 +37,7 @@ def mechanism():
                 theta2: (2.5, "start angle of the outer arm from the downward vertical"),
                 omega1: (0.0, "start rate of the inner arm"),
                 omega2: (0.0, "start rate of the outer arm")},
+        units={L1: "m", L2: "m", m1: "kg", m2: "kg", ga: "m/s^2", theta1: "rad",
+               theta2: "rad", omega1: "rad/s", omega2: "rad/s"},
+        coordinate_units=["m"] * 4,
         q0=list(p1) + list(p2), v0=list(w1) + list(w2))

@@ -42,4 +42,7 @@ def mechanism():
                 mB: (1.0, "mass at B"), mC: (1.0, "mass at C"),
                 ga: (9.81, "gravitational acceleration"),
                 theta0: (0.0, "start crank angle"), omega0: (5.0, "start crank speed")},
+        units={a: "m", b: "m", e: "m", d: "m", mB: "kg", mC: "kg", ga: "m/s^2",
+               theta0: "rad", omega0: "rad/s"},
+        coordinate_units=["m"] * 4,
         q0=list(B0) + list(C0), v0=list(vB) + list(vC))

@@ -45,4 +45,8 @@ def mechanism():
                 k: (1.0, "spring constant"), c: (1.0, "damper constant"),
                 l0: (1.0, "spring free length"), F: (1.0, "constant force"),
                 theta0: (math.pi / 2, "start crank angle")},
+        # SI units for SUNDIALS' numbers (the rod's length 1 m)
+        units={a: "m", J1: "kg.m^2", m2: "kg", J2: "kg.m^2", k: "N/m", c: "N.s/m",
+               l0: "m", F: "N", theta0: "rad"},
+        coordinate_units=["rad", "m", "rad"],
         q0=[theta0, sp.cos(phi0), phi0], v0=[0, 0, 0])

@@ -1,11 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The C the generator writes, for every description in the tree (examples/models/sym/, the
-tutorial's examples/generator/, and tests/models/ with names and functions hard to print): C99 that GCC and Clang compile without a warning under
--Wall -Wextra -Wpedantic -Werror, an object with no data (no globals) that calls no allocator,
+tutorial's examples/generator/, and tests/models/ with names and functions hard to print and the
+large chains): C99 that GCC and Clang compile without a warning under -Wall -Wextra -Wpedantic
+-Werror, in strict C99 (trigraphs on) and in GNU C17 (gcc's default: linux, unix predefined),
+a header that C++ compiles, an object with no data (no globals) that calls no allocator,
 exports the header's functions alone, and a header comment naming the generator's version and
 the model file's sha256."""
 
-import glob
 import hashlib
 import os
 import re
@@ -14,31 +15,15 @@ import subprocess
 
 import pytest
 
-from conftest import BUILD, ROOT, SYM, run_mbsgen
+from conftest import (COMPILERS, FLAGS, HAVE_BUILD, INCLUDES, MODELS, ROOT, SYM,
+                      needs_build)
 
 import stabdae_gen
 from stabdae_gen.cli import load
 
-MODELS = sorted(glob.glob(os.path.join(SYM, "*.py")) +
-                glob.glob(os.path.join(ROOT, "examples", "generator", "*.py")) +
-                glob.glob(os.path.join(os.path.dirname(__file__), "models", "*.py")))
-MODELS = [m for m in MODELS if "def mechanism(" in open(m).read()]
-COMPILERS = [c for c in ("gcc", "clang") if shutil.which(c)]
-FLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c",
-         "-I" + os.path.join(ROOT, "include"), "-I" + os.path.join(BUILD, "include")]
-
-
-@pytest.fixture(scope="module")
-def generated(tmp_path_factory):
-    """Every model generated once: {model path: (output dir, name)}."""
-    out = {}
-    for model in MODELS:
-        d = tmp_path_factory.mktemp(os.path.basename(model)[:-3])
-        rc, stdout, stderr = run_mbsgen(model, "--out", str(d))
-        assert rc == 0, stderr
-        name = re.search(r"mbsgen: (\w+):", stdout).group(1)
-        out[model] = (d, name)
-    return out
+# (compiler, the flags that replace -std=c99): strict C99 and GNU C17
+C_MODES = [(c, std) for c in COMPILERS for std in ("-std=c99", "-std=gnu17")]
+CXX = [c for c in ("g++", "clang++") if shutil.which(c)]
 
 
 def test_models_found():
@@ -53,7 +38,7 @@ def test_version_is_the_projects():
 
 @pytest.mark.parametrize("model", MODELS, ids=[os.path.basename(m) for m in MODELS])
 def test_banner_names_version_and_hash(generated, model):
-    d, name = generated[model]
+    d, name, _ = generated[model]
     with open(model, "rb") as f:
         digest = hashlib.sha256(f.read()).hexdigest()
     for suffix in (".h", ".c"):
@@ -62,14 +47,14 @@ def test_banner_names_version_and_hash(generated, model):
         assert digest in head
 
 
-@pytest.mark.skipif(not os.path.exists(os.path.join(BUILD, "include", "stabdae", "version.h")),
-                    reason="needs a configured build tree (STABDAE_BUILD)")
-@pytest.mark.parametrize("compiler", COMPILERS)
+@needs_build
+@pytest.mark.parametrize("compiler,std", C_MODES, ids=[f"{c}{s[4:]}" for c, s in C_MODES])
 @pytest.mark.parametrize("model", MODELS, ids=[os.path.basename(m) for m in MODELS])
-def test_compiles_warning_free(generated, model, compiler, tmp_path):
-    d, name = generated[model]
+def test_compiles_warning_free(generated, model, compiler, std, tmp_path):
+    d, name, _ = generated[model]
     obj = tmp_path / (name + ".o")
-    p = subprocess.run([compiler, *FLAGS, str(d / (name + ".c")), "-o", str(obj)],
+    flags = [std if f == "-std=c99" else f for f in FLAGS]
+    p = subprocess.run([compiler, *flags, str(d / (name + ".c")), "-o", str(obj)],
                        capture_output=True, text=True)
     assert p.returncode == 0 and p.stderr == "", p.stderr
     symbols = subprocess.run(["nm", str(obj)], capture_output=True, text=True,
@@ -88,6 +73,24 @@ def test_compiles_warning_free(generated, model, compiler, tmp_path):
     assert not undefined & {"malloc", "calloc", "realloc", "free"}, undefined
 
 
+@pytest.mark.skipif(not CXX or not HAVE_BUILD, reason="needs a C++ compiler and a build")
+@pytest.mark.parametrize("compiler", CXX)
+@pytest.mark.parametrize("model", MODELS, ids=[os.path.basename(m) for m in MODELS])
+def test_header_compiles_as_cxx(generated, model, compiler, tmp_path):
+    """The header is included from C++ (its extern "C" block): every name in it must be one
+    C++ reads as a name (no keyword such as new or class)."""
+    d, name, _ = generated[model]
+    main = tmp_path / "main.cpp"
+    main.write_text(f'#include "{name}.h"\n'
+                    f"int main() {{ {name}_params p; {name}_params_default(&p); "
+                    f"sdae_mbs s = {name}_mbs(&p); return s.n_q == {name.upper()}_N_Q ? 0 : 1; }}\n")
+    p = subprocess.run([compiler, "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
+                        *INCLUDES, "-I" + str(d), str(main)], capture_output=True, text=True)
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+
+
+# The tables through a macro not named X (the header's own macro parameter must not catch a
+# parameter of that name), printed with their strings (a trigraph would change a description)
 PROGRAM = r"""
 #include <stdio.h>
 #include <string.h>
@@ -98,12 +101,17 @@ int main(void) {
   @N@_params p;
   double q[@U@_N_Q], v[@U@_N_Q], c[@U@_N_C];
   const char *names[] = @U@_COORDINATE_NAMES;
+  const char *units[] = @U@_COORDINATE_UNITS;
   int bad = 0;
   @N@_params_default(&p);
-#define X(field, value, description) bad |= p.field != value;
-  @U@_PARAMETERS(X)
+#define CHECK_PARAM(field, value, description, unit) bad |= p.field != value;
+  @U@_PARAMETERS(CHECK_PARAM)
+#define SHOW_PARAM(field, value, description, unit) \
+  printf("param %s|%s|%s\n", #field, description, unit);
+  @U@_PARAMETERS(SHOW_PARAM)
   for (size_t i = 0; i < @U@_N_Q; i++) bad |= strcmp(names[i], @N@_coordinate_name(i)) != 0;
   bad |= @N@_coordinate_name(@U@_N_Q) != NULL;
+  for (size_t i = 0; i < @U@_N_Q; i++) printf("coordinate %s|%s\n", names[i], units[i]);
   @N@_start(&p, q, v);
   sdae_mbs sys = @N@_mbs(&p);
   bad |= sys.n_q != @U@_N_Q || sys.n_c != @U@_N_C || sys.params != &p;
@@ -115,25 +123,33 @@ int main(void) {
 """
 
 
-@pytest.mark.skipif(not COMPILERS or not os.path.exists(
-    os.path.join(BUILD, "include", "stabdae", "version.h")), reason="needs a compiler and a build")
+@needs_build
+@pytest.mark.parametrize("std", ["-std=c99", "-std=gnu17"])
 @pytest.mark.parametrize("model", MODELS, ids=[os.path.basename(m) for m in MODELS])
-def test_tables_and_start(generated, model, tmp_path):
-    """The header's tables agree with the functions, and the start the C computes equals the
-    description's start evaluated by sympy at 30 digits (to 1e-14, relative to max(1, |x|)),
-    on the constraints (|c| <= 1e-10, as the generator demanded)."""
-    d, name = generated[model]
+def test_tables_and_start(generated, model, std, tmp_path):
+    """The header's tables agree with the functions and hold the description's names,
+    descriptions and units as they are (in strict C99, where trigraphs are read, too), and the
+    start the C computes equals the description's start evaluated by sympy at 30 digits (to
+    1e-14, relative to max(1, |x|)), on the constraints (|c| <= 1e-10, as the generator
+    demanded)."""
+    d, name, _ = generated[model]
     mech = load(model)
     main = tmp_path / "main.c"
     main.write_text(PROGRAM.replace("@U@", name.upper()).replace("@N@", name))
     exe = tmp_path / "main"
-    p = subprocess.run([COMPILERS[0], *[f for f in FLAGS if f != "-c"], "-I" + str(d),
-                        str(main), str(d / (name + ".c")), "-o", str(exe), "-lm"],
-                       capture_output=True, text=True)
+    flags = [std if f == "-std=c99" else f for f in FLAGS if f != "-c"]
+    p = subprocess.run([COMPILERS[0], *flags, "-I" + str(d), str(main), str(d / (name + ".c")),
+                        "-o", str(exe), "-lm"], capture_output=True, text=True)
     assert p.returncode == 0, p.stderr
     run = subprocess.run([str(exe)], capture_output=True, text=True)
     assert run.returncode == 0, "the tables disagree with the functions"
     rows = run.stdout.split("\n")
+    params = [r[len("param "):] for r in rows if r.startswith("param ")]
+    assert params == [f"{s.name}|{mech.descriptions[s]}|{mech.units[s]}" for s in mech.params]
+    coordinates = [r[len("coordinate "):] for r in rows if r.startswith("coordinate ")]
+    assert coordinates == [f"{n}|{u}" for n, u in
+                           zip(mech.coordinate_names, mech.coordinate_units)]
+    rows = rows[len(params) + len(coordinates):]
     start = [[float(x) for x in rows[i].split()] for i in range(mech.n)]
     c = [float(x) for x in rows[mech.n:mech.n + len(mech.c)]]
     exact_q = [mech._numeric(e) for e in mech.q0]

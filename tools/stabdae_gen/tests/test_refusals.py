@@ -6,10 +6,17 @@ generation that must survive byte for byte)."""
 import math
 import os
 import re
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
+import sympy as sp
 
-from conftest import PENDULUM, run_mbsgen
+from conftest import PENDULUM, TOOLS, run_mbsgen
+
+from stabdae_gen import Mechanism, ModelError
 
 # (test id, the change to PENDULUM's mechanism, words the one line must contain)
 CASES = [
@@ -62,7 +69,51 @@ CASES = [
      "redundant at the start state"),
     ("damping_not_symmetric", "args['damping'] = sp.Matrix([[1, x], [0, 1]])",
      "damping is not symmetric"),
+    # one of each kind below through the command
+    ("param_double_underscore", "args['params'][sp.Symbol('__LINE__')] = 1.0",
+     "'__LINE__' is reserved in C"),
+    ("param_linux", "args['params'][sp.Symbol('linux')] = 1.0", "'linux' is a macro GCC"),
+    ("param_cxx_new", "args['params'][sp.Symbol('new')] = 1.0", "'new' is a C++ keyword"),
+    ("unit_with_space", "args['units'] = {m: 'kilo gram'}", "'kilo gram' is not a unit"),
 ]
+
+
+# more of the kinds above in the generator's own process (each kind is once in CASES, through
+# the command, which says it in one line with exit status 2)
+IN_PROCESS = [
+    # names that are C identifiers but do not compile as a field (or are not the user's to take)
+    ("param_underscore_capital", "args['params'][sp.Symbol('_Pend')] = 1.0",
+     "'_Pend' is reserved in C"),
+    ("name_underscore_capital", "name = '_Pend'", "'_Pend' is reserved in C"),
+    ("param_unix", "args['params'][sp.Symbol('unix')] = 1.0", "'unix' is a macro GCC"),
+    ("param_i386", "args['params'][sp.Symbol('i386')] = 1.0", "'i386' is a macro GCC"),
+    ("param_cxx_class", "args['params'][sp.Symbol('class')] = 1.0", "'class' is a C++ keyword"),
+    ("param_bool", "args['params'][sp.Symbol('bool')] = 1.0", "'bool' is a C keyword"),
+    ("param_header_macro", "args['params'][sp.Symbol('PENDULUM_N_Q')] = 1.0",
+     "the prefix PENDULUM_ of the generated header's macros"),
+    # units
+    ("unit_with_quote", "args['units'] = {m: 'k\"g'}", "is not a unit"),
+    ("unit_too_long", "args['units'] = {m: 'm' * 33}", "is not a unit"),
+    ("unit_not_string", "args['units'] = {m: 1}", "1 is not a unit"),
+    ("unit_not_a_param", "args['units'] = {x: 'm'}", "units: x is not a parameter"),
+    ("units_not_dict", "args['units'] = ['kg']", "units must be a dict"),
+    ("coordinate_units_count", "args['coordinate_units'] = ['m']",
+     "coordinate_units has 1 entries, not 2"),
+    ("coordinate_units_bad", "args['coordinate_units'] = ['m', 'm s']", "'m s' is not a unit"),
+    ("coordinate_units_string", "args['coordinate_units'] = 'm'", "not one string"),
+    ("coordinate_units_key", "args['coordinate_units'] = {m: 'kg'}",
+     "coordinate_units: m is not a coordinate"),
+]
+
+
+@pytest.mark.parametrize("change,words", [c[1:] for c in IN_PROCESS],
+                         ids=[c[0] for c in IN_PROCESS])
+def test_refused_in_process(change, words):
+    scope = {"sp": sp}
+    exec(PENDULUM + "name = 'pendulum'\n" + change + "\n", scope)
+    with pytest.raises(ModelError) as err:
+        Mechanism(scope["name"], scope["t"], scope["q"], scope["v"], **scope["args"])
+    assert words in str(err.value)
 
 
 @pytest.mark.parametrize("change,words", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
@@ -98,21 +149,71 @@ def test_start_violation_says_by_how_much(model, tmp_path):
 
 
 def test_good_description_is_written(model, tmp_path):
-    """The same description unchanged: the control of the cases above."""
+    """The same description unchanged: the control of the cases above. The files have the
+    mode of a new file (0666 less the umask), not the temporary file's 0600."""
     path = model(PENDULUM + "return Mechanism('pendulum', t, q, v, **args)\n")
     rc, stdout, stderr = run_mbsgen(path, "--out", str(tmp_path / "out"))
     assert rc == 0, stderr
     assert sorted(os.listdir(tmp_path / "out")) == ["pendulum.c", "pendulum.h"]
+    umask = os.umask(0)
+    os.umask(umask)
+    for name in ("pendulum.c", "pendulum.h"):
+        assert os.stat(tmp_path / "out" / name).st_mode & 0o777 == 0o666 & ~umask
 
 
 @pytest.mark.parametrize("body,words", [
     ("raise RuntimeError('broken model')", "RuntimeError: broken model"),
     ("return 42", "returned a int, not a stabdae_gen.Mechanism"),
     ("import sys\nsys.exit(0)", "exited (0) before giving a mechanism"),
-], ids=["raises", "wrong_type", "exits"])
+    ("raise ValueError('first line\\nsecond line\\r\\nthird')",
+     "ValueError: first line second line third"),
+    ("raise BaseException('bare')", "mechanism(): BaseException: bare"),
+    ("raise KeyboardInterrupt", "mechanism(): KeyboardInterrupt"),
+    ("raise GeneratorExit('odd')", "mechanism(): GeneratorExit: odd"),
+    ("class Odd(Exception):\n    def __str__(self):\n        raise TypeError\nraise Odd()",
+     "Odd: (its message cannot be printed)"),
+], ids=["raises", "wrong_type", "exits", "message_of_three_lines", "base_exception",
+        "keyboard_interrupt", "generator_exit", "message_fails"])
 def test_model_file_errors(model, tmp_path, body, words):
+    """Whatever the model raises is its failure: one line, exit status 2 (a KeyboardInterrupt
+    it raises itself too: only the user's Ctrl-C is an interruption)."""
     rc, _, stderr = run_mbsgen(model(body), "--out", str(tmp_path / "out"))
     assert rc == 2 and len(stderr.splitlines()) == 1 and words in stderr, stderr
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("where", ["module", "mechanism"])
+def test_model_raising_at_load(tmp_path, where):
+    """The same at the model file's top level, before mechanism() runs."""
+    path = tmp_path / "model.py"
+    raising = "raise KeyboardInterrupt('model')\n"
+    if where == "module":
+        path.write_text(raising)
+    else:
+        path.write_text("def mechanism():\n    " + raising)
+    rc, _, stderr = run_mbsgen(str(path), "--out", str(tmp_path / "out"))
+    assert rc == 2 and len(stderr.splitlines()) == 1, stderr
+    assert "KeyboardInterrupt: model" in stderr
+
+
+def test_user_interrupt_is_130(tmp_path):
+    """The user's Ctrl-C (SIGINT) while the model runs: one line, exit status 130, nothing
+    written."""
+    ready = tmp_path / "ready"
+    path = tmp_path / "model.py"
+    path.write_text("import pathlib, time\n"
+                    f"pathlib.Path({str(ready)!r}).write_text('x')\n"
+                    "time.sleep(60)\n")
+    env = dict(os.environ, PYTHONPATH=TOOLS)
+    p = subprocess.Popen([sys.executable, "-m", "stabdae_gen", str(path), "--out",
+                          str(tmp_path / "out")], env=env, stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not ready.exists() and time.monotonic() < deadline and p.poll() is None:
+        time.sleep(0.05)
+    p.send_signal(signal.SIGINT)
+    _, stderr = p.communicate(timeout=60)
+    assert p.returncode == 130 and stderr.splitlines() == ["mbsgen: interrupted"], stderr
     assert not (tmp_path / "out").exists()
 
 
