@@ -1,25 +1,31 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* Newton's method on R(y) = 0 (core/newton.h). The maps hand it
+/* Newton's method on R(y) = 0 (core/newton.h), the library's one nonlinear solver. Its
+ * adapters: the maps' step equation (maps/map_solve.c)
  *
- *   R(y) = y - x - h (phi(x, y) + shift),   dR/dy = I - h dphi/dy
+ *   R(y) = y - x - h (phi(x, y) + shift),   dR/dy = I - h dphi/dy,
  *
- * (maps/map_solve.c). dR/dy is the system's own Jacobian when it has one and Newton is dense,
- * central differences of R otherwise: columns 2b + 1 apart do not share a row of a band-b matrix,
- * so each colour group of columns costs two residuals. dR/dy is factored by LU (lu.c): written out
- * for small dense systems, GSL's banded LU otherwise (dense is the band n - 1).
+ * Phi^-1's chord iteration on c(t, q) = xi_c for q_D (mbs/mbs_coords.c, G_D's factors its
+ * setup) and a DAE's coordinates Phi(t, x) = z (dae/coords.c). Newton's own matrix is the
+ * system's Jacobian when it has one and Newton is dense, central differences of R otherwise:
+ * columns 2b + 1 apart do not share a row of a band-b matrix, so each colour group of columns
+ * costs two residuals. It is factored by LU (lu.c): written out for small dense systems, GSL's
+ * banded LU otherwise (dense is the band n - 1).
  *
- * dR/dy is rebuilt at every iterate (Newton, quadratic convergence) except after an update below
- * reuse_below (1 + ||y||): by then the iterate is within about L 1e-10 of the root (L = h times
- * the second derivative of phi, Newton's constant) and the kept matrix, from the previous
- * iterate, differs by about L 1e-5, so the step with it lands within L^2 1e-15 of the root: far
- * below rounding for any L < 0.1 (at T = 0.001, L is about 1e-2 for the chain). Those last
- * iterations only confirm convergence; keeping the matrix spares them a difference Jacobian
- * (2 (2b + 1) residuals) or an analytic one, and a factorization. The steps that contract, with
- * larger updates, keep a fresh matrix (a chord iteration there leaves errors of a few ulps that
- * are not random: H then drifts under the discrete gradient). */
+ * Two ways to use the matrix, the owner's choice (keep). Newton: rebuilt at every iterate
+ * (quadratic convergence) except after an update below reuse_below; the steps that contract
+ * keep a fresh matrix (a chord there leaves errors of a few ulps that are not random: H then
+ * drifts under the discrete gradient). Kept (CVODE's and IDA's rules): the factored matrix of an
+ * earlier solve serves while the coefficient in front of the Jacobian stays within DGMAX and for
+ * MSBP solves, as a chord iteration that rebuilds at the iterate when its rate is slow. A kept
+ * matrix that does not converge is rebuilt at the solve's start and the same solve retried,
+ * with its own iteration cap (CVODE's cvNls recovery); only a fresh matrix's failure is one.
+ * The convergence test (converged, judge) and its constants are the same for every adapter. */
 #include <float.h>
 #include <math.h>
 #include <string.h>
+#ifdef NEWTON_DEBUG
+#include <stdio.h>
+#endif
 
 #include <stabdae/stabdae.h>
 
@@ -27,8 +33,6 @@
 #include "lu.h"
 #include "newton.h"
 
-/* dR/dy is kept for the next iteration when the last update was at most this (relative) */
-static const double reuse_below = 1e-5;
 
 void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsigned max_iter,
                         sdae_arena *a) {
@@ -36,21 +40,40 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
   nw->band = band;
   nw->tol = tol;
   nw->max_iter = max_iter;
-  nw->R = sdae__take(a, n, 1);
-  nw->dy = sdae__take(a, n, 1);
+  sdae__newton_carve_hooks(nw, n, tol, max_iter, a);
+  nw->band = band;
   nw->fd_y = sdae__take(a, n, 1);
   nw->fd_plus = sdae__take(a, n, 1);
   nw->fd_minus = sdae__take(a, n, 1);
   nw->J = band == n - 1 ? sdae__take(a, n, n) : NULL; /* dense: analytic Jacobians */
   nw->LU = sdae__take(a, n, sdae__lu_band_cols(band, band));
   nw->piv = sdae__take_pivots(a, n);
+}
+
+void sdae__newton_carve_hooks(sdae_newton *nw, size_t n, double tol, unsigned max_iter,
+                              sdae_arena *a) {
+  nw->n = n;
+  nw->band = n - 1;
+  nw->tol = tol;
+  nw->max_iter = max_iter;
+  nw->R = sdae__take(a, n, 1);
+  nw->dy = sdae__take(a, n, 1);
+  nw->y0 = sdae__take(a, n, 1);
+  nw->fd_y = nw->fd_plus = nw->fd_minus = nw->J = nw->LU = NULL;
+  nw->piv = NULL;
+  nw->iters = 0;
+  nw->residual_last = 0.0;
   nw->keep = nw->kept = 0;
   nw->kept_coeff = 0.0;
   nw->kept_age = 0;
-  nw->refreshes = 0;
+  nw->refreshes = nw->retries = 0;
 }
 
 void sdae__newton_forget(sdae_newton *nw) { nw->kept = 0; }
+
+void sdae__newton_adopt(sdae_newton *nw, double coeff) {
+  nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
+}
 
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
@@ -111,7 +134,7 @@ static int finite_differences(sdae_newton *nw, const sdae_newton_system *sys, co
   return rc;
 }
 
-/* dR/dy at y, factored */
+/* dR/dy at y, factored: Newton's own linear setup */
 static int newton_matrix(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
   size_t n = nw->n, b = nw->band;
   int rc =
@@ -127,7 +150,7 @@ static int newton_matrix(sdae_newton *nw, const sdae_newton_system *sys, const d
   return sdae__lu_factor(nw->LU, nw->piv, n, b, b);
 }
 
-/* dy = (dR/dy)^-1 R with the factors */
+/* dy = (dR/dy)^-1 R with the factors: Newton's own linear solve */
 static void newton_solve(sdae_newton *nw) {
   size_t n = nw->n, b = nw->band;
   if (small_dense(nw))
@@ -136,134 +159,162 @@ static void newton_solve(sdae_newton *nw) {
     sdae__lu_factored_solve(nw->LU, nw->piv, n, b, b, nw->R, nw->dy);
 }
 
-/* One iteration from y; *done when the update is below tolerance or R(y) = 0. */
-static int iterate(sdae_newton *nw, const sdae_newton_system *sys, int *refresh, double *y,
-                   int *done) {
-  size_t n = nw->n;
-  double dy_norm = 0.0, y_norm = 0.0, scale; /* the update is measured against 1 + ||y|| */
-  int rc = residual(nw, sys, y);
-  if (rc != SDAE_OK) return rc;
-  if (nw->residual_last == 0.0) {
-    *done = 1;
-    return SDAE_OK;
+/* ---- the linear setup and solve: the system's, or Newton's own ---- */
+
+static int setup(sdae_newton *nw, const sdae_newton_system *sys, const double *y, int chord) {
+  nw->kept = 0; /* the kept matrix, if any, is being replaced */
+  if (chord) nw->refreshes++;
+  return sys->setup ? sys->setup(sys->ctx, y) : newton_matrix(nw, sys, y);
+}
+
+static void solve(sdae_newton *nw, const sdae_newton_system *sys) {
+  if (sys->solve)
+    sys->solve(sys->ctx, nw->R, nw->dy);
+  else
+    newton_solve(nw);
+}
+
+/* ---- the convergence test, one for every solve (SUNDIALS' fourth hook), and its constants ---- */
+
+/* Newton rebuilds the matrix at every iterate whose update was above this (relative): below it
+ * the iterate is within about L 1e-10 of the root (L = h times the second derivative of phi,
+ * Newton's constant) and the matrix of the iterate before differs by about L 1e-5, so the step
+ * with it lands within L^2 1e-15 of the root: the last iterations only confirm convergence */
+static const double reuse_below = 1e-5;
+/* a chord (keep = 1) whose estimated rate exceeds this rebuilds the matrix at the iterate: each
+ * further iteration would gain less than a digit */
+static const double rate_slow = 0.25;
+/* a chord whose update grows by more than this factor diverges: the attempt fails (CVODE's
+ * RDIV), and one with a kept matrix is retried from its start with a fresh one */
+static const double rate_diverging = 2.0;
+/* the rate estimate keeps this fraction of the last one (CVODE's CRDOWN) */
+static const double rate_memory = 0.3;
+/* a chord has converged when its update is at rounding of y (two ulps of 1 + ||y||), or what
+ * the rate predicts is left is below a thousandth of an ulp: what a chord leaves has one sign
+ * solve after solve (it approaches from one side along the motion), and the discrete
+ * gradient's H or Phi^-1's xi_c sums it over many steps */
+static const double chord_moved = 2.0 * DBL_EPSILON;
+static const double chord_left = 1e-3 * DBL_EPSILON;
+/* the kept matrix is rebuilt once coeff differs from its own by more than this (CVODE's
+ * DGMAX) */
+static const double keep_coeff_change = 0.3;
+/* and after this many solves (CVODE's MSBP: 20 steps) */
+#define NEWTON_KEEP_SOLVES 20
+
+/* one attempt's progress: m updates since the matrix was built (fresh: at the iterate of
+ * update 0), the last update, the rate */
+typedef struct attempt_state {
+  int chord, fresh;
+  unsigned m;
+  double prev, rate;
+} attempt_state;
+
+/* converged after an update del (scale: 1 + ||y||): below tol, and for a chord at rounding or
+ * predicted to leave nothing; a step of Newton (the matrix at its own iterate, or without
+ * chord the last iterate's within reuse_below) leaves its square times Newton's constant */
+static int converged(const sdae_newton *nw, const attempt_state *st, double del, double scale) {
+  if (del > nw->tol * scale) return 0;
+  if (!st->chord || (st->fresh && st->m == 0)) return 1;
+  return del <= chord_moved * scale ||
+         (st->m >= 2 && st->rate < 1.0 && st->rate / (1.0 - st->rate) * del <= chord_left * scale);
+}
+
+typedef enum { GO_ON, CONVERGED, REBUILD, DIVERGED } verdict;
+
+/* the test after an update del; a chord's rate as CVODE estimates it, rate = max(CRDOWN rate,
+ * del_m / del_m-1) */
+static verdict judge(const sdae_newton *nw, attempt_state *st, double del, double scale) {
+  if (!st->chord) {
+    if (del <= nw->tol * scale) return CONVERGED;
+    return del > reuse_below * scale ? REBUILD : GO_ON;
   }
-  if (*refresh && (rc = newton_matrix(nw, sys, y)) != SDAE_OK) return rc;
-  newton_solve(nw);
+  if (st->m > 0) st->rate = fmax(rate_memory * st->rate, del / st->prev);
+  if (converged(nw, st, del, scale)) return CONVERGED;
+  if (st->m > 0 && del > rate_diverging * st->prev) return DIVERGED;
+  /* far from the root a matrix from the iterate is Newton's: rebuilt as without chord */
+  if (st->fresh && st->m == 0) return del > reuse_below * scale ? REBUILD : GO_ON;
+  return st->m > 0 && st->rate > rate_slow ? REBUILD : GO_ON;
+}
+
+/* y -= dy; the update's and the new iterate's sizes */
+static int update(sdae_newton *nw, double *y, double *del, double *scale) {
+  size_t n = nw->n;
+  double dy_norm = 0.0, y_norm = 0.0;
   for (size_t i = 0; i < n; i++) {
     y[i] -= nw->dy[i];
     dy_norm = max_abs(dy_norm, nw->dy[i]);
     y_norm = max_abs(y_norm, y[i]);
   }
-  if (!sdae__all_finite(y, n)) return SDAE_ERR_NONFINITE;
-  scale = 1.0 + y_norm; /* multiplied, not divided: Newton's chain waits on this test */
-  *done = dy_norm <= nw->tol * scale;
-  *refresh = dy_norm > reuse_below * scale;
-  return SDAE_OK;
+  *del = dy_norm;
+  *scale = 1.0 + y_norm; /* multiplied, not divided: Newton's chain waits on this test */
+  return sdae__all_finite(y, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
 }
 
-int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y) {
-  int refresh = 1, done = 0, rc = SDAE_OK;
-  unsigned it = 0;
-  while (!done && rc == SDAE_OK && it < nw->max_iter) {
-    it++;
-    rc = iterate(nw, sys, &refresh, y, &done);
+/* ---- one attempt: at most max_iter iterations from y, the matrix built first when build ---- */
+static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, int chord,
+                   int build) {
+  attempt_state st = {chord, 0, 0, 0.0, 0.0};
+  int kept = !build; /* the attempt starts with a kept matrix */
+  for (unsigned it = 0; it < nw->max_iter; it++) {
+    double del, scale;
+    verdict v;
+    int rc;
+    nw->iters++;
+    if ((rc = residual(nw, sys, y)) != SDAE_OK) return rc;
+    if (nw->residual_last == 0.0) return SDAE_OK;
+    if (build) {
+      if ((rc = setup(nw, sys, y, chord)) != SDAE_OK) return rc;
+      st.fresh = 1, st.m = 0, st.rate = 0.0;
+    }
+    solve(nw, sys);
+    if ((rc = update(nw, y, &del, &scale)) != SDAE_OK) return kept ? SDAE_ERR_NEWTON : rc;
+    v = judge(nw, &st, del, scale);
+#ifdef NEWTON_DEBUG
+    fprintf(stderr, "n=%zu it=%u chord=%d fresh=%d m=%u del=%.3e scale=%.3e rate=%.3e v=%d\n", nw->n, it, chord, st.fresh, st.m, del, scale, st.rate, (int)v);
+#endif
+    if (v == CONVERGED) return SDAE_OK;
+    if (v == DIVERGED && kept) return SDAE_ERR_NEWTON; /* retried from the start */
+    build = v == REBUILD || v == DIVERGED;
+    st.prev = del;
+    st.m++;
   }
-  nw->iters += it;
-  if (rc != SDAE_OK) return rc;
-  return done ? SDAE_OK : SDAE_ERR_NEWTON;
+  return SDAE_ERR_NEWTON;
 }
 
-/* ---- a matrix kept across solves (CVODE's rules: its DGMAX, MSBP and rate test) ---- */
-
-/* the matrix is rebuilt once coeff differs from its own by more than this (CVODE's DGMAX) */
-static const double keep_coeff_change = 0.3;
-/* and after this many solves (CVODE's MSBP: 20 steps) */
-#define NEWTON_KEEP_SOLVES 20
-/* a chord whose estimated rate exceeds this rebuilds the matrix at the iterate */
-static const double keep_rate_slow = 0.25;
-/* the rate estimate keeps this fraction of the last one (CVODE's CRDOWN) */
-static const double keep_rate_memory = 0.3;
-/* converged with a kept matrix: the update at rounding of y (two ulps of 1 + ||y||), or what
- * the rate predicts is left below a thousandth of an ulp (the discrete gradient's H keeps the
- * sum of what is left, step after step) */
-static const double keep_moved = 2.0 * DBL_EPSILON;
-static const double keep_left = 1e-3 * DBL_EPSILON;
+/* a failure of a kept matrix that a matrix built at the start may cure: no convergence (an
+ * iterate that is not finite among them), an iterate outside Phi^-1's domain, a singular matrix
+ * at an iterate; a callback's own failure is the step's */
+static int curable(int rc) {
+  return rc == SDAE_ERR_NEWTON || rc == SDAE_ERR_PHI_INV || rc == SDAE_ERR_SINGULAR;
+}
 
 static int keep_serves(const sdae_newton *nw, double coeff) {
   return nw->kept && nw->kept_age < NEWTON_KEEP_SOLVES &&
          fabs(coeff - nw->kept_coeff) <= keep_coeff_change * fabs(nw->kept_coeff);
 }
 
-/* one chord iteration with the kept factors from y: *dy_norm the update, *scale 1 + ||y|| */
-static int chord(sdae_newton *nw, const sdae_newton_system *sys, double *y, double *dy_norm,
-                 double *scale, int *zero) {
-  size_t n = nw->n;
-  double y_norm = 0.0;
-  int rc = residual(nw, sys, y);
-  *dy_norm = 0.0;
-  *zero = rc == SDAE_OK && nw->residual_last == 0.0;
-  if (rc != SDAE_OK || *zero) return rc;
-  newton_solve(nw);
-  for (size_t i = 0; i < n; i++) {
-    y[i] -= nw->dy[i];
-    *dy_norm = max_abs(*dy_norm, nw->dy[i]);
-    y_norm = max_abs(y_norm, y[i]);
-  }
-  *scale = 1.0 + y_norm;
-  return sdae__all_finite(y, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
-}
-
-/* the chord iteration with the kept matrix, counting in *used; *slow when it no longer
- * serves (its rate), y then the last iterate, for the fresh Newton to go on from */
-static int chord_solve(sdae_newton *nw, const sdae_newton_system *sys, double *y, unsigned *used,
-                       int *slow) {
-  double prev = 0.0, rate = 0.0;
-  *slow = 0;
-  for (unsigned k = 0; *used < nw->max_iter; k++) {
-    double dy, scale;
-    int zero, rc;
-    (*used)++;
-    rc = chord(nw, sys, y, &dy, &scale, &zero);
-    if (rc != SDAE_OK || zero) return rc;
-    if (k > 0) rate = fmax(keep_rate_memory * rate, dy / prev);
-    if (dy <= nw->tol * scale &&
-        (dy <= keep_moved * scale ||
-         (k >= 2 && rate < 1.0 && rate / (1.0 - rate) * dy <= keep_left * scale)))
-      return SDAE_OK;
-    if (k > 0 && rate > keep_rate_slow) {
-      *slow = 1;
-      return SDAE_OK;
-    }
-    prev = dy;
-  }
+/* the attempt with the kept matrix, when it serves: SDAE_OK, or the status to retry on */
+static int with_kept(sdae_newton *nw, const sdae_newton_system *sys, double coeff, double *y) {
+  int rc;
+  if (!keep_serves(nw, coeff)) return SDAE_ERR_NEWTON;
+  memcpy(nw->y0, y, nw->n * sizeof *y);
+  nw->kept_age++;
+  rc = attempt(nw, sys, y, 1, 0);
+  if (rc == SDAE_OK || !curable(rc)) return rc;
+  memcpy(y, nw->y0, nw->n * sizeof *y); /* CVODE's recovery: the same solve, a fresh matrix */
+  nw->retries++;
   return SDAE_ERR_NEWTON;
 }
 
-int sdae__newton_solve_kept(sdae_newton *nw, const sdae_newton_system *sys, double coeff,
-                            double *y) {
-  unsigned used = 0;
-  int rc = SDAE_OK, slow = 1, refresh = 1, done = 0;
-  if (keep_serves(nw, coeff)) {
-    nw->kept_age++;
-    rc = chord_solve(nw, sys, y, &used, &slow);
-    if (rc == SDAE_ERR_NEWTON) /* no convergence with the kept matrix: a fresh one, a new cap */
-      rc = SDAE_OK, slow = 1, nw->iters += used, used = 0;
-    if (rc != SDAE_OK) nw->kept = 0; /* a failed solve: the next one builds its own */
-    if (rc != SDAE_OK || !slow) {
-      nw->iters += used;
-      return rc;
-    }
+int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double coeff, double *y) {
+  /* a matrix from the system's own Jacobian costs one call: rebuilt as Newton needs it */
+  int chord = nw->keep && !(sys->jacobian && nw->J && !sys->setup);
+  int rc = chord ? with_kept(nw, sys, coeff, y) : SDAE_ERR_NEWTON;
+  if (rc == SDAE_ERR_NEWTON) rc = attempt(nw, sys, y, chord, 1);
+  if (rc != SDAE_OK) {
+    nw->kept = 0; /* a failed solve: the next one builds its own */
+    return rc;
   }
-  /* the matrix at the iterate, then Newton as sdae__newton_solve, within the same cap */
-  nw->kept = 0;
-  nw->refreshes++;
-  while (!done && rc == SDAE_OK && used < nw->max_iter) {
-    used++;
-    rc = iterate(nw, sys, &refresh, y, &done);
-  }
-  nw->iters += used;
-  if (rc != SDAE_OK) return rc;
-  if (!done) return SDAE_ERR_NEWTON;
-  nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
+  if (chord && !nw->kept) nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
   return SDAE_OK;
 }

@@ -41,15 +41,13 @@ static int analytic(const sdae_map_type *map, const sdae_model *m) {
   return map->jac && (!map->jac_given || map->jac_given(m));
 }
 
-/* When the owner of Newton asks for it (keep), a matrix by differences (2 n residuals dense,
- * 2 (2 b + 1) banded) is kept across steps and stages while it serves
- * (sdae__newton_solve_kept, its coefficient h); the map's own Jacobian costs one call and is
- * rebuilt as Newton needs it. */
+/* A matrix by differences (2 n residuals dense, 2 (2 b + 1) banded) is kept across steps and
+ * stages while it serves when the owner of Newton asks for it (keep; the coefficient h); the
+ * map's own Jacobian costs one call and is rebuilt as Newton needs it (core/newton.h). */
 int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
                     const double *shift, double *y) {
   step_eq e = {map, c, t, h, x, shift};
   int own = analytic(map, c->model) && c->newton->J;
-  sdae_newton_system sys = {residual, own ? jacobian : NULL, &e};
-  return own || !c->newton->keep ? sdae__newton_solve(c->newton, &sys, y)
-                                 : sdae__newton_solve_kept(c->newton, &sys, h, y);
+  sdae_newton_system sys = {residual, NULL, NULL, own ? jacobian : NULL, &e};
+  return sdae__newton_solve(c->newton, &sys, h, y);
 }
