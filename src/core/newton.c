@@ -184,9 +184,10 @@ static const double reuse_below = 1e-5;
 /* a chord (keep = 1) whose estimated rate exceeds this rebuilds the matrix at the iterate: each
  * further iteration would gain less than a digit */
 static const double rate_slow = 0.25;
-/* a chord whose update grows by more than this factor diverges: the attempt fails (CVODE's
- * RDIV), and one with a kept matrix is retried from its start with a fresh one */
-static const double rate_diverging = 2.0;
+/* a chord whose update shrinks by less than this factor does not converge (IDA's RATEMAX): a
+ * kept matrix is given up and the solve retried from its start with a fresh one (rebuilt at
+ * such an iterate, Newton may go on to another root: Phi^-1's other sheet) */
+static const double rate_diverging = 0.9;
 /* the rate estimate keeps this fraction of the last one (CVODE's CRDOWN) */
 static const double rate_memory = 0.3;
 /* a chord has converged when its update is at rounding of y (two ulps of 1 + ||y||), or what
@@ -195,6 +196,13 @@ static const double rate_memory = 0.3;
  * gradient's H or Phi^-1's xi_c sums it over many steps */
 static const double chord_moved = 2.0 * DBL_EPSILON;
 static const double chord_left = 1e-3 * DBL_EPSILON;
+/* Newton at the noise of its residual: with a matrix built within reuse_below of the root, an
+ * exact residual would make the next update about Newton's constant times the square of the
+ * last; an update that does not shrink (by rate_diverging) is the residual's own noise (a
+ * mechanism's ill-conditioned mass amplifies its rounding), and no iteration improves on the
+ * iterate. It is accepted there when at most this (relative): the noise of a difference
+ * quotient of step sqrt(eps), the noisiest residual the library forms */
+static const double noise_most = 0x1p-26; /* sqrt(DBL_EPSILON) */
 /* the kept matrix is rebuilt once coeff differs from its own by more than this (CVODE's
  * DGMAX) */
 static const double keep_coeff_change = 0.3;
@@ -202,12 +210,17 @@ static const double keep_coeff_change = 0.3;
 #define NEWTON_KEEP_SOLVES 20
 
 /* one attempt's progress: m updates since the matrix was built (fresh: at the iterate of
- * update 0), the last update, the rate */
+ * update 0; near: and that update was within reuse_below), the last update, the rate */
 typedef struct attempt_state {
-  int chord, fresh;
+  int chord, fresh, near;
   unsigned m;
   double prev, rate;
 } attempt_state;
+
+/* the updates stopped shrinking with a matrix from within reuse_below: the residual's noise */
+static int at_noise(const attempt_state *st, double del, double scale) {
+  return st->near && st->m > 0 && del > rate_diverging * st->prev && del <= noise_most * scale;
+}
 
 /* converged after an update del (scale: 1 + ||y||): below tol, and for a chord at rounding or
  * predicted to leave nothing; a step of Newton (the matrix at its own iterate, or without
@@ -224,12 +237,13 @@ typedef enum { GO_ON, CONVERGED, REBUILD, DIVERGED } verdict;
 /* the test after an update del; a chord's rate as CVODE estimates it, rate = max(CRDOWN rate,
  * del_m / del_m-1) */
 static verdict judge(const sdae_newton *nw, attempt_state *st, double del, double scale) {
+  if (st->fresh && st->m == 0) st->near = del <= reuse_below * scale;
   if (!st->chord) {
-    if (del <= nw->tol * scale) return CONVERGED;
+    if (del <= nw->tol * scale || at_noise(st, del, scale)) return CONVERGED;
     return del > reuse_below * scale ? REBUILD : GO_ON;
   }
   if (st->m > 0) st->rate = fmax(rate_memory * st->rate, del / st->prev);
-  if (converged(nw, st, del, scale)) return CONVERGED;
+  if (converged(nw, st, del, scale) || at_noise(st, del, scale)) return CONVERGED;
   if (st->m > 0 && del > rate_diverging * st->prev) return DIVERGED;
   /* far from the root a matrix from the iterate is Newton's: rebuilt as without chord */
   if (st->fresh && st->m == 0) return del > reuse_below * scale ? REBUILD : GO_ON;
@@ -253,7 +267,7 @@ static int update(sdae_newton *nw, double *y, double *del, double *scale) {
 /* ---- one attempt: at most max_iter iterations from y, the matrix built first when build ---- */
 static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, int chord,
                    int build) {
-  attempt_state st = {chord, 0, 0, 0.0, 0.0};
+  attempt_state st = {chord, 0, 0, 0, 0.0, 0.0};
   int kept = !build; /* the attempt starts with a kept matrix */
   for (unsigned it = 0; it < nw->max_iter; it++) {
     double del, scale;
@@ -264,7 +278,7 @@ static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, in
     if (nw->residual_last == 0.0) return SDAE_OK;
     if (build) {
       if ((rc = setup(nw, sys, y, chord)) != SDAE_OK) return rc;
-      st.fresh = 1, st.m = 0, st.rate = 0.0;
+      st.fresh = 1, st.near = 0, st.m = 0, st.rate = 0.0;
     }
     solve(nw, sys);
     if ((rc = update(nw, y, &del, &scale)) != SDAE_OK) return kept ? SDAE_ERR_NEWTON : rc;
