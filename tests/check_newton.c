@@ -792,11 +792,136 @@ START_TEST(kept_matrix_rules) {
 }
 END_TEST
 
+/* ---- CVODE's recovery (core/newton.h): a kept matrix that fails, the same solve retried ---- */
+
+/* R(y) = y^p - a (p = 2 or 3) through the four hooks, the matrix p y^(p-1) at the setup's y:
+ * each iterate evaluated and each setup's point recorded */
+typedef struct power_sys {
+  int p;
+  double a, J;
+  unsigned n_res, n_setup;
+  double res_y[64], setup_y[64];
+} power_sys;
+
+static int power_residual(void *ctx, const double *y, double *R) {
+  power_sys *s = ctx;
+  if (s->n_res < 64) s->res_y[s->n_res] = y[0];
+  s->n_res++;
+  R[0] = (s->p == 2 ? y[0] * y[0] : y[0] * y[0] * y[0]) - s->a;
+  return SDAE_OK;
+}
+static int power_setup(void *ctx, const double *y) {
+  power_sys *s = ctx;
+  if (s->n_setup < 64) s->setup_y[s->n_setup] = y[0];
+  s->n_setup++;
+  s->J = s->p == 2 ? 2.0 * y[0] : 3.0 * y[0] * y[0];
+  return s->J == 0.0 ? SDAE_ERR_SINGULAR : SDAE_OK;
+}
+static void power_solve(void *ctx, const double *R, double *dy) {
+  const power_sys *s = ctx;
+  dy[0] = R[0] / s->J;
+}
+
+/* a setup was made at y */
+static int set_up_at(const power_sys *s, double y) {
+  for (unsigned k = 0; k < s->n_setup && k < 64; k++)
+    if (s->setup_y[k] == y) return 1;
+  return 0;
+}
+
+/* a Newton that keeps its matrix, capped at 6 iterations an attempt */
+enum { POWER_CAP = 6 };
+static void *power_newton(sdae_newton *nw) {
+  sdae_arena count = {0}, a = {0};
+  sdae__newton_carve_hooks(nw, 1, 1e-14, POWER_CAP, &count);
+  a.base = calloc(count.used, 1);
+  sdae__newton_carve_hooks(nw, 1, 1e-14, POWER_CAP, &a);
+  nw->keep = 1;
+  return a.base;
+}
+
+static int power_solve_from(sdae_newton *nw, power_sys *s, double a, double *y) {
+  const sdae_newton_system sys = {power_residual, power_setup, power_solve, NULL, s};
+  s->a = a, s->n_res = s->n_setup = 0;
+  nw->iters = 0;
+  return sdae__newton_solve(nw, &sys, 1.0, y);
+}
+
+/* y^3 = 1 is solved (the matrix 3 y^2 kept, built near y = 1), then y^3 = 1331 from y = 10:
+ * the kept matrix (slope 3 where the root's is 363) sends the chord to 120, and the next update
+ * is larger still: the chord does not contract, the kept matrix is given up after its second
+ * update and the same solve starts again from y = 10 with a matrix built there, Newton's
+ * quadratic convergence reaching y = 11 to rounding within its own cap: the two attempts
+ * together take more iterations than one cap allows. */
+START_TEST(stale_matrix_refreshed_and_retried) {
+  sdae_newton nw;
+  void *mem = power_newton(&nw);
+  power_sys s = {.p = 3};
+  double y = 1.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 1.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 1.0), 2.0 * DBL_EPSILON);
+  ck_assert_int_eq(nw.kept, 1);
+  ck_assert_uint_eq(nw.retries, 0);
+  y = 10.0;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 1331.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 11.0), 4.0 * 11.0 * DBL_EPSILON);
+  ck_assert_uint_eq(nw.retries, 1);
+  ck_assert_uint_eq(s.n_res, nw.iters); /* one residual an iteration with a matrix of its own */
+  ck_assert_double_eq(s.res_y[0], 10.0);
+  ck_assert_double_gt(s.res_y[1], 100.0); /* the kept matrix's chord: 10 + 331 / 3 */
+  ck_assert_uint_ge(s.n_setup, 1);
+  ck_assert_double_eq(s.setup_y[0], 10.0); /* the retry's matrix: at the solve's start */
+  ck_assert_double_eq(s.res_y[2], 10.0);   /* and its first iterate */
+  ck_assert_uint_gt(nw.iters, POWER_CAP);  /* the cap counted anew */
+  ck_assert_uint_le(nw.iters, 2 + POWER_CAP);
+  ck_assert_int_eq(nw.kept, 1); /* the fresh matrix is kept for the next solve */
+  free(mem);
+}
+END_TEST
+
+/* y^2 = -1 has no root: from y = 0.7 with no matrix kept, Newton's own (fresh) attempt fails at
+ * its cap, SDAE_ERR_NEWTON, nothing retried; after y^2 = 4 is solved (its matrix kept), the
+ * same failure is first the kept matrix's, then the fresh retry's from the same start: both
+ * attempts counted, and the failed solve keeps nothing: the next solve, y^2 = 4 again, builds
+ * its matrix at its own start. */
+START_TEST(fresh_failure_is_reported_and_nothing_kept) {
+  sdae_newton nw;
+  void *mem = power_newton(&nw);
+  power_sys s = {.p = 2};
+  double y = 0.7;
+  ck_assert_int_eq(power_solve_from(&nw, &s, -1.0, &y), SDAE_ERR_NEWTON);
+  ck_assert_uint_eq(nw.retries, 0);
+  ck_assert_uint_eq(nw.iters, POWER_CAP);
+  ck_assert_double_eq(s.setup_y[0], 0.7);
+  ck_assert_int_eq(nw.kept, 0);
+  y = 2.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 4.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 2.0), 4.0 * DBL_EPSILON);
+  ck_assert_int_eq(nw.kept, 1);
+  y = 0.7;
+  ck_assert_int_eq(power_solve_from(&nw, &s, -1.0, &y), SDAE_ERR_NEWTON);
+  ck_assert_uint_eq(nw.retries, 1);
+  ck_assert_uint_gt(nw.iters, POWER_CAP); /* the kept attempt, then a whole fresh one */
+  ck_assert_uint_le(nw.iters, 2 * POWER_CAP);
+  ck_assert(set_up_at(&s, 0.7)); /* the retry from the same start */
+  ck_assert_double_eq(s.res_y[nw.iters - POWER_CAP], 0.7);
+  ck_assert_int_eq(nw.kept, 0);
+  y = 2.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 4.0, &y), SDAE_OK);
+  ck_assert_uint_ge(s.n_setup, 1);
+  ck_assert_double_eq(s.setup_y[0], 2.1); /* nothing of the failed solve kept */
+  ck_assert_uint_eq(nw.retries, 1);
+  free(mem);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("newton");
   ADD_CASE(s, plain_residual_system);
   ADD_CASE(s, nan_residual_is_nonfinite);
   ADD_CASE(s, kept_matrix_rules);
+  ADD_CASE(s, stale_matrix_refreshed_and_retried);
+  ADD_CASE(s, fresh_failure_is_reported_and_nothing_kept);
   ADD_CASE(s, quadratic_convergence_analytic);
   ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);
