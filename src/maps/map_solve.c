@@ -6,6 +6,7 @@
  * (a step of eq. 11/15: x = mu, h = T, shift = Q(xi, mu) xi; a stage of a composed map: no
  * shift). */
 #include <stddef.h>
+#include <string.h>
 
 #include "map.h"
 
@@ -49,5 +50,10 @@ int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double 
   step_eq e = {map, c, t, h, x, shift};
   int own = analytic(map, c->model) && c->newton->J;
   sdae_newton_system sys = {residual, NULL, NULL, own ? jacobian : NULL, &e};
+  int rc = sdae__newton_solve(c->newton, &sys, h, y);
+  if (rc != SDAE_ERR_NEWTON) return rc;
+  /* no root found from the predictor, even with a matrix built there: the same equation from
+   * the step's start x (R(x) = -h (phi_T(x, x) + shift)), a matrix built there */
+  memcpy(y, x, c->model->n_mu * sizeof *y);
   return sdae__newton_solve(c->newton, &sys, h, y);
 }
