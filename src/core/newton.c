@@ -64,7 +64,7 @@ void sdae__newton_carve_hooks(sdae_newton *nw, size_t n, double tol, unsigned ma
   nw->iters = 0;
   nw->residual_last = 0.0;
   nw->keep = nw->kept = 0;
-  nw->kept_coeff = 0.0;
+  nw->coeff = nw->kept_coeff = 0.0;
   nw->kept_age = 0;
   nw->refreshes = nw->retries = 0;
 }
@@ -78,14 +78,21 @@ void sdae__newton_adopt(sdae_newton *nw, double coeff) {
 /* max(r, |v|) written out: fmax is a call (NaN rules); the values here are finite */
 static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
 
+/* the sum of v_i - v_i: 0 when every v_i is finite, NaN otherwise (Inf - Inf is NaN); in the
+ * loop that measures v, a finiteness test without a pass of its own */
+static double nan_probe(double probe, double v) { return probe + (v - v); }
+
 /* R(y) into nw->R, and ||R||_inf into residual_last; a NaN or Inf in R is SDAE_ERR_NONFINITE
  * (max_abs would pass over a NaN, and R = 0 would then read as converged) */
 static int residual(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
-  double norm = 0.0;
+  double norm = 0.0, probe = 0.0;
   int rc = sys->residual(sys->ctx, y, nw->R);
   if (rc != SDAE_OK) return rc;
-  if (!sdae__all_finite(nw->R, nw->n)) return SDAE_ERR_NONFINITE;
-  for (size_t i = 0; i < nw->n; i++) norm = max_abs(norm, nw->R[i]);
+  for (size_t i = 0; i < nw->n; i++) {
+    norm = max_abs(norm, nw->R[i]);
+    probe = nan_probe(probe, nw->R[i]);
+  }
+  if (probe != 0.0) return SDAE_ERR_NONFINITE;
   nw->residual_last = norm;
   return SDAE_OK;
 }
@@ -135,13 +142,27 @@ static int finite_differences(sdae_newton *nw, const sdae_newton_system *sys, co
 }
 
 /* dR/dy at y, factored: Newton's own linear setup */
+/* dR/dy = I - coeff J from the system's J in place, in the pass that tests it is finite */
+static int from_jacobian(sdae_newton *nw) {
+  size_t n = nw->n;
+  double probe = 0.0;
+  for (size_t k = 0; k < n * n; k++) {
+    nw->J[k] *= -nw->coeff;
+    probe = nan_probe(probe, nw->J[k]);
+  }
+  for (size_t i = 0; i < n; i++) nw->J[i * n + i] += 1.0;
+  return probe == 0.0 ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
+
 static int newton_matrix(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
   size_t n = nw->n, b = nw->band;
-  int rc =
-      nw->J && sys->jacobian ? sys->jacobian(sys->ctx, y, nw->J) : finite_differences(nw, sys, y);
+  int analytic = nw->J && sys->jacobian;
+  int rc = analytic ? sys->jacobian(sys->ctx, y, nw->J) : finite_differences(nw, sys, y);
   if (rc != SDAE_OK) return rc;
   if (nw->J) {
-    if (!sdae__all_finite(nw->J, n * n)) return SDAE_ERR_NONFINITE;
+    rc = analytic ? from_jacobian(nw) : sdae__all_finite(nw->J, n * n) ? SDAE_OK
+                                                                        : SDAE_ERR_NONFINITE;
+    if (rc != SDAE_OK) return rc;
     if (small_dense(nw)) return sdae__lu_small_factor(nw->J, nw->piv, n);
     sdae__lu_pack(nw->J, n, b, b, nw->LU);
   } else if (!sdae__all_finite(nw->LU, n * band_cols(nw))) {
@@ -253,15 +274,16 @@ static verdict judge(const sdae_newton *nw, attempt_state *st, double del, doubl
 /* y -= dy; the update's and the new iterate's sizes */
 static int update(sdae_newton *nw, double *y, double *del, double *scale) {
   size_t n = nw->n;
-  double dy_norm = 0.0, y_norm = 0.0;
+  double dy_norm = 0.0, y_norm = 0.0, probe = 0.0;
   for (size_t i = 0; i < n; i++) {
     y[i] -= nw->dy[i];
     dy_norm = max_abs(dy_norm, nw->dy[i]);
     y_norm = max_abs(y_norm, y[i]);
+    probe = nan_probe(probe, y[i]);
   }
   *del = dy_norm;
   *scale = 1.0 + y_norm; /* multiplied, not divided: Newton's chain waits on this test */
-  return sdae__all_finite(y, n) ? SDAE_OK : SDAE_ERR_NONFINITE;
+  return probe == 0.0 ? SDAE_OK : SDAE_ERR_NONFINITE;
 }
 
 /* ---- one attempt: at most max_iter iterations from y, the matrix built first when build ---- */
@@ -323,7 +345,9 @@ static int with_kept(sdae_newton *nw, const sdae_newton_system *sys, double coef
 int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double coeff, double *y) {
   /* a matrix from the system's own Jacobian costs one call: rebuilt as Newton needs it */
   int chord = nw->keep && !(sys->jacobian && nw->J && !sys->setup);
-  int rc = chord ? with_kept(nw, sys, coeff, y) : SDAE_ERR_NEWTON;
+  int rc;
+  nw->coeff = coeff;
+  rc = chord ? with_kept(nw, sys, coeff, y) : SDAE_ERR_NEWTON;
   if (rc == SDAE_ERR_NEWTON) rc = attempt(nw, sys, y, chord, 1);
   if (rc != SDAE_OK) {
     nw->kept = 0; /* a failed solve: the next one builds its own */

@@ -24,10 +24,11 @@ typedef struct sdae_newton_system {
    * differences of residual, LU */
   int (*setup)(void *ctx, const double *y);
   void (*solve)(void *ctx, const double *R, double *dy);
-  /* optional, with Newton's own setup when dense: dR/dy at y (n x n, row-major), called right
-   * after residual at the same y (so it may reuse what residual left in ctx); NULL:
-   * differences. A matrix from it costs one call: Newton rebuilds it at every iterate that
-   * moved by more than a small step, never keeps it across solves. */
+  /* optional, with Newton's own setup when dense: J at y (n x n, row-major) such that
+   * dR/dy = I - coeff J (coeff: the solve's), called right after residual at the same y (so it
+   * may reuse what residual left in ctx); NULL: differences of R. A matrix from it costs one
+   * call: Newton rebuilds it at every iterate that moved by more than a small step, never keeps
+   * it across solves. */
   int (*jacobian)(void *ctx, const double *y, double *J);
   void *ctx;
 } sdae_newton_system;
@@ -36,6 +37,7 @@ typedef struct sdae_newton {
   size_t n, band; /* the band of dR/dy: n - 1 when dense */
   double tol;
   unsigned max_iter;
+  double coeff; /* the solve's: dR/dy = I - coeff J */
   /* the owner's choice: 0 rebuilds the matrix at every iterate until the update is small
    * (Newton); 1 keeps it across solves while it serves (a chord; CVODE's rules) */
   int keep;

@@ -15,26 +15,25 @@ typedef struct step_eq {
   sdae_map_ctx *c;
   double t, h;
   const double *x, *shift;
+  size_t n;
 } step_eq;
 
 static int residual(void *ctx, const double *y, double *R) {
   const step_eq *e = ctx;
-  size_t n = e->c->model->n_mu;
-  int rc = sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, R);
+  const double *x = e->x, *shift = e->shift, h = e->h;
+  int rc = sdae__map_phi(e->map, e->c, e->t, h, x, y, R);
   if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++)
-    R[i] = y[i] - e->x[i] - e->h * (R[i] + (e->shift ? e->shift[i] : 0.0));
+  if (shift)
+    for (size_t i = 0; i < e->n; i++) R[i] = y[i] - x[i] - h * (R[i] + shift[i]);
+  else
+    for (size_t i = 0; i < e->n; i++) R[i] = y[i] - x[i] - h * R[i];
   return SDAE_OK;
 }
 
+/* dphi_T/dy: dR/dy = I - h dphi_T/dy, formed by Newton (its coefficient h) */
 static int jacobian(void *ctx, const double *y, double *J) {
   const step_eq *e = ctx;
-  size_t n = e->c->model->n_mu;
-  int rc = e->map->jac(e->c, e->t, e->h, e->x, y, J);
-  if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++)
-    for (size_t j = 0; j < n; j++) J[i * n + j] = (i == j ? 1.0 : 0.0) - e->h * J[i * n + j];
-  return SDAE_OK;
+  return e->map->jac(e->c, e->t, e->h, e->x, y, J);
 }
 
 /* the map's own Jacobian, for a model it has one for */
@@ -47,13 +46,13 @@ static int analytic(const sdae_map_type *map, const sdae_model *m) {
  * map's own Jacobian costs one call and is rebuilt as Newton needs it (core/newton.h). */
 int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
                     const double *shift, double *y) {
-  step_eq e = {map, c, t, h, x, shift};
+  step_eq e = {map, c, t, h, x, shift, c->model->n_mu};
   int own = analytic(map, c->model) && c->newton->J;
   sdae_newton_system sys = {residual, NULL, NULL, own ? jacobian : NULL, &e};
   int rc = sdae__newton_solve(c->newton, &sys, h, y);
   if (rc != SDAE_ERR_NEWTON) return rc;
   /* no root found from the predictor, even with a matrix built there: the same equation from
    * the step's start x (R(x) = -h (phi_T(x, x) + shift)), a matrix built there */
-  memcpy(y, x, c->model->n_mu * sizeof *y);
+  memcpy(y, x, e.n * sizeof *y);
   return sdae__newton_solve(c->newton, &sys, h, y);
 }
