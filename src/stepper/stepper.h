@@ -15,7 +15,7 @@ const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s);
 /* puts back statistics read earlier with sdae_stepper_stats: a front-end's failed step leaves
  * its inner stepper's counters as they were */
 void sdae__stepper_restore_stats(sdae_stepper *s, const sdae_stats *stats);
-/* Newton's matrix by differences kept across steps and stages (sdae__newton_solve_kept): for
+/* Newton's matrix by differences kept across steps and stages (core/newton.h, keep): for
  * a front-end whose every residual is costly (the mechanical one's: a Phi^-1 each); the
  * stepper alone rebuilds it at every solve */
 void sdae__stepper_keep_newton(sdae_stepper *s);
