@@ -25,7 +25,7 @@ static const char *const derivative_choices[] = {"exact", "differences", NULL};
 typedef struct args {
   mech_fourbar p;
   double theta0, omega0;
-  int derivatives; /* an index into derivative_choices */
+  int derivatives;   /* an index into derivative_choices */
   double q[4], v[4]; /* the start, from theta0 and omega0 */
   cli_run run;
   cli_flag flags[NFLAGS + CLI_RUN_NFLAGS];
@@ -77,7 +77,8 @@ static int run(void *vargs, cli_sink *sink) {
   sdae_mbs sys;
   mech_fourbar_system(&sys, &a->p);
   if (a->derivatives == 1)
-    sys.jacobian = NULL, sys.jacobian_dot = NULL, sys.mass_dot_v = NULL, sys.constraint_t_dot = NULL;
+    sys.jacobian = NULL, sys.jacobian_dot = NULL, sys.mass_dot_v = NULL,
+    sys.constraint_t_dot = NULL;
   const mbs_program prog = {"fourbar", &sys, a->q, a->v};
   return mbs_execute_to(&prog, &a->run, sink);
 }

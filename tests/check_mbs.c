@@ -753,8 +753,12 @@ static int heavy_jacobian(double t, const double *q, double *G, void *params) {
 }
 
 START_TEST(heavy_normal_mass_steps) {
-  sdae_mbs sys = {.n_q = 2, .n_c = 1, .mass = heavy_mass, .force = heavy_force,
-                  .constraint = heavy_constraint, .jacobian = heavy_jacobian,
+  sdae_mbs sys = {.n_q = 2,
+                  .n_c = 1,
+                  .mass = heavy_mass,
+                  .force = heavy_force,
+                  .constraint = heavy_constraint,
+                  .jacobian = heavy_jacobian,
                   .potential = heavy_potential};
   sdae_options o = options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
   sdae_mbs_stepper *s = stepper(&sys, &o);

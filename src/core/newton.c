@@ -23,16 +23,12 @@
 #include <float.h>
 #include <math.h>
 #include <string.h>
-#ifdef NEWTON_DEBUG
-#include <stdio.h>
-#endif
 
 #include <stabdae/stabdae.h>
 
 #include "callback.h"
 #include "lu.h"
 #include "newton.h"
-
 
 void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsigned max_iter,
                         sdae_arena *a) {
@@ -160,8 +156,9 @@ static int newton_matrix(sdae_newton *nw, const sdae_newton_system *sys, const d
   int rc = analytic ? sys->jacobian(sys->ctx, y, nw->J) : finite_differences(nw, sys, y);
   if (rc != SDAE_OK) return rc;
   if (nw->J) {
-    rc = analytic ? from_jacobian(nw) : sdae__all_finite(nw->J, n * n) ? SDAE_OK
-                                                                        : SDAE_ERR_NONFINITE;
+    rc = analytic                         ? from_jacobian(nw)
+         : sdae__all_finite(nw->J, n * n) ? SDAE_OK
+                                          : SDAE_ERR_NONFINITE;
     if (rc != SDAE_OK) return rc;
     if (small_dense(nw)) return sdae__lu_small_factor(nw->J, nw->piv, n);
     sdae__lu_pack(nw->J, n, b, b, nw->LU);
@@ -305,9 +302,6 @@ static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, in
     solve(nw, sys);
     if ((rc = update(nw, y, &del, &scale)) != SDAE_OK) return kept ? SDAE_ERR_NEWTON : rc;
     v = judge(nw, &st, del, scale);
-#ifdef NEWTON_DEBUG
-    fprintf(stderr, "n=%zu it=%u chord=%d fresh=%d m=%u del=%.3e scale=%.3e rate=%.3e v=%d\n", nw->n, it, chord, st.fresh, st.m, del, scale, st.rate, (int)v);
-#endif
     if (v == CONVERGED) return SDAE_OK;
     if (v == DIVERGED && kept) return SDAE_ERR_NEWTON; /* retried from the start */
     build = v == REBUILD || v == DIVERGED;

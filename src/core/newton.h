@@ -41,11 +41,11 @@ typedef struct sdae_newton {
   /* the owner's choice: 0 rebuilds the matrix at every iterate until the update is small
    * (Newton); 1 keeps it across solves while it serves (a chord; CVODE's rules) */
   int keep;
-  double *R, *dy, *y0;                /* n each: the residual, the update, the solve's start */
-  double *fd_y, *fd_plus, *fd_minus;  /* n each: Newton's own matrix by differences */
-  double *J;                          /* n x n, dense only: dR/dy */
-  double *LU;           /* n x (3 band + 1): dR/dy in band format, then its factors */
-  unsigned *piv;        /* n */
+  double *R, *dy, *y0;               /* n each: the residual, the update, the solve's start */
+  double *fd_y, *fd_plus, *fd_minus; /* n each: Newton's own matrix by differences */
+  double *J;                         /* n x n, dense only: dR/dy */
+  double *LU;                        /* n x (3 band + 1): dR/dy in band format, then its factors */
+  unsigned *piv;                     /* n */
   unsigned iters;       /* iterations, counted here alone; the owner reads and clears them */
   double residual_last; /* ||R||_inf at the last iterate evaluated */
   /* what a solve leaves for the next (keep = 1), plain fields that a state written as bytes

@@ -47,7 +47,7 @@ typedef struct sdae_mbs_coords {
                              (dM/dt) v (n_q) */
   double *GdW, *X;        /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
   double *dW;             /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
-  sdae_newton newton; /* Phi^-1's: a chord with G_D's factors kept from the base */
+  sdae_newton newton;     /* Phi^-1's: a chord with G_D's factors kept from the base */
   /* counter */
   unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
 } sdae_mbs_coords;
