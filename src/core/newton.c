@@ -81,12 +81,13 @@ static double nan_probe(double probe, double v) { return probe + (v - v); }
 /* R(y) into nw->R, and ||R||_inf into residual_last; a NaN or Inf in R is SDAE_ERR_NONFINITE
  * (max_abs would pass over a NaN, and R = 0 would then read as converged) */
 static int residual(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
+  const double *R = nw->R;
   double norm = 0.0, probe = 0.0;
   int rc = sys->residual(sys->ctx, y, nw->R);
   if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < nw->n; i++) {
-    norm = max_abs(norm, nw->R[i]);
-    probe = nan_probe(probe, nw->R[i]);
+  for (size_t i = 0, n = nw->n; i < n; i++) {
+    norm = max_abs(norm, R[i]);
+    probe = nan_probe(probe, R[i]);
   }
   if (probe != 0.0) return SDAE_ERR_NONFINITE;
   nw->residual_last = norm;
@@ -141,12 +142,12 @@ static int finite_differences(sdae_newton *nw, const sdae_newton_system *sys, co
 /* dR/dy = I - coeff J from the system's J in place, in the pass that tests it is finite */
 static int from_jacobian(sdae_newton *nw) {
   size_t n = nw->n;
-  double probe = 0.0;
+  double *J = nw->J, h = -nw->coeff, probe = 0.0;
   for (size_t k = 0; k < n * n; k++) {
-    nw->J[k] *= -nw->coeff;
-    probe = nan_probe(probe, nw->J[k]);
+    J[k] *= h;
+    probe = nan_probe(probe, J[k]);
   }
-  for (size_t i = 0; i < n; i++) nw->J[i * n + i] += 1.0;
+  for (size_t i = 0; i < n; i++) J[i * n + i] += 1.0;
   return probe == 0.0 ? SDAE_OK : SDAE_ERR_NONFINITE;
 }
 
@@ -271,10 +272,11 @@ static verdict judge(const sdae_newton *nw, attempt_state *st, double del, doubl
 /* y -= dy; the update's and the new iterate's sizes */
 static int update(sdae_newton *nw, double *y, double *del, double *scale) {
   size_t n = nw->n;
+  const double *dy = nw->dy;
   double dy_norm = 0.0, y_norm = 0.0, probe = 0.0;
   for (size_t i = 0; i < n; i++) {
-    y[i] -= nw->dy[i];
-    dy_norm = max_abs(dy_norm, nw->dy[i]);
+    y[i] -= dy[i];
+    dy_norm = max_abs(dy_norm, dy[i]);
     y_norm = max_abs(y_norm, y[i]);
     probe = nan_probe(probe, y[i]);
   }

@@ -21,12 +21,13 @@ typedef struct step_eq {
 static int residual(void *ctx, const double *y, double *R) {
   const step_eq *e = ctx;
   const double *x = e->x, *shift = e->shift, h = e->h;
+  size_t n = e->n;
   int rc = sdae__map_phi(e->map, e->c, e->t, h, x, y, R);
   if (rc != SDAE_OK) return rc;
   if (shift)
-    for (size_t i = 0; i < e->n; i++) R[i] = y[i] - x[i] - h * (R[i] + shift[i]);
+    for (size_t i = 0; i < n; i++) R[i] = y[i] - x[i] - h * (R[i] + shift[i]);
   else
-    for (size_t i = 0; i < e->n; i++) R[i] = y[i] - x[i] - h * R[i];
+    for (size_t i = 0; i < n; i++) R[i] = y[i] - x[i] - h * R[i];
   return SDAE_OK;
 }
 
