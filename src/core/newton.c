@@ -261,7 +261,7 @@ static verdict judge(const sdae_newton *nw, attempt_state *st, double del, doubl
     if (del <= nw->tol * scale || at_noise(st, del, scale)) return CONVERGED;
     return del > reuse_below * scale ? REBUILD : GO_ON;
   }
-  if (st->m > 0) st->rate = fmax(rate_memory * st->rate, del / st->prev);
+  if (st->m > 0) st->rate = max_abs(rate_memory * st->rate, del / st->prev); /* both >= 0 */
   if (converged(nw, st, del, scale) || at_noise(st, del, scale)) return CONVERGED;
   if (st->m > 0 && del > rate_diverging * st->prev) return DIVERGED;
   /* far from the root a matrix from the iterate is Newton's: rebuilt as without chord */
