@@ -202,7 +202,7 @@ static void solve(sdae_newton *nw, const sdae_newton_system *sys) {
 static const double reuse_below = 1e-5;
 /* a chord (keep = 1) whose estimated rate exceeds this rebuilds the matrix at the iterate: each
  * further iteration would gain less than a digit */
-static const double rate_slow = 0.25;
+static const double rate_slow = 0.1;
 /* a chord whose update shrinks by less than this factor does not converge (IDA's RATEMAX): a
  * kept matrix is given up and the solve retried from its start with a fresh one (rebuilt at
  * such an iterate, Newton may go on to another root: Phi^-1's other sheet) */
