@@ -325,26 +325,22 @@ static int keep_serves(const sdae_newton *nw, double coeff) {
          fabs(coeff - nw->kept_coeff) <= keep_coeff_change * fabs(nw->kept_coeff);
 }
 
-/* the attempt with the kept matrix, when it serves: SDAE_OK, or the status to retry on */
-static int with_kept(sdae_newton *nw, const sdae_newton_system *sys, double coeff, double *y) {
-  int rc;
-  if (!keep_serves(nw, coeff)) return SDAE_ERR_NEWTON;
-  memcpy(nw->y0, y, nw->n * sizeof *y);
-  nw->kept_age++;
-  rc = attempt(nw, sys, y, 1, 0);
-  if (rc == SDAE_OK || !curable(rc)) return rc;
-  memcpy(y, nw->y0, nw->n * sizeof *y); /* CVODE's recovery: the same solve, a fresh matrix */
-  nw->retries++;
-  return SDAE_ERR_NEWTON;
-}
-
 int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double coeff, double *y) {
   /* a matrix from the system's own Jacobian costs one call: rebuilt as Newton needs it */
   int chord = nw->keep && !(sys->jacobian && nw->J && !sys->setup);
-  int rc;
+  int kept = chord && keep_serves(nw, coeff), rc;
   nw->coeff = coeff;
-  rc = chord ? with_kept(nw, sys, coeff, y) : SDAE_ERR_NEWTON;
-  if (rc == SDAE_ERR_NEWTON) rc = attempt(nw, sys, y, chord, 1);
+  if (kept) {
+    memcpy(nw->y0, y, nw->n * sizeof *y);
+    nw->kept_age++;
+  }
+  for (;;) {
+    rc = attempt(nw, sys, y, chord, !kept);
+    if (rc == SDAE_OK || !kept || !curable(rc)) break;
+    memcpy(y, nw->y0, nw->n * sizeof *y); /* CVODE's recovery: the same solve, a fresh matrix */
+    nw->retries++;
+    kept = 0;
+  }
   if (rc != SDAE_OK) {
     nw->kept = 0; /* a failed solve: the next one builds its own */
     return rc;
