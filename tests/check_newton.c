@@ -844,7 +844,8 @@ static void *power_newton(sdae_newton *nw) {
 }
 
 static int power_solve_from(sdae_newton *nw, power_sys *s, double a, double *y) {
-  const sdae_newton_system sys = {power_residual, power_setup, power_solve, NULL, s};
+  const sdae_newton_system sys = {
+      .residual = power_residual, .setup = power_setup, .solve = power_solve, .ctx = s};
   s->a = a, s->n_res = s->n_setup = 0;
   nw->iters = 0;
   return sdae__newton_solve(nw, &sys, 1.0, y);

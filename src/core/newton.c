@@ -78,16 +78,47 @@ static double max_abs(double r, double v) { return fabs(v) > r ? fabs(v) : r; }
  * loop that measures v, a finiteness test without a pass of its own */
 static double nan_probe(double probe, double v) { return probe + (v - v); }
 
+/* one entry of the implicit form R(y) = y - x - coeff (f(y) + shift) (CVODE's, of a step) */
+static double implicit_r(double y, double x, double h, double f, double shift) {
+  return y - x - h * (f + shift);
+}
+
+/* R from f(y) in place, in the implicit form */
+static void implicit_form(const sdae_newton *nw, const sdae_newton_system *sys, const double *y,
+                          double *R) {
+  for (size_t i = 0; i < nw->n; i++)
+    R[i] = implicit_r(y[i], sys->x[i], nw->coeff, R[i], sys->shift ? sys->shift[i] : 0.0);
+}
+
+/* R(y) into out: the system's residual, or its f in the implicit form */
+static int system_R(const sdae_newton *nw, const sdae_newton_system *sys, const double *y,
+                    double *out) {
+  int rc;
+  if (!sys->f) return sys->residual(sys->ctx, y, out);
+  if ((rc = sys->f(sys->ctx, y, out)) == SDAE_OK) implicit_form(nw, sys, y, out);
+  return rc;
+}
+
 /* R(y) into nw->R, and ||R||_inf into residual_last; a NaN or Inf in R is SDAE_ERR_NONFINITE
  * (max_abs would pass over a NaN, and R = 0 would then read as converged) */
 static int residual(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
-  const double *R = nw->R;
-  double norm = 0.0, probe = 0.0;
-  int rc = sys->residual(sys->ctx, y, nw->R);
-  if (rc != SDAE_OK) return rc;
-  for (size_t i = 0, n = nw->n; i < n; i++) {
-    norm = max_abs(norm, R[i]);
-    probe = nan_probe(probe, R[i]);
+  double *R = nw->R, norm = 0.0, probe = 0.0;
+  size_t n = nw->n;
+  int rc;
+  if (!sys->f) {
+    if ((rc = sys->residual(sys->ctx, y, R)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) {
+      norm = max_abs(norm, R[i]);
+      probe = nan_probe(probe, R[i]);
+    }
+  } else { /* the implicit form, measured in the pass that forms it */
+    const double *x = sys->x, *shift = sys->shift, h = nw->coeff;
+    if ((rc = sys->f(sys->ctx, y, R)) != SDAE_OK) return rc;
+    for (size_t i = 0; i < n; i++) {
+      R[i] = implicit_r(y[i], x[i], h, R[i], shift ? shift[i] : 0.0);
+      norm = max_abs(norm, R[i]);
+      probe = nan_probe(probe, R[i]);
+    }
   }
   if (probe != 0.0) return SDAE_ERR_NONFINITE;
   nw->residual_last = norm;
@@ -118,9 +149,9 @@ static int fd_group(sdae_newton *nw, const sdae_newton_system *sys, const double
     nw->fd_y[j] = y[j] + cbrt(DBL_EPSILON) * fmax(1.0, fabs(y[j]));
     nw->dy[j] = nw->fd_y[j] - y[j];
   }
-  rc = sys->residual(sys->ctx, nw->fd_y, nw->fd_plus);
+  rc = system_R(nw, sys, nw->fd_y, nw->fd_plus);
   for (size_t j = first; j < n; j += w) nw->fd_y[j] = y[j] - nw->dy[j];
-  if (rc == SDAE_OK) rc = sys->residual(sys->ctx, nw->fd_y, nw->fd_minus);
+  if (rc == SDAE_OK) rc = system_R(nw, sys, nw->fd_y, nw->fd_minus);
   if (rc != SDAE_OK) return rc;
   for (size_t j = first; j < n; j += w) {
     size_t i0 = j > b ? j - b : 0, i1 = j + b < n ? j + b : n - 1;

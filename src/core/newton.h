@@ -19,6 +19,10 @@
 typedef struct sdae_newton_system {
   /* R(y) into R (n values): an sdae_status */
   int (*residual)(void *ctx, const double *y, double *R);
+  /* or, for an implicit step R(y) = y - x - coeff (f(y) + shift) (CVODE's form; coeff the
+   * solve's, shift optional): f(y) into out, and Newton forms R in the pass that measures it */
+  int (*f)(void *ctx, const double *y, double *out);
+  const double *x, *shift;
   /* the linear setup and solve of the owner (both or neither): the matrix at y factored, an
    * sdae_status; dy = A^-1 R with those factors. NULL: Newton's own, dR/dy by jacobian or by
    * differences of residual, LU */

@@ -84,7 +84,8 @@ static void x_solve(void *ctx, const double *R, double *dx) {
 int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x) {
   const sdae_dae *d = c->dae;
   x_eq e = {c, t, z};
-  const sdae_newton_system sys = {x_residual, x_setup, x_solve, NULL, &e};
+  const sdae_newton_system sys = {
+      .residual = x_residual, .setup = x_setup, .solve = x_solve, .ctx = &e};
   if (d->Phi_inv) return sdae__callback_checked(d->Phi_inv(t, z, x, d->params), x, c->n);
   return sdae__newton_solve(&c->newton, &sys, 1.0, x);
 }

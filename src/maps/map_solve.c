@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The implicit step of a map as a system for Newton (core/newton.h):
- *
+/* The implicit step of a map as a system for Newton (core/newton.h), in its implicit form
+ * (phi_T its f, Newton forms R):
  *   R(y) = y - x - h (phi_T(x, y) + shift) = 0,   dR/dy = I - h dphi_T/dy
  *
  * (a step of eq. 11/15: x = mu, h = T, shift = Q(xi, mu) xi; a stage of a composed map: no
@@ -14,21 +14,13 @@ typedef struct step_eq {
   const sdae_map_type *map;
   sdae_map_ctx *c;
   double t, h;
-  const double *x, *shift;
-  size_t n;
+  const double *x;
 } step_eq;
 
-static int residual(void *ctx, const double *y, double *R) {
+/* f of R(y) = y - x - h (phi_T(x, y) + shift): phi_T(x, y) */
+static int phi_of(void *ctx, const double *y, double *out) {
   const step_eq *e = ctx;
-  const double *x = e->x, *shift = e->shift, h = e->h;
-  size_t n = e->n;
-  int rc = sdae__map_phi(e->map, e->c, e->t, h, x, y, R);
-  if (rc != SDAE_OK) return rc;
-  if (shift)
-    for (size_t i = 0; i < n; i++) R[i] = y[i] - x[i] - h * (R[i] + shift[i]);
-  else
-    for (size_t i = 0; i < n; i++) R[i] = y[i] - x[i] - h * R[i];
-  return SDAE_OK;
+  return sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, out);
 }
 
 /* dphi_T/dy: dR/dy = I - h dphi_T/dy, formed by Newton (its coefficient h) */
@@ -47,13 +39,14 @@ static int analytic(const sdae_map_type *map, const sdae_model *m) {
  * map's own Jacobian costs one call and is rebuilt as Newton needs it (core/newton.h). */
 int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
                     const double *shift, double *y) {
-  step_eq e = {map, c, t, h, x, shift, c->model->n_mu};
+  step_eq e = {map, c, t, h, x};
   int own = analytic(map, c->model) && c->newton->J;
-  sdae_newton_system sys = {residual, NULL, NULL, own ? jacobian : NULL, &e};
+  sdae_newton_system sys = {
+      .f = phi_of, .x = x, .shift = shift, .jacobian = own ? jacobian : NULL, .ctx = &e};
   int rc = sdae__newton_solve(c->newton, &sys, h, y);
   if (rc != SDAE_ERR_NEWTON) return rc;
   /* no root found from the predictor, even with a matrix built there: the same equation from
    * the step's start x (R(x) = -h (phi_T(x, x) + shift)), a matrix built there */
-  memcpy(y, x, e.n * sizeof *y);
+  memcpy(y, x, c->model->n_mu * sizeof *y);
   return sdae__newton_solve(c->newton, &sys, h, y);
 }

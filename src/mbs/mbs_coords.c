@@ -210,7 +210,8 @@ static void q_solve(void *ctx, const double *R, double *dy) {
  * the chord fails, at the prediction, the solve retried from there (core/newton.h). */
 static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
   q_eq e = {co, t, xi};
-  const sdae_newton_system sys = {q_residual, q_setup, q_solve, NULL, &e};
+  const sdae_newton_system sys = {
+      .residual = q_residual, .setup = q_setup, .solve = q_solve, .ctx = &e};
   int rc;
   predict(co, t, xi, mu);
   for (size_t j = 0; j < co->n_c; j++) co->q_D[j] = co->q[co->chart->dep[j]];
