@@ -362,13 +362,13 @@ int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double co
   int kept = chord && keep_serves(nw, coeff), rc;
   nw->coeff = coeff;
   if (kept) {
-    memcpy(nw->y0, y, nw->n * sizeof *y);
+    sdae__copy(nw->y0, y, nw->n);
     nw->kept_age++;
   }
   for (;;) {
     rc = attempt(nw, sys, y, chord, !kept);
     if (rc == SDAE_OK || !kept || !curable(rc)) break;
-    memcpy(y, nw->y0, nw->n * sizeof *y); /* CVODE's recovery: the same solve, a fresh matrix */
+    sdae__copy(y, nw->y0, nw->n); /* CVODE's recovery: the same solve, a fresh matrix */
     nw->retries++;
     kept = 0;
   }

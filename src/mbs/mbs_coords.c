@@ -174,7 +174,9 @@ typedef struct q_eq {
 } q_eq;
 
 static void set_q_D(sdae_mbs_coords *co, const double *q_D) {
-  for (size_t j = 0; j < co->n_c; j++) co->q[co->chart->dep[j]] = q_D[j];
+  double *q = co->q; /* in locals: a write through q could alias co */
+  const size_t *dep = co->chart->dep;
+  for (size_t j = 0, n = co->n_c; j < n; j++) q[dep[j]] = q_D[j];
 }
 
 /* residual: c(t, q) - xi's c-part at q with q_D = y */
@@ -184,7 +186,8 @@ static int q_residual(void *ctx, const double *y, double *R) {
   int rc;
   set_q_D(co, y);
   if ((rc = sdae__mbs_constraint(co->eval, e->t, co->q, co->c)) != SDAE_OK) return rc;
-  for (size_t j = 0; j < co->n_c; j++) R[j] = co->c[j] - e->xi[2 * j];
+  const double *c = co->c, *xi = e->xi;
+  for (size_t j = 0, n = co->n_c; j < n; j++) R[j] = c[j] - xi[2 * j];
   return SDAE_OK;
 }
 
