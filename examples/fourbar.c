@@ -16,11 +16,16 @@
 #include "mechanisms.h"
 #include "programs.h"
 
-#define NFLAGS 9
+#define NFLAGS 10
+
+/* --derivatives: the mechanism's derivative callbacks given, or left to the front-end's
+ * differences (jacobian, jacobian_dot, mass_dot_v and constraint_t_dot left out) */
+static const char *const derivative_choices[] = {"exact", "differences", NULL};
 
 typedef struct args {
   mech_fourbar p;
   double theta0, omega0;
+  int derivatives;   /* an index into derivative_choices */
   double q[4], v[4]; /* the start, from theta0 and omega0 */
   cli_run run;
   cli_flag flags[NFLAGS + CLI_RUN_NFLAGS];
@@ -49,6 +54,9 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_
       {"ga", CLI_REAL, &a->p.ga, NULL, 0, "gravitational acceleration"},
       {"theta0", CLI_REAL, &a->theta0, NULL, 0, "start crank angle"},
       {"omega0", CLI_REAL, &a->omega0, NULL, 0, "start crank speed"},
+      {"derivatives", CLI_CHOICE, &a->derivatives, derivative_choices, 0,
+       "exact: dc/dq and the derivatives along the motion given; differences: left out "
+       "(jacobian, jacobian_dot, mass_dot_v, constraint_t_dot), the front-end differentiates"},
   };
   int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
@@ -68,6 +76,9 @@ static int run(void *vargs, cli_sink *sink) {
   args *a = vargs;
   sdae_mbs sys;
   mech_fourbar_system(&sys, &a->p);
+  if (a->derivatives == 1)
+    sys.jacobian = NULL, sys.jacobian_dot = NULL, sys.mass_dot_v = NULL,
+    sys.constraint_t_dot = NULL;
   const mbs_program prog = {"fourbar", &sys, a->q, a->v};
   return mbs_execute_to(&prog, &a->run, sink);
 }

@@ -5,6 +5,7 @@
  * against the exact rod tension and wire reaction, the energy kept by the discrete gradient
  * through chart switches, the decay of xi by the gains of eq. 6, dissipation with damping, the
  * chart rule, and the wire's derivatives along the motion by sdae_mbs_check. */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -674,6 +675,108 @@ START_TEST(step_past_a_kept_charts_fold_is_retried) {
 }
 END_TEST
 
+/* ---- starts that only Newton's recovery steps from (core/newton.h) ---- */
+
+/* The pendulum from q = (3, 0.5) at rest, far off |q| = 1 (xi_c = c = 4.125), by the midpoint
+ * map at T = 0.05 (Theorem 4: a start off the manifold is brought onto it). Every step shrinks
+ * |xi_j| by 1/(1 + T epsilon) at least (scheme 15, k <= -epsilon), up to the rounding of c's
+ * terms (|q|^2 <= 9.25: a few ulps of 10, 1e-14 (1 + |xi|) allowed). Phi^-1's first solve is
+ * predicted from the start's linearization 0.2 away in xi_c, where the kept factors' chord
+ * does not converge: the solve is retried with factors at the prediction. At T = 0.05 the
+ * state reaches (1.25, -0.89) with xi_c = 0.68 in 11 steps; the mu-dynamics are evaluated on
+ * the manifold (xi = 0) at the same q_I, and the next y, below -1, has no point there in
+ * either chart: 10 steps are asserted at T = 0.05, and 10 s at T = 0.025, where xi decays first
+ * (then to rounding: |xi_n| <= |xi_0| / (1 + T epsilon)^n). */
+static void expect_far_decay(double T, size_t n) {
+  mech_pendulum p = PENDULUM;
+  sdae_mbs sys;
+  mech_pendulum_system(&sys, &p);
+  sdae_options o = options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_mbs_stepper *s = stepper(&sys, &o);
+  double q[2] = {3.0, 0.5}, v[2] = {0.0, 0.0}, xi[2], prev[2], factor = 1.0 / (1.0 + T * o.epsilon);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, prev), SDAE_OK);
+  ck_assert_double_eq(prev[0], 4.125);
+  for (size_t k = 0; k < n; k++) {
+    ck_assert_int_eq(sdae_mbs_step(s, (double)k * T, T, q, v), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_xi(s, (double)(k + 1) * T, q, v, xi), SDAE_OK);
+    for (int j = 0; j < 2; j++) {
+      ck_assert_double_le(fabs(xi[j]), factor * fabs(prev[j]) + 1e-14 * (1.0 + fabs(prev[j])));
+      prev[j] = xi[j];
+    }
+    if (k == 0) ck_assert_double_gt(q[0], 2.0); /* the start's side: Newton's root nearby */
+  }
+  ck_assert_double_le(fabs(xi[0]), 4.125 * pow(factor, (double)n) + 1e-13);
+  sdae_mbs_stepper_free(s);
+}
+
+START_TEST(far_off_start_steps_and_decays) {
+  expect_far_decay(0.05, 10);
+  expect_far_decay(0.025, 400);
+}
+END_TEST
+
+/* A point on the unit circle (c = (|q|^2 - 1)/2) with the SPD mass M = R diag(1e6, 1) R^T,
+ * R the rotation by 30 degrees (condition number 1e6), under gravity V = g y, from the angle
+ * 30 degrees, where the heavy direction is the circle's normal, at unit speed along it. The
+ * momentum of the mu-dynamics carries M's rounding times 1e6: Newton's updates stop shrinking
+ * near 1e-11 and are taken there (its noise). Each step is taken; the discrete gradient keeps
+ * E = v^T M v / 2 + g y up to the rounding of its terms, eps ||M|| |v|^2 a step at most
+ * (|v|^2 <= 2 (E + g) = 30.4, the light direction's mass 1), and c stays at rounding. */
+static const double HEAVY_C = 0.86602540378443865, HEAVY_S = 0.5, HEAVY_M = 1e6, HEAVY_G = 9.81;
+
+static int heavy_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  M[0] = HEAVY_M * HEAVY_C * HEAVY_C + HEAVY_S * HEAVY_S;
+  M[1] = M[2] = (HEAVY_M - 1.0) * HEAVY_C * HEAVY_S;
+  M[3] = HEAVY_M * HEAVY_S * HEAVY_S + HEAVY_C * HEAVY_C;
+  return 0;
+}
+static int heavy_force(double t, const double *q, const double *v, double *F, void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  F[0] = 0.0, F[1] = -HEAVY_G;
+  return 0;
+}
+static int heavy_potential(double t, const double *q, double *V, void *params) {
+  (void)t, (void)params;
+  V[0] = HEAVY_G * q[1];
+  return 0;
+}
+static int heavy_constraint(double t, const double *q, double *c, void *params) {
+  (void)t, (void)params;
+  c[0] = 0.5 * (q[0] * q[0] + q[1] * q[1] - 1.0);
+  return 0;
+}
+static int heavy_jacobian(double t, const double *q, double *G, void *params) {
+  (void)t, (void)params;
+  G[0] = q[0], G[1] = q[1];
+  return 0;
+}
+
+START_TEST(heavy_normal_mass_steps) {
+  sdae_mbs sys = {.n_q = 2,
+                  .n_c = 1,
+                  .mass = heavy_mass,
+                  .force = heavy_force,
+                  .constraint = heavy_constraint,
+                  .jacobian = heavy_jacobian,
+                  .potential = heavy_potential};
+  sdae_options o = options(sdae_map_dgrad, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_mbs_stepper *s = stepper(&sys, &o);
+  double th = acos(-1.0) / 6.0, T = 1e-3, E0, E;
+  double q[2] = {cos(th), sin(th)}, v[2] = {-sin(th), cos(th)}; /* sin(th): 0.5 - eps/4 */
+  const size_t n = 1000;
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E0), SDAE_OK);
+  for (size_t k = 0; k < n; k++) {
+    ck_assert_int_eq(sdae_mbs_step(s, (double)k * T, T, q, v), SDAE_OK);
+    ck_assert_double_le(fabs(q[0] * q[0] + q[1] * q[1] - 1.0), 8.0 * DBL_EPSILON);
+  }
+  ck_assert_int_eq(sdae_mbs_energy(s, (double)n * T, q, v, &E), SDAE_OK);
+  ck_assert_double_le(fabs(E - E0), (double)n * DBL_EPSILON * HEAVY_M * 2.0 * (E0 + HEAVY_G));
+  ck_assert_double_gt(fabs(q[1] - sin(th)), 0.01); /* it moved off the light point */
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs");
   ADD_CASE(s, pendulum_order_euler);
@@ -701,5 +804,7 @@ int main(void) {
   ADD_CASE(s, decay_scheme11);
   ADD_CASE(s, damped_pendulum_dissipates);
   ADD_CASE(s, integrate_matches_steps);
+  ADD_CASE(s, far_off_start_steps_and_decays);
+  ADD_CASE(s, heavy_normal_mass_steps);
   return run_suite(s);
 }

@@ -308,7 +308,7 @@ START_TEST(dgrad_keeps_H_at_the_start) {
 END_TEST
 
 /* The implicit map's Newton matrix, by differences (2 n_mu evaluations of the mu-dynamics, a
- * Phi^-1 each), is kept across steps (sdae__newton_solve_kept): built at the first step, at
+ * Phi^-1 each), is kept across steps (core/newton.h, keep): built at the first step, at
  * every chart switch (mu is then other coordinates) and after 20 steps at most. Over 2000
  * midpoint steps of the pendulum swinging through 1.2 rad: a step builds one (its evaluations
  * beyond the predictor and one per iteration are 2 n_mu = 4 per matrix; Newton with a fresh

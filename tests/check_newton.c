@@ -160,13 +160,15 @@ START_TEST(singular_matrix_is_reported) {
 }
 END_TEST
 
-/* Quadratic convergence from an O(1) start needs more than two iterations at T = 0.8. */
+/* Quadratic convergence from an O(1) start needs more than two iterations at T = 0.8: the cap
+ * of 2 is reached from the predictor, then from the step's start (map_solve.c), each attempt
+ * counted to its own cap. */
 START_TEST(iteration_cap_is_reported) {
   trace tr = {{1.0, 0.0, 0, 0}, 0, {{0}}, 0};
   double mu[2] = {1.5, 0.5};
   int status, iters = run(&tr, 1, 2, 0.8, mu, &status);
   ck_assert_int_eq(status, SDAE_ERR_NEWTON);
-  ck_assert_int_eq(iters, 2);
+  ck_assert_int_eq(iters, 2 + 2);
   ck_assert_double_eq(mu[0], 1.5);
   ck_assert_double_eq(mu[1], 0.5);
 }
@@ -679,7 +681,8 @@ static int circle_residual(void *ctx, const double *y, double *R) {
 }
 static int circle_jacobian(void *ctx, const double *y, double *J) {
   (void)ctx;
-  J[0] = 2.0 * y[0], J[1] = 2.0 * y[1], J[2] = 1.0, J[3] = -1.0;
+  /* dR/dy = (2 y0, 2 y1; 1, -1) = I - J: the hook's J, with the coefficient 1 of the solve */
+  J[0] = 1.0 - 2.0 * y[0], J[1] = -2.0 * y[1], J[2] = -1.0, J[3] = 2.0;
   return SDAE_OK;
 }
 
@@ -693,12 +696,12 @@ static int nan_residual(void *ctx, const double *y, double *R) {
 START_TEST(nan_residual_is_nonfinite) {
   sdae_newton nw;
   sdae_arena count = {0}, a = {0};
-  sdae_newton_system sys = {nan_residual, NULL, NULL};
+  sdae_newton_system sys = {.residual = nan_residual};
   double y[2] = {2.0, 1.0};
   sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &count);
   a.base = calloc(count.used, 1);
   sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &a);
-  ck_assert_int_eq(sdae__newton_solve(&nw, &sys, y), SDAE_ERR_NONFINITE);
+  ck_assert_int_eq(sdae__newton_solve(&nw, &sys, 1.0, y), SDAE_ERR_NONFINITE);
   ck_assert_double_eq(y[0], 2.0);
   ck_assert_double_eq(y[1], 1.0);
   free(a.base);
@@ -710,13 +713,14 @@ START_TEST(plain_residual_system) {
     sdae_newton nw;
     sdae_arena count = {0}, a = {0};
     int calls = 0;
-    sdae_newton_system sys = {circle_residual, with_jac ? circle_jacobian : NULL, &calls};
+    sdae_newton_system sys = {
+        .residual = circle_residual, .jacobian = with_jac ? circle_jacobian : NULL, .ctx = &calls};
     double y[2] = {2.0, 1.0};
     sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &count);
     a.base = calloc(count.used, 1);
     sdae__newton_carve(&nw, 2, 1, 1e-14, 8, &a);
     nw.iters = 0;
-    ck_assert_int_eq(sdae__newton_solve(&nw, &sys, y), SDAE_OK);
+    ck_assert_int_eq(sdae__newton_solve(&nw, &sys, 1.0, y), SDAE_OK);
     ck_assert_double_eq_tol(y[0], sqrt(2.0), 4e-16);
     ck_assert_double_eq_tol(y[1], sqrt(2.0), 4e-16);
     ck_assert_uint_le(nw.iters, 8);
@@ -727,7 +731,7 @@ START_TEST(plain_residual_system) {
 }
 END_TEST
 
-/* ---- the matrix kept across solves (sdae__newton_solve_kept, CVODE's rules) ---- */
+/* ---- the matrix kept across solves (CVODE's rules) ---- */
 
 /* phi = -y^3 componentwise: y + h y^3 = x, a matrix I + 3 h diag(y^2) that changes with y */
 static int cube_phi(sdae_map_ctx *c, double t, double T, const double *mu, const double *mu_next,
@@ -752,35 +756,165 @@ static unsigned long cube_solve(sdae_newton *nw, double h, double x0) {
   return c.phi_evals - (nw->iters - iters);
 }
 
-/* Built by differences at the first solve, then kept for 20 solves, each a chord without
- * differences; the 21st after it rebuilds. A coefficient 25 % off keeps it, 50 % off rebuilds;
- * so do a forget and a far jump (the chord's rate slow: rebuilt at the iterate, within the
- * same solve). Not asked for (keep = 0), it is rebuilt at every solve. */
+/* the matrices one solve builds */
+static unsigned long builds(sdae_newton *nw, double h, double x0, unsigned long *extra) {
+  unsigned long before = nw->refreshes;
+  *extra = cube_solve(nw, h, x0);
+  return nw->refreshes - before;
+}
+
+/* Built by differences at the first solve (at each iterate that moves far, as Newton), then
+ * kept for 20 solves, each a chord without differences; the 21st after it rebuilds. A
+ * coefficient 25 % off keeps it, 50 % off rebuilds; so do a forget and a far jump (the chord's
+ * rate slow: rebuilt at the iterate, within the same solve). Not asked for (keep = 0), it is
+ * rebuilt at every solve, none counted as kept. */
 START_TEST(kept_matrix_rules) {
   sdae_newton nw;
   void *mem = newton_ws(&nw, 2, 0, 1e-14);
   double x0 = 1.0;
+  unsigned long extra;
   nw.keep = 1;
-  ck_assert_uint_ge(cube_solve(&nw, 0.25, x0), 4);
-  ck_assert_uint_eq(nw.refreshes, 1);
+  ck_assert_uint_ge(builds(&nw, 0.25, x0, &extra), 1);
+  ck_assert_uint_ge(extra, 4);
   for (int k = 0; k < 20; k++) {
-    ck_assert_uint_eq(cube_solve(&nw, 0.25, x0 += 1e-3), 0);
-    ck_assert_uint_eq(nw.refreshes, 1);
+    ck_assert_uint_eq(builds(&nw, 0.25, x0 += 1e-3, &extra), 0);
+    ck_assert_uint_eq(extra, 0);
   }
-  ck_assert_uint_ge(cube_solve(&nw, 0.25, x0 += 1e-3), 4);
-  ck_assert_uint_eq(nw.refreshes, 2); /* 20 solves old */
-  ck_assert_uint_eq(cube_solve(&nw, 0.3125, x0 += 1e-3), 0);
-  ck_assert_uint_eq(nw.refreshes, 2); /* 25 % */
-  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 += 1e-3), 4);
-  ck_assert_uint_eq(nw.refreshes, 3); /* 50 % */
+  ck_assert_uint_ge(builds(&nw, 0.25, x0 += 1e-3, &extra), 1); /* 20 solves old */
+  ck_assert_uint_ge(extra, 4);
+  ck_assert_uint_eq(builds(&nw, 0.3125, x0 += 1e-3, &extra), 0); /* 25 % */
+  ck_assert_uint_ge(builds(&nw, 0.375, x0 += 1e-3, &extra), 1);  /* 50 % */
   sdae__newton_forget(&nw);
-  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 += 1e-3), 4);
-  ck_assert_uint_eq(nw.refreshes, 4);
-  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0 + 2.0), 4); /* y^2 from 0.67 to 2.5 */
-  ck_assert_uint_eq(nw.refreshes, 5);
+  ck_assert_uint_ge(builds(&nw, 0.375, x0 += 1e-3, &extra), 1);
+  ck_assert_uint_ge(builds(&nw, 0.375, x0 + 2.0, &extra), 1); /* y^2 from 0.67 to 2.5 */
   nw.keep = 0;
-  ck_assert_uint_ge(cube_solve(&nw, 0.375, x0), 4);
-  ck_assert_uint_eq(nw.refreshes, 5);
+  ck_assert_uint_eq(builds(&nw, 0.375, x0, &extra), 0);
+  ck_assert_uint_ge(extra, 4);
+  ck_assert_uint_eq(nw.retries, 0); /* no kept matrix failed here */
+  free(mem);
+}
+END_TEST
+
+/* ---- CVODE's recovery (core/newton.h): a kept matrix that fails, the same solve retried ---- */
+
+/* R(y) = y^p - a (p = 2 or 3) through the four hooks, the matrix p y^(p-1) at the setup's y:
+ * each iterate evaluated and each setup's point recorded */
+typedef struct power_sys {
+  int p;
+  double a, J;
+  unsigned n_res, n_setup;
+  double res_y[64], setup_y[64];
+} power_sys;
+
+static int power_residual(void *ctx, const double *y, double *R) {
+  power_sys *s = ctx;
+  if (s->n_res < 64) s->res_y[s->n_res] = y[0];
+  s->n_res++;
+  R[0] = (s->p == 2 ? y[0] * y[0] : y[0] * y[0] * y[0]) - s->a;
+  return SDAE_OK;
+}
+static int power_setup(void *ctx, const double *y) {
+  power_sys *s = ctx;
+  if (s->n_setup < 64) s->setup_y[s->n_setup] = y[0];
+  s->n_setup++;
+  s->J = s->p == 2 ? 2.0 * y[0] : 3.0 * y[0] * y[0];
+  return s->J == 0.0 ? SDAE_ERR_SINGULAR : SDAE_OK;
+}
+static void power_solve(void *ctx, const double *R, double *dy) {
+  const power_sys *s = ctx;
+  dy[0] = R[0] / s->J;
+}
+
+/* a setup was made at y */
+static int set_up_at(const power_sys *s, double y) {
+  for (unsigned k = 0; k < s->n_setup && k < 64; k++)
+    if (s->setup_y[k] == y) return 1;
+  return 0;
+}
+
+/* a Newton that keeps its matrix, capped at 6 iterations an attempt */
+enum { POWER_CAP = 6 };
+static void *power_newton(sdae_newton *nw) {
+  sdae_arena count = {0}, a = {0};
+  sdae__newton_carve_hooks(nw, 1, 1e-14, POWER_CAP, &count);
+  a.base = calloc(count.used, 1);
+  sdae__newton_carve_hooks(nw, 1, 1e-14, POWER_CAP, &a);
+  nw->keep = 1;
+  return a.base;
+}
+
+static int power_solve_from(sdae_newton *nw, power_sys *s, double a, double *y) {
+  const sdae_newton_system sys = {
+      .residual = power_residual, .setup = power_setup, .solve = power_solve, .ctx = s};
+  s->a = a, s->n_res = s->n_setup = 0;
+  nw->iters = 0;
+  return sdae__newton_solve(nw, &sys, 1.0, y);
+}
+
+/* y^3 = 1 is solved (the matrix 3 y^2 kept, built near y = 1), then y^3 = 1331 from y = 10:
+ * the kept matrix (slope 3 where the root's is 363) sends the chord to 120, and the next update
+ * is larger still: the chord does not contract, the kept matrix is given up after its second
+ * update and the same solve starts again from y = 10 with a matrix built there, Newton's
+ * quadratic convergence reaching y = 11 to rounding within its own cap: the two attempts
+ * together take more iterations than one cap allows. */
+START_TEST(stale_matrix_refreshed_and_retried) {
+  sdae_newton nw;
+  void *mem = power_newton(&nw);
+  power_sys s = {.p = 3};
+  double y = 1.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 1.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 1.0), 2.0 * DBL_EPSILON);
+  ck_assert_int_eq(nw.kept, 1);
+  ck_assert_uint_eq(nw.retries, 0);
+  y = 10.0;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 1331.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 11.0), 4.0 * 11.0 * DBL_EPSILON);
+  ck_assert_uint_eq(nw.retries, 1);
+  ck_assert_uint_eq(s.n_res, nw.iters); /* one residual an iteration with a matrix of its own */
+  ck_assert_double_eq(s.res_y[0], 10.0);
+  ck_assert_double_gt(s.res_y[1], 100.0); /* the kept matrix's chord: 10 + 331 / 3 */
+  ck_assert_uint_ge(s.n_setup, 1);
+  ck_assert_double_eq(s.setup_y[0], 10.0); /* the retry's matrix: at the solve's start */
+  ck_assert_double_eq(s.res_y[2], 10.0);   /* and its first iterate */
+  ck_assert_uint_gt(nw.iters, POWER_CAP);  /* the cap counted anew */
+  ck_assert_uint_le(nw.iters, 2 + POWER_CAP);
+  ck_assert_int_eq(nw.kept, 1); /* the fresh matrix is kept for the next solve */
+  free(mem);
+}
+END_TEST
+
+/* y^2 = -1 has no root: from y = 0.7 with no matrix kept, Newton's own (fresh) attempt fails at
+ * its cap, SDAE_ERR_NEWTON, nothing retried; after y^2 = 4 is solved (its matrix kept), the
+ * same failure is first the kept matrix's, then the fresh retry's from the same start: both
+ * attempts counted, and the failed solve keeps nothing: the next solve, y^2 = 4 again, builds
+ * its matrix at its own start. */
+START_TEST(fresh_failure_is_reported_and_nothing_kept) {
+  sdae_newton nw;
+  void *mem = power_newton(&nw);
+  power_sys s = {.p = 2};
+  double y = 0.7;
+  ck_assert_int_eq(power_solve_from(&nw, &s, -1.0, &y), SDAE_ERR_NEWTON);
+  ck_assert_uint_eq(nw.retries, 0);
+  ck_assert_uint_eq(nw.iters, POWER_CAP);
+  ck_assert_double_eq(s.setup_y[0], 0.7);
+  ck_assert_int_eq(nw.kept, 0);
+  y = 2.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 4.0, &y), SDAE_OK);
+  ck_assert_double_le(fabs(y - 2.0), 4.0 * DBL_EPSILON);
+  ck_assert_int_eq(nw.kept, 1);
+  y = 0.7;
+  ck_assert_int_eq(power_solve_from(&nw, &s, -1.0, &y), SDAE_ERR_NEWTON);
+  ck_assert_uint_eq(nw.retries, 1);
+  ck_assert_uint_gt(nw.iters, POWER_CAP); /* the kept attempt, then a whole fresh one */
+  ck_assert_uint_le(nw.iters, 2 * POWER_CAP);
+  ck_assert(set_up_at(&s, 0.7)); /* the retry from the same start */
+  ck_assert_double_eq(s.res_y[nw.iters - POWER_CAP], 0.7);
+  ck_assert_int_eq(nw.kept, 0);
+  y = 2.1;
+  ck_assert_int_eq(power_solve_from(&nw, &s, 4.0, &y), SDAE_OK);
+  ck_assert_uint_ge(s.n_setup, 1);
+  ck_assert_double_eq(s.setup_y[0], 2.1); /* nothing of the failed solve kept */
+  ck_assert_uint_eq(nw.retries, 1);
   free(mem);
 }
 END_TEST
@@ -790,6 +924,8 @@ int main(void) {
   ADD_CASE(s, plain_residual_system);
   ADD_CASE(s, nan_residual_is_nonfinite);
   ADD_CASE(s, kept_matrix_rules);
+  ADD_CASE(s, stale_matrix_refreshed_and_retried);
+  ADD_CASE(s, fresh_failure_is_reported_and_nothing_kept);
   ADD_CASE(s, quadratic_convergence_analytic);
   ADD_CASE(s, quadratic_convergence_midpoint_q0_jac);
   ADD_CASE(s, finite_differences_same_root);

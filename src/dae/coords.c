@@ -19,7 +19,7 @@ void sdae__coords_carve(sdae_coords *c, const sdae_dae *dae, size_t n_xi, sdae_a
   c->J = sdae__take(a, n, n);
   c->LU = sdae__take(a, n, sdae__lu_band_cols(n - 1, n - 1));
   c->piv = sdae__take_pivots(a, n);
-  c->r = sdae__take(a, n, 1), c->step = sdae__take(a, n, 1);
+  sdae__newton_carve_hooks(&c->newton, n, SDAE_NEWTON_TOL, SDAE_NEWTON_MAX_ITER, a);
   c->xa = sdae__take(a, n, 1), c->za = sdae__take(a, n, 1), c->zb = sdae__take(a, n, 1);
   c->fx = sdae__take(a, n, 1);
 }
@@ -48,26 +48,46 @@ int sdae__coords_jacobian(sdae_coords *c, double t, const double *x) {
   return SDAE_OK;
 }
 
+/* ---- Phi^-1 by Newton on Phi(t, x) = z, an adapter of core/newton.h ---- */
+
+typedef struct x_eq {
+  sdae_coords *c;
+  double t;
+  const double *z;
+} x_eq;
+
+/* residual: Phi(t, x) - z */
+static int x_residual(void *ctx, const double *x, double *R) {
+  const x_eq *e = ctx;
+  int rc = Phi_at(e->c, e->t, x, R);
+  if (rc != SDAE_OK) return rc;
+  for (size_t i = 0; i < e->c->n; i++) R[i] -= e->z[i];
+  return SDAE_OK;
+}
+
+/* linear setup: dPhi/dx at x, factored */
+static int x_setup(void *ctx, const double *x) {
+  const x_eq *e = ctx;
+  sdae_coords *c = e->c;
+  size_t n = c->n;
+  int rc = sdae__coords_jacobian(c, e->t, x);
+  if (rc != SDAE_OK) return rc;
+  sdae__lu_pack(c->J, n, n - 1, n - 1, c->LU);
+  return sdae__lu_factor(c->LU, c->piv, n, n - 1, n - 1);
+}
+
+static void x_solve(void *ctx, const double *R, double *dx) {
+  const sdae_coords *c = ((const x_eq *)ctx)->c;
+  sdae__lu_factored_solve(c->LU, c->piv, c->n, c->n - 1, c->n - 1, R, dx);
+}
+
 int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x) {
   const sdae_dae *d = c->dae;
-  size_t n = c->n;
-  if (d->Phi_inv) return sdae__callback_checked(d->Phi_inv(t, z, x, d->params), x, n);
-  for (int it = 0; it < 50; it++) {
-    double step = 0.0, size = 0.0;
-    int rc = Phi_at(c, t, x, c->r);
-    if (rc == SDAE_OK) rc = sdae__coords_jacobian(c, t, x);
-    if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) c->r[i] -= z[i];
-    sdae__lu_pack(c->J, n, n - 1, n - 1, c->LU);
-    if ((rc = sdae__lu_solve(c->LU, c->piv, n, n - 1, n - 1, c->r, c->step)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) {
-      x[i] -= c->step[i];
-      step = fmax(step, fabs(c->step[i]));
-      size = fmax(size, fabs(x[i]));
-    }
-    if (step <= 1e-15 * (1.0 + size)) return SDAE_OK;
-  }
-  return SDAE_ERR_NEWTON;
+  x_eq e = {c, t, z};
+  const sdae_newton_system sys = {
+      .residual = x_residual, .setup = x_setup, .solve = x_solve, .ctx = &e};
+  if (d->Phi_inv) return sdae__callback_checked(d->Phi_inv(t, z, x, d->params), x, c->n);
+  return sdae__newton_solve(&c->newton, &sys, 1.0, x);
 }
 
 /* max(1, |v|_inf): a size, the unit scale its floor */

@@ -8,6 +8,7 @@
 #include <stabdae/dae.h>
 
 #include "core/arena.h"
+#include "core/newton.h"
 
 typedef struct sdae_coords {
   const sdae_dae *dae;
@@ -15,7 +16,7 @@ typedef struct sdae_coords {
   double *J;            /* n x n: dPhi/dx at the point of the last sdae__coords_jacobian */
   double *LU;           /* n x (3 n - 2): Newton's matrix in band format, then its factors */
   unsigned *piv;        /* n */
-  double *r, *step;     /* n each: Newton's residual Phi(x) - z and its step */
+  sdae_newton newton;   /* Phi^-1's: Newton on Phi(t, x) = z */
   double *xa, *za, *zb; /* n each: a moved point and Phi at two of them */
   double *fx;           /* n: f(t, x), the direction of mu's rate */
 } sdae_coords;
@@ -24,8 +25,9 @@ typedef struct sdae_coords {
 void sdae__coords_carve(sdae_coords *c, const sdae_dae *dae, size_t n_xi, sdae_arena *a);
 /* dPhi/dx at (t, x) into c->J: Phi_jac, or central differences */
 int sdae__coords_jacobian(sdae_coords *c, double t, const double *x);
-/* x = Phi^-1(t, z): Phi_inv, or Newton on Phi(t, x) = z from the x given (SDAE_ERR_NEWTON when
- * it does not converge in 50 iterations, SDAE_ERR_SINGULAR when dPhi/dx is) */
+/* x = Phi^-1(t, z): Phi_inv, or Newton on Phi(t, x) = z from the x given (core/newton.h with the
+ * library's default tolerance and cap: SDAE_ERR_NEWTON when it does not converge,
+ * SDAE_ERR_SINGULAR when dPhi/dx is) */
 int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x);
 /* d/dt mu(t, x) along xdot = f(t, x) by a fourth-order central difference (n_mu values) */
 int sdae__coords_mu_rate(sdae_coords *c, double t, const double *x, double *out);

@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The implicit step of a map as a system for Newton (core/newton.h):
- *
+/* The implicit step of a map as a system for Newton (core/newton.h), in its implicit form
+ * (phi_T its f, Newton forms R):
  *   R(y) = y - x - h (phi_T(x, y) + shift) = 0,   dR/dy = I - h dphi_T/dy
  *
  * (a step of eq. 11/15: x = mu, h = T, shift = Q(xi, mu) xi; a stage of a composed map: no
  * shift). */
 #include <stddef.h>
+#include <string.h>
 
 #include "map.h"
 
@@ -13,27 +14,19 @@ typedef struct step_eq {
   const sdae_map_type *map;
   sdae_map_ctx *c;
   double t, h;
-  const double *x, *shift;
+  const double *x;
 } step_eq;
 
-static int residual(void *ctx, const double *y, double *R) {
+/* f of R(y) = y - x - h (phi_T(x, y) + shift): phi_T(x, y) */
+static int phi_of(void *ctx, const double *y, double *out) {
   const step_eq *e = ctx;
-  size_t n = e->c->model->n_mu;
-  int rc = sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, R);
-  if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++)
-    R[i] = y[i] - e->x[i] - e->h * (R[i] + (e->shift ? e->shift[i] : 0.0));
-  return SDAE_OK;
+  return sdae__map_phi(e->map, e->c, e->t, e->h, e->x, y, out);
 }
 
+/* dphi_T/dy: dR/dy = I - h dphi_T/dy, formed by Newton (its coefficient h) */
 static int jacobian(void *ctx, const double *y, double *J) {
   const step_eq *e = ctx;
-  size_t n = e->c->model->n_mu;
-  int rc = e->map->jac(e->c, e->t, e->h, e->x, y, J);
-  if (rc != SDAE_OK) return rc;
-  for (size_t i = 0; i < n; i++)
-    for (size_t j = 0; j < n; j++) J[i * n + j] = (i == j ? 1.0 : 0.0) - e->h * J[i * n + j];
-  return SDAE_OK;
+  return e->map->jac(e->c, e->t, e->h, e->x, y, J);
 }
 
 /* the map's own Jacobian, for a model it has one for */
@@ -41,15 +34,19 @@ static int analytic(const sdae_map_type *map, const sdae_model *m) {
   return map->jac && (!map->jac_given || map->jac_given(m));
 }
 
-/* When the owner of Newton asks for it (keep), a matrix by differences (2 n residuals dense,
- * 2 (2 b + 1) banded) is kept across steps and stages while it serves
- * (sdae__newton_solve_kept, its coefficient h); the map's own Jacobian costs one call and is
- * rebuilt as Newton needs it. */
+/* A matrix by differences (2 n residuals dense, 2 (2 b + 1) banded) is kept across steps and
+ * stages while it serves when the owner of Newton asks for it (keep; the coefficient h); the
+ * map's own Jacobian costs one call and is rebuilt as Newton needs it (core/newton.h). */
 int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
                     const double *shift, double *y) {
-  step_eq e = {map, c, t, h, x, shift};
+  step_eq e = {map, c, t, h, x};
   int own = analytic(map, c->model) && c->newton->J;
-  sdae_newton_system sys = {residual, own ? jacobian : NULL, &e};
-  return own || !c->newton->keep ? sdae__newton_solve(c->newton, &sys, y)
-                                 : sdae__newton_solve_kept(c->newton, &sys, h, y);
+  sdae_newton_system sys = {
+      .f = phi_of, .x = x, .shift = shift, .jacobian = own ? jacobian : NULL, .ctx = &e};
+  int rc = sdae__newton_solve(c->newton, &sys, h, y);
+  if (rc != SDAE_ERR_NEWTON) return rc;
+  /* no root found from the predictor, even with a matrix built there: the same equation from
+   * the step's start x (R(x) = -h (phi_T(x, x) + shift)), a matrix built there */
+  memcpy(y, x, c->model->n_mu * sizeof *y);
+  return sdae__newton_solve(c->newton, &sys, h, y);
 }

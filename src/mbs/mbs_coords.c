@@ -17,22 +17,10 @@
 #include "core/lu.h"
 #include "mbs_coords.h"
 
-/* Phi^-1's q_D has converged when its correction is below Q_MOVED times 1 + |q_D| (the iterate
- * moved by an ulp or two: what is left is the rate times that), or when the error the rate
- * predicts after it, ss del with ss = rate / (1 - rate), is below Q_LEFT times that. Q_LEFT is a
- * thousandth of an ulp, not a fraction: the chord iteration approaches from one side along the
- * motion, so what it leaves has the same sign step after step, and the scheme's xi_c
- * accumulates it over 1 / (T |k|) steps (at a quarter ulp, the double pendulum's max |c| over
- * 5e4 steps went from 3.6e-15 to 2.1e-14; 5.3e-15 at this Q_LEFT). */
-#define Q_MOVED (2.0 * DBL_EPSILON)
-#define Q_LEFT (1e-3 * DBL_EPSILON)
-/* the chord iteration's factors are refreshed at the iterate once the estimated rate of
- * convergence exceeds this: each further iteration would gain less than a digit */
-#define RATE_SLOW 0.1
-/* the rate estimate keeps this fraction of the last one (CVODE's CRDOWN) */
-#define RATE_MEMORY 0.3
-/* a Newton step from factors at its own iterate below this times 1 + |q_D| leaves an error of
- * its square times the curvature: rounding (Newton's quadratic convergence) */
+/* Phi^-1's Newton (core/newton.h, keep: a chord with G_D's factors from the base) accepts a
+ * step of Newton from factors at its own iterate below this times 1 + |q_D|: it leaves an
+ * error of its square times the curvature, rounding (a chord's corrections must reach the
+ * rounding of q_D: what they leave has one sign, and the scheme's xi_c sums it) */
 #define NEWTON_SMALL 1e-10
 
 void sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, sdae_mbs_atlas *chart,
@@ -62,6 +50,7 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->Mv = sdae__take(a, n_q, 1);
   co->res = sdae__take(a, n_c, 1);
   co->dq_D = sdae__take(a, n_c, 1);
+  co->q_D = sdae__take(a, n_c, 1);
   co->Y = sdae__take(a, n_q, 1);
   co->rhs = sdae__take(a, n_c, 1);
   co->z_D = sdae__take(a, n_c, 1);
@@ -73,6 +62,8 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->GdW = sdae__take(a, n_c, 1);
   co->X = sdae__take(a, n_c, 1);
   co->dW = sdae__take(a, n_f, 1);
+  sdae__newton_carve_hooks(&co->newton, n_c, NEWTON_SMALL, co->newton_max_iter, a);
+  co->newton.keep = 1;
 }
 
 void sdae__mbs_coords_forget(sdae_mbs_coords *co) { co->valid = 0; }
@@ -171,66 +162,66 @@ static void predict(sdae_mbs_coords *co, double t, const double *xi, const doubl
   for (size_t k = 0; k < n_f; k++) co->q[ch->ind[k]] = mu[k];
 }
 
-/* G_D's factors at the current iterate (Newton's matrix refreshed) */
-static int refactor(sdae_mbs_coords *co, double t) {
-  int rc = sdae__mbs_jacobian(co->eval, t, co->q, co->G);
-  if (rc != SDAE_OK) return rc;
+/* ---- q_D from c(t, q) = xi's c-part, an adapter of Newton (core/newton.h) ---- */
+
+typedef struct q_eq {
+  sdae_mbs_coords *co;
+  double t;
+  const double *xi;
+} q_eq;
+
+static void set_q_D(sdae_mbs_coords *co, const double *q_D) {
+  double *q = co->q; /* in locals: a write through q could alias co */
+  const size_t *dep = co->chart->dep;
+  for (size_t j = 0, n = co->n_c; j < n; j++) q[dep[j]] = q_D[j];
+}
+
+/* residual: c(t, q) - xi's c-part at q with q_D = y */
+static int q_residual(void *ctx, const double *y, double *R) {
+  const q_eq *e = ctx;
+  sdae_mbs_coords *co = e->co;
+  int rc;
+  set_q_D(co, y);
+  if ((rc = sdae__mbs_constraint(co->eval, e->t, co->q, co->c)) != SDAE_OK) return rc;
+  const double *c = co->c, *xi = e->xi;
+  for (size_t j = 0, n = co->n_c; j < n; j++) R[j] = c[j] - xi[2 * j];
+  return SDAE_OK;
+}
+
+/* linear setup: G_D's factors at q with q_D = y (the chart's, refactored) */
+static int q_setup(void *ctx, const double *y) {
+  const q_eq *e = ctx;
+  sdae_mbs_coords *co = e->co;
+  int rc;
+  set_q_D(co, y);
+  if ((rc = sdae__mbs_jacobian(co->eval, e->t, co->q, co->G)) != SDAE_OK) return rc;
   return sdae__mbs_gd_factor(co->chart, co->G) == SDAE_OK ? SDAE_OK : SDAE_ERR_PHI_INV;
 }
 
-/* One correction of the chord iteration on c(t, q) = xi's c-part with the factors kept:
- * *del = max |dq_D|, *size = max |q_D| after it */
-static int correct(sdae_mbs_coords *co, double t, const double *xi, double *del, double *size) {
-  const sdae_mbs_atlas *ch = co->chart;
-  size_t n_c = co->n_c;
-  int rc = sdae__mbs_constraint(co->eval, t, co->q, co->c);
-  if (rc != SDAE_OK) return rc;
-  for (size_t j = 0; j < n_c; j++) co->res[j] = co->c[j] - xi[2 * j];
-  sdae__mbs_gd_solve(ch, co->res, co->dq_D);
-  co->phi_inv_iters++;
-  *del = *size = 0.0;
-  for (size_t j = 0; j < n_c; j++) {
-    double *qd = &co->q[ch->dep[j]];
-    *qd -= co->dq_D[j];
-    *del = fabs(co->dq_D[j]) > *del ? fabs(co->dq_D[j]) : *del;
-    *size = fabs(*qd) > *size ? fabs(*qd) : *size;
-  }
-  return sdae__all_finite(co->q, co->n_q) ? SDAE_OK : SDAE_ERR_PHI_INV;
+/* linear solve with G_D's factors */
+static void q_solve(void *ctx, const double *R, double *dy) {
+  const q_eq *e = ctx;
+  sdae__mbs_gd_solve(e->co->chart, R, dy);
 }
 
-/* q_D from c(t, q) = xi's c-part (docs/front-ends.md, the cost of a step): predicted by the chart's
- * linearization at the base, then the chord iteration with G_D's factors kept from there,
- * stopped by SUNDIALS' rate test on the corrections del_m since the factors were made, the
- * rate estimated as CVODE does, rate = max(RATE_MEMORY rate, del_m / del_m-1). The test needs
- * two ratios (m >= 2): with several constraints the first one underestimates the rate when the
- * prediction's error lies where the kept factors contract it most (the double pendulum
- * accepted points 3e-15 off that way). The first correction from factors made at its own
- * iterate is a step of Newton: converged below NEWTON_SMALL, as a noise floor of c above
- * Q_MOVED is left. A slow or diverging rate refreshes the factors at the iterate; nothing but
- * these three tests accepts a point. */
+/* q_D from c(t, q) = xi's c-part (docs/front-ends.md, the cost of a step): predicted by the
+ * chart's linearization at the base, then Newton's chord with G_D's factors kept from there
+ * (adopted: the chart factored them at the base), refreshed at the iterate when slow and, when
+ * the chord fails, at the prediction, the solve retried from there (core/newton.h). */
 static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
-  double del_prev = 0.0, rate = 0.0;
-  unsigned m = 0;
-  int fresh = 0; /* the factors were made at the iterate of correction m = 0 */
+  q_eq e = {co, t, xi};
+  const sdae_newton_system sys = {
+      .residual = q_residual, .setup = q_setup, .solve = q_solve, .ctx = &e};
+  int rc;
   predict(co, t, xi, mu);
-  for (unsigned it = 0; it < co->newton_max_iter; it++) {
-    double del, size;
-    int rc = correct(co, t, xi, &del, &size);
-    if (rc != SDAE_OK) return rc;
-    if (m > 0) rate = fmax(RATE_MEMORY * rate, del / del_prev);
-    if (del <= Q_MOVED * (1.0 + size) ||
-        (m >= 2 && rate < 1.0 && rate / (1.0 - rate) * del <= Q_LEFT * (1.0 + size)) ||
-        (fresh && m == 0 && del <= NEWTON_SMALL * (1.0 + size)))
-      return SDAE_OK;
-    if (m > 0 && rate > RATE_SLOW) { /* slow or diverging: Newton's matrix at this iterate */
-      if ((rc = refactor(co, t)) != SDAE_OK) return rc;
-      fresh = 1, m = 0, rate = 0.0;
-    } else {
-      m++;
-    }
-    del_prev = del;
-  }
-  return SDAE_ERR_PHI_INV;
+  for (size_t j = 0; j < co->n_c; j++) co->q_D[j] = co->q[co->chart->dep[j]];
+  sdae__newton_adopt(&co->newton, 1.0);
+  rc = sdae__newton_solve(&co->newton, &sys, 1.0, co->q_D);
+  co->phi_inv_iters += co->newton.iters;
+  co->newton.iters = 0;
+  set_q_D(co, co->q_D);
+  if (rc == SDAE_ERR_NEWTON || rc == SDAE_ERR_SINGULAR) return SDAE_ERR_PHI_INV;
+  return rc;
 }
 
 /* the reduced mass W^T M W (n_f x n_f) into co->Mr, factored: symmetric by construction

@@ -8,6 +8,7 @@
 #define STABDAE_SRC_MBS_MBS_COORDS_H
 
 #include "core/arena.h"
+#include "core/newton.h"
 #include "mbs_chart.h"
 #include "mbs_eval.h"
 
@@ -34,7 +35,8 @@ typedef struct sdae_mbs_coords {
   int base_here; /* the point's q, G, dc/dt, M and reduced mass are the base's */
   /* scratch, one array a role */
   double *Mv;             /* n_q: M v at the point */
-  double *res, *dq_D;     /* n_c each: Phi^-1's residual c - xi_c and Newton's update */
+  double *res, *dq_D;     /* n_c each: the prediction's (and the finish's) c - xi_c, update */
+  double *q_D;            /* n_c: Phi^-1's unknowns, q's dependent part */
   double *dq_I;           /* n_f: q_I's move from the base */
   double *Y;              /* n_q: a column of M W */
   double *rhs, *z_D;      /* n_c each: G_D z_D = xi's velocity part - dc/dt */
@@ -44,6 +46,7 @@ typedef struct sdae_mbs_coords {
                              (dM/dt) v (n_q) */
   double *GdW, *X;        /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
   double *dW;             /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
+  sdae_newton newton;     /* Phi^-1's: a chord with G_D's factors kept from the base */
   /* counter */
   unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
 } sdae_mbs_coords;

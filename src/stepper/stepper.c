@@ -20,8 +20,8 @@ void sdae_options_default(sdae_options *o) {
   o->delta = 1.0;
   o->epsilon = 1.0;
   o->map = sdae_map_euler;
-  o->newton_tol = 1e-14;
-  o->newton_max_iter = 20;
+  o->newton_tol = SDAE_NEWTON_TOL;
+  o->newton_max_iter = SDAE_NEWTON_MAX_ITER;
   o->stabilizer = SDAE_STAB_PAPER;
   o->baumgarte_alpha[0] = 1.0; /* s^2 + 2 s + 1 = (s + 1)^2 */
   o->baumgarte_alpha[1] = 2.0;

@@ -14,7 +14,7 @@ const sdae_model *sdae__stepper_model(const sdae_stepper *s);
 /* the allocator the stepper was allocated with (zero for the caller's memory: malloc) */
 const sdae_allocator *sdae__stepper_allocator(const sdae_stepper *s);
 
-/* Newton's matrix by differences kept across steps and stages (sdae__newton_solve_kept): for
+/* Newton's matrix by differences kept across steps and stages (core/newton.h, keep): for
  * a front-end whose every residual is costly (the mechanical one's: a Phi^-1 each); the
  * stepper alone rebuilds it at every solve */
 void sdae__stepper_keep_newton(sdae_stepper *s);
