@@ -25,7 +25,8 @@ typedef struct sdae_mbs {
   size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
   /* n_q x n_q, symmetric; the reduced mass W^T M W (M on the constraints' tangent space, W
    * spanning ker G) positive definite: M itself may be singular (massless points). Checked
-   * wherever M is evaluated (SDAE_ERR_MASS), the same in a step and in sdae_mbs_lambda. */
+   * at every state a step starts from or hands out, and in sdae_mbs_lambda and sdae_mbs_energy
+   * (SDAE_ERR_MASS); the reduced mass wherever it is formed. */
   int (*mass)(double t, const double *q, double *M, void *params);
   int (*force)(double t, const double *q, const double *v, double *F, void *params); /* n_q */
   int (*constraint)(double t, const double *q, double *c, void *params);             /* n_c */

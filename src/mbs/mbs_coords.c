@@ -130,7 +130,8 @@ int sdae__mbs_coords_begin(sdae_mbs_coords *co, double t, const double *q, const
   const sdae_mbs_atlas *ch = co->chart;
   int rc;
   co->valid = 0; /* the point's M is about to be the start's */
-  if (!co->at_start && (rc = sdae__mbs_mass(co->eval, t, q, co->M)) != SDAE_OK) return rc;
+  /* at the last step's end, M was checked there */
+  if (!co->at_start && (rc = sdae__mbs_mass_symmetric(co->eval, t, q, co->M)) != SDAE_OK) return rc;
   mat_vec(co->M, co->n_q, v, co->Mv);
   for (size_t k = 0; k < co->n_f; k++) mu[k] = q[ch->ind[k]];
   sdae__mbs_Wt(ch, co->Mv, mu + co->n_f);
@@ -362,8 +363,11 @@ int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const dou
   return phi_inv(co, t, xi, mu, 0);
 }
 
+/* M symmetric at the state handed out, as at every start (sdae__mbs_mass_symmetric) */
 int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
-  return phi_inv(co, t, xi, mu, 1);
+  int rc = phi_inv(co, t, xi, mu, 1);
+  if (rc == SDAE_OK && !sdae__symmetric(co->M, co->n_q)) return SDAE_ERR_MASS;
+  return rc;
 }
 
 /* co->dW = X^T (M v)_D with X = G_D^-1 (dG/dt) W: minus the term (dW/dt)^T M v */

@@ -47,11 +47,12 @@ int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const 
   return sdae__all_finite(q, e->n_q) && sdae__all_finite(v, e->n_q) ? SDAE_OK : SDAE_ERR_STATE;
 }
 
-/* M symmetric wherever it is evaluated: what the front-end needs of M itself (the reduced mass
- * W^T M W positive definite is checked where it is factored: a singular M, massless points, may
- * still give one) */
 int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
-  int rc = sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
+  return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
+}
+
+int sdae__mbs_mass_symmetric(sdae_mbs_eval *e, double t, const double *q, double *M) {
+  int rc = sdae__mbs_mass(e, t, q, M);
   if (rc == SDAE_OK && !sdae__symmetric(M, e->n_q)) return SDAE_ERR_MASS;
   return rc;
 }

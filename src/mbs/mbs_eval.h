@@ -30,6 +30,10 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a);
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v);
 
 int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M);
+/* M, and SDAE_ERR_MASS unless it is symmetric to rounding: what the front-end needs of M itself
+ * at every state it starts from or hands out (the reduced mass W^T M W positive definite is
+ * checked where it is factored: a singular M, massless points, may still give one) */
+int sdae__mbs_mass_symmetric(sdae_mbs_eval *e, double t, const double *q, double *M);
 /* the applied force: F plus the forces from outside the Lagrangian (input_force) */
 int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v, double *F);
 /* the forces from outside the Lagrangian alone (zero without input_force) */

@@ -51,7 +51,7 @@ int sdae__mbs_query_energy(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, cons
   double energy;
   int rc;
   if ((rc = sdae__mbs_state_ok(ev, t, q, v)) != SDAE_OK ||
-      (rc = sdae__mbs_mass(ev, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_mass_symmetric(ev, t, q, qy->M)) != SDAE_OK ||
       (rc = sdae__mbs_energy_of(ev, t, q, v, qy->M, &energy)) != SDAE_OK)
     return rc;
   if (!isfinite(energy)) return SDAE_ERR_NONFINITE;
@@ -138,7 +138,7 @@ int sdae__mbs_query_lambda(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, cons
   if ((rc = sdae__mbs_along(ev, t, q, v, NULL, NULL, qy->gamma)) != SDAE_OK ||
       (rc = sdae__mbs_jacobian(ev, t, q, qy->lam_G)) != SDAE_OK ||
       (rc = sdae__mbs_force(ev, t, q, v, qy->F)) != SDAE_OK ||
-      (rc = sdae__mbs_mass(ev, t, q, qy->lam_M)) != SDAE_OK ||
+      (rc = sdae__mbs_mass_symmetric(ev, t, q, qy->lam_M)) != SDAE_OK ||
       (rc = null_space(qy, n_q, n_c)) != SDAE_OK || (rc = acceleration(qy, n_q, n_c)) != SDAE_OK)
     return rc;
   mass_times(qy->lam_M, n_q, qy->acc, qy->res);
