@@ -84,13 +84,15 @@ fmu_status fmu_state_get(fmu_instance *fi, fmu_state **state) {
   return FMU_OK;
 }
 
-/* the header's sizes and clock, before anything else is read */
+/* the header's sizes and clock, before anything else is read; the sizes compared by
+ * subtraction only, in an order where none wraps (a crafted count or stepper_len with a
+ * matching checksum must not lead a read past the block) */
 static int header_whole(const fmu_instance *fi, const fmu_state *s, size_t len) {
   const fmu_clock *c = &s->clock;
   return s->magic == FMU_STATE_MAGIC && s->bytes == len && s->count == fi->layout.count &&
-         strncmp(s->token, fi->token, sizeof s->token) == 0 &&
-         s->stepper_len <= len - header_bytes() - s->count * sizeof(double) &&
-         len == header_bytes() + s->count * sizeof(double) + s->stepper_len &&
+         strncmp(s->token, fi->token, sizeof s->token) == 0 && len >= header_bytes() &&
+         s->count <= (len - header_bytes()) / sizeof(double) &&
+         s->stepper_len == len - header_bytes() - s->count * sizeof(double) &&
          memchr(s->map, '\0', sizeof s->map) && sdae_map_by_name(s->map) &&
          c->phase >= FMU_INSTANTIATED && c->phase <= FMU_FAILED && isfinite(c->t) &&
          isfinite(c->t_grid) && (c->start_set == 0 || c->start_set == 1);

@@ -55,9 +55,10 @@ typedef struct sdae_mbs {
   /* n_c values: d/ds (dc/dt)(t + s, q + s v); used with constraint_t */
   int (*constraint_t_dot)(double t, const double *q, const double *v, double *out, void *params);
   /* optional: forces from outside the Lagrangian (actuators, control inputs, contact models),
-   * n_q values added to F. With a potential the discrete gradients treat them as a port and keep
-   * the discrete power balance H(x+) - H(x) = -T gradbar^T R gradbar + T gradbar^T B u_mid
-   * (docs/front-ends.md); explicit maps add them to F. */
+   * n_q values added to F wherever F is read (the mu-dynamics, lambda). With a potential the
+   * discrete gradients treat them as a port and keep, on the manifold, the discrete power
+   * balance H(x+) - H(x) = -T gradbar^T R gradbar + T gradbar^T B u_mid (docs/front-ends.md);
+   * every other map just sees F plus them. */
   int (*input_force)(double t, const double *q, const double *v, double *F, void *params);
 } sdae_mbs;
 
@@ -120,7 +121,11 @@ SDAE_API int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, d
  * (in this process or another) continues bit for bit. sdae_mbs_state_size: its bytes (0 for a
  * NULL stepper). sdae_mbs_get_state: SDAE_ERR_BUFFER when len is smaller. sdae_mbs_set_state:
  * SDAE_ERR_STATE_DAMAGED (wrong length, checksum), SDAE_ERR_STATE_FOREIGN (another mechanism's
- * sizes, map, options or build), the stepper untouched on refusal. */
+ * sizes, map, options or build), the stepper untouched on refusal. What the bytes cannot tell:
+ * the stepper set must integrate the same mechanism, its params included (only the sizes, the
+ * optional callbacks given and the options are checked); the caller keeps (t, q, v) and steps on
+ * from exactly the q, v the last step returned, at its t; len is sdae_mbs_state_size(s), fixed
+ * for a stepper; get and set are calls between steps, never from inside a callback. */
 SDAE_API size_t sdae_mbs_state_size(const sdae_mbs_stepper *s);
 SDAE_API int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len);
 SDAE_API int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len);

@@ -52,9 +52,11 @@ typedef struct sdae_model {
   void *params; /* passed to every callback */
 
   /* optional, with the energy structure: a port's input B u (n_mu values), forces from outside
-   * the energy (actuators, control inputs), q0 = S grad H + B u, q0 including it. The discrete
-   * gradients take it at the midpoint m, phi = S(m) gradbar H + B u(m), and keep the discrete
-   * power balance H(mu+) - H(mu) = T gradbar^T S(m) gradbar + T gradbar^T B u(m) */
+   * the energy (actuators, control inputs), q0 = S grad H + B u, q0 including it. Read by the
+   * discrete gradients alone (every other map reads q0), which take it at the midpoint m,
+   * phi = S(m) gradbar H + B u(m), and so keep the discrete power balance H(mu+) - H(mu) =
+   * T gradbar^T S(m) gradbar + T gradbar^T B u(m) (on the manifold: T gradbar^T Q xi more off
+   * it) */
   int (*input)(double t, const double *mu, double *out, void *params);
 } sdae_model;
 

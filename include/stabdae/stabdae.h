@@ -64,7 +64,7 @@ typedef enum sdae_status {
   SDAE_ERR_RANK = -17,    /* the constraints are dependent here: rank G < n_c */
   SDAE_ERR_CHART = -18,   /* no usable chart: every choice of q_D is nearly singular */
   SDAE_ERR_PHI_INV = -19, /* Newton for Phi^-1 (x from (xi, mu)) did not converge */
-  SDAE_ERR_MASS = -20,    /* the mass matrix is not symmetric positive definite */
+  SDAE_ERR_MASS = -20,    /* the mass matrix is not symmetric, or W^T M W not positive definite */
   /* a stepper's state as bytes (sdae_mbs_set_state) */
   SDAE_ERR_STATE_DAMAGED = -21, /* the bytes are cut short or damaged (checksum) */
   SDAE_ERR_STATE_FOREIGN = -22  /* the bytes are of another mechanism, map, options or build */

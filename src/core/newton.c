@@ -242,9 +242,12 @@ static void newton_solve(sdae_newton *nw) {
 /* ---- the linear setup and solve: the system's, or Newton's own ---- */
 
 static int setup(sdae_newton *nw, const sdae_newton_system *sys, const double *y, int chord) {
+  int rc;
   nw->kept = 0; /* the kept matrix, if any, is being replaced */
   if (chord) nw->refreshes++;
-  return sys->setup ? sys->setup(sys->ctx, y) : newton_matrix(nw, sys, y);
+  rc = sys->setup ? sys->setup(sys->ctx, y) : newton_matrix(nw, sys, y);
+  nw->built = rc == SDAE_OK;
+  return rc;
 }
 
 static void solve(sdae_newton *nw, const sdae_newton_system *sys) {
@@ -391,6 +394,7 @@ int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double co
   int chord = nw->keep && !(sys->jacobian && nw->J && !sys->setup);
   int kept = chord && keep_serves(nw, coeff), rc;
   nw->coeff = coeff;
+  nw->built = 0;
   if (kept) {
     sdae__copy(nw->y0, y, nw->n);
     nw->kept_age++;
@@ -406,6 +410,8 @@ int sdae__newton_solve(sdae_newton *nw, const sdae_newton_system *sys, double co
     nw->kept = 0; /* a failed solve: the next one builds its own */
     return rc;
   }
-  if (chord && !nw->kept) nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
+  /* a matrix built by this solve is kept; one that converged at once (R = 0 at the start, as at
+   * an equilibrium) built none, and no matrix is kept */
+  if (chord && !nw->kept && nw->built) nw->kept = 1, nw->kept_coeff = coeff, nw->kept_age = 0;
   return SDAE_OK;
 }

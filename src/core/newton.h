@@ -49,6 +49,7 @@ typedef struct sdae_newton {
   double *R, *dy, *y0;               /* n each: the residual, the update, the solve's start */
   double *fd_y, *fd_plus, *fd_minus; /* n each: Newton's own matrix by differences */
   int own_matrix;                    /* the matrix is Newton's (not the owner's hooks) */
+  int built;                         /* the solve under way built a matrix */
   double *J;                         /* n x n, dense only: dR/dy */
   double *LU;                        /* n x (3 band + 1): dR/dy in band format, then its factors */
   unsigned *piv;                     /* n */

@@ -40,7 +40,9 @@ const char *sdae_strerror(int status) {
   case SDAE_ERR_PHI_INV:
     return "Newton for Phi^-1 (the state from its coordinates xi, mu) did not converge: the "
            "point may have no preimage in the current chart";
-  case SDAE_ERR_MASS: return "the mass matrix is not symmetric positive definite";
+  case SDAE_ERR_MASS:
+    return "the mass matrix is not symmetric, or not positive definite on the constraints' "
+           "tangent space (the reduced mass W^T M W)";
   case SDAE_ERR_STATE_DAMAGED:
     return "the saved state is cut short or damaged (its length or checksum does not match)";
   case SDAE_ERR_STATE_FOREIGN:

@@ -60,21 +60,24 @@ int sdae__mbs_query_energy(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, cons
 }
 
 /* G^T = Q R with Q = [Y Z] orthogonal (Y: n_c columns spanning range G^T, Z: n_f spanning ker G)
- * and R upper triangular: SDAE_ERR_RANK when R's diagonal shows G's rows dependent */
+ * and R upper triangular: SDAE_ERR_RANK when R's diagonal shows G's rows dependent, each R_jj
+ * measured against its own row's size (constraints in other units, as the chart measures them:
+ * R_jj / |G_j| is the sine of the angle between row j and the span of the rows before it) */
 static int null_space(sdae_mbs_query *qy, size_t n_q, size_t n_c) {
   gsl_matrix_view GT = gsl_matrix_view_array(qy->GT, n_q, n_c);
   gsl_matrix_view Q = gsl_matrix_view_array(qy->Q, n_q, n_q);
   gsl_matrix_view R = gsl_matrix_view_array(qy->R, n_q, n_c);
   gsl_vector_view tau = gsl_vector_view_array(qy->tau, n_c);
-  double big = 0.0;
   for (size_t i = 0; i < n_q; i++)
     for (size_t j = 0; j < n_c; j++) qy->GT[i * n_c + j] = qy->lam_G[j * n_q + i];
   /* neither call reports an error for matrices of these shapes: GSL's handler is never called */
   gsl_linalg_QR_decomp(&GT.matrix, &tau.vector);
   gsl_linalg_QR_unpack(&GT.matrix, &tau.vector, &Q.matrix, &R.matrix);
-  for (size_t j = 0; j < n_c; j++) big = fmax(big, fabs(qy->R[j * n_c + j]));
-  for (size_t j = 0; j < n_c; j++)
-    if (!(fabs(qy->R[j * n_c + j]) > (double)n_q * DBL_EPSILON * big)) return SDAE_ERR_RANK;
+  for (size_t j = 0; j < n_c; j++) {
+    double row = 0.0;
+    for (size_t i = 0; i < n_q; i++) row = hypot(row, qy->lam_G[j * n_q + i]);
+    if (!(fabs(qy->R[j * n_c + j]) > (double)n_q * DBL_EPSILON * row)) return SDAE_ERR_RANK;
+  }
   return SDAE_OK;
 }
 
