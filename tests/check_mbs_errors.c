@@ -467,8 +467,8 @@ START_TEST(mass_not_spd) {
 END_TEST
 
 /* M(q) = [[1, 0], [x, 1]]: symmetric at x = 0 alone. From theta = 0 moving, the step's end has
- * x != 0, where Phi^-1 evaluates M: refused there (every evaluation of M is checked), the
- * state kept; lambda refuses it at any x != 0. */
+ * x != 0: refused there (M is checked at every state a step hands out), the state kept; lambda
+ * refuses it at any x != 0. */
 static int skewing_mass(double t, const double *q, double *M, void *params) {
   (void)t, (void)params;
   M[0] = 1.0, M[1] = 0.0, M[2] = q[0], M[3] = 1.0;

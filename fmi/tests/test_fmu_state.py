@@ -97,6 +97,18 @@ def ran(version, name, map_name, steps=30):
     return a
 
 
+def continue_alike(a, b, serialized, steps):
+    """a's serialized state set into b: both take the same steps to the same bits"""
+    b.set_serialized(serialized)
+    b.t = a.t
+    for _ in range(steps):
+        a.step()
+        b.step()
+    assert b.bits() == a.bits()
+    a.free()
+    b.free()
+
+
 @pytest.mark.parametrize("version", VERSIONS)
 @pytest.mark.parametrize("map_name", ["dgrad", "midpoint", "rk4"])
 def test_state_into_a_fresh_instance(version, map_name):
@@ -105,14 +117,7 @@ def test_state_into_a_fresh_instance(version, map_name):
     _, serialized = a.get_state()
     b = Instance(version, "fourbar")
     b.instantiate()
-    b.set_serialized(serialized)
-    b.t = a.t
-    for _ in range(20):
-        a.step()
-        b.step()
-    assert b.bits() == a.bits()
-    a.free()
-    b.free()
+    continue_alike(a, b, serialized, 20)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
@@ -126,14 +131,7 @@ def test_state_moved_between_instances(version, name):
     b.start("euler")
     for _ in range(7):
         b.step()
-    b.set_serialized(serialized)
-    b.t = a.t
-    for _ in range(100):
-        a.step()
-        b.step()
-    assert b.bits() == a.bits()
-    a.free()
-    b.free()
+    continue_alike(a, b, serialized, 100)
 
 
 @pytest.mark.parametrize("version", VERSIONS)
