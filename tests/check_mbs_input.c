@@ -12,7 +12,8 @@
 #include "mechanisms.h"
 #include "testmodels.h"
 
-/* the pendulum of mechanisms.h pushed by u = (u_x, u_y), held by the test between steps */
+/* the pendulum of mechanisms.h pushed by u = (u_x, u_y), held by the test between steps; the
+ * pendulum first, so that its callbacks read their params from a pushed */
 typedef struct pushed {
   mech_pendulum p;
   double u[2];
@@ -25,59 +26,25 @@ static int push(double t, const double *q, const double *v, double *F, void *par
   return 0;
 }
 
-static int pushed_mass(double t, const double *q, double *M, void *params) {
-  return mech_pendulum_mass(t, q, M, &((pushed *)params)->p);
-}
-static int pushed_force(double t, const double *q, const double *v, double *F, void *params) {
-  return mech_pendulum_force(t, q, v, F, &((pushed *)params)->p);
-}
-static int pushed_constraint(double t, const double *q, double *c, void *params) {
-  return mech_pendulum_constraint(t, q, c, &((pushed *)params)->p);
-}
-static int pushed_jacobian(double t, const double *q, double *G, void *params) {
-  return mech_pendulum_jacobian(t, q, G, &((pushed *)params)->p);
-}
-static int pushed_jacobian_dot(double t, const double *q, const double *v, double *Gd,
-                               void *params) {
-  return mech_pendulum_jacobian_dot(t, q, v, Gd, &((pushed *)params)->p);
-}
-static int pushed_mass_dot_v(double t, const double *q, const double *v, double *out,
-                             void *params) {
-  return mech_pendulum_mass_dot_v(t, q, v, out, &((pushed *)params)->p);
-}
-static int pushed_potential(double t, const double *q, double *V, void *params) {
-  return mech_pendulum_potential(t, q, V, &((pushed *)params)->p);
-}
-static int pushed_damping(double t, const double *q, double *D, void *params) {
-  return mech_pendulum_damping(t, q, D, &((pushed *)params)->p);
-}
-
+/* mechanisms.h's pendulum (damped when p.d != 0) with the push as its input_force */
 static sdae_mbs pushed_system(pushed *w) {
-  sdae_mbs s = {.n_q = 2,
-                .n_c = 1,
-                .mass = pushed_mass,
-                .force = pushed_force,
-                .constraint = pushed_constraint,
-                .jacobian = pushed_jacobian,
-                .potential = pushed_potential,
-                .damping = w->p.d != 0.0 ? pushed_damping : NULL,
-                .params = w,
-                .mass_dot_v = pushed_mass_dot_v,
-                .jacobian_dot = pushed_jacobian_dot,
-                .input_force = push};
+  sdae_mbs s;
+  mech_pendulum_system(&s, &w->p);
+  s.params = w;
+  s.input_force = push;
   return s;
 }
 
 /* the constant push folded into the Lagrangian: F + u, V - u.q */
 static int folded_force(double t, const double *q, const double *v, double *F, void *params) {
   const pushed *w = params;
-  int rc = pushed_force(t, q, v, F, params);
+  int rc = mech_pendulum_force(t, q, v, F, params);
   F[0] += w->u[0], F[1] += w->u[1];
   return rc;
 }
 static int folded_potential(double t, const double *q, double *V, void *params) {
   const pushed *w = params;
-  int rc = pushed_potential(t, q, V, params);
+  int rc = mech_pendulum_potential(t, q, V, params);
   *V -= w->u[0] * q[0] + w->u[1] * q[1];
   return rc;
 }

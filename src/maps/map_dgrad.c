@@ -127,8 +127,8 @@ static int dgrad_phi(sdae_map_ctx *c, double t, double T, const double *mu, cons
     P.v[i] = mu_next[i] - mu[i];
   }
   rc = sdae__call_checked(m->grad_H, m, tm, P.mid, P.grad, n);
-  /* the input right after grad H at the same point (a front-end evaluates both where it
-   * evaluated q0 there), then the correction's H elsewhere */
+  /* the input at the midpoint beside grad H, before the correction's H moves elsewhere (a
+   * front-end may keep what the two share at one point) */
   if (rc == SDAE_OK && m->input) rc = sdae__call_checked(m->input, m, tm, P.mid, P.Bu, n);
   if (rc == SDAE_OK) rc = correction(m, tm, mu, mu_next, &P);
   if (rc != SDAE_OK) return rc;

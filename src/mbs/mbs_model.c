@@ -64,19 +64,31 @@ static int damping(sdae_mbs_model *m, double t, const double *mu) {
   return SDAE_OK;
 }
 
-/* W^T F_in at Phi^-1(t, 0, mu) into out (n_f values): the momentum part of B u */
-static int input_p(sdae_mbs_model *m, double t, const double *mu, double *out) {
+/* m->Bu = W^T F_in at Phi^-1(t, 0, mu), the momentum part of B u; kept for the next call at the
+ * same (t, mu) within a step (grad H and the discrete gradient's input take it at the same
+ * midpoint, one after the other) */
+static int input_p(sdae_mbs_model *m, double t, const double *mu) {
   const sdae_mbs_coords *co = m->co;
-  int rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu);
-  if (rc == SDAE_OK) rc = sdae__mbs_input_force(m->eval, t, co->q, co->v, m->F_in);
-  if (rc == SDAE_OK) sdae__mbs_Wt(co->chart, m->F_in, out);
-  return rc;
+  size_t n_mu = 2 * m->n_f;
+  int rc;
+  if (m->Bu_have && m->Bu_t == t && memcmp(m->Bu_mu, mu, n_mu * sizeof *mu) == 0) return SDAE_OK;
+  m->Bu_have = 0;
+  if ((rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu)) != SDAE_OK ||
+      (rc = sdae__mbs_input_force(m->eval, t, co->q, co->v, m->F_in)) != SDAE_OK)
+    return rc;
+  sdae__mbs_Wt(co->chart, m->F_in, m->Bu);
+  memcpy(m->Bu_mu, mu, n_mu * sizeof *mu);
+  m->Bu_t = t, m->Bu_have = 1;
+  return SDAE_OK;
 }
 
 static int input(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
+  int rc = input_p(m, t, mu);
+  if (rc != SDAE_OK) return code(m, rc);
   memset(out, 0, m->n_f * sizeof *out);
-  return code(m, input_p(m, t, mu, out + m->n_f));
+  memcpy(out + m->n_f, m->Bu, m->n_f * sizeof *out);
+  return SDAE_OK;
 }
 
 static int grad_H(double t, const double *mu, double *out, void *params) {
@@ -84,7 +96,7 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   size_t n_f = m->n_f;
   int rc = sdae__derive_q0(&m->derive, t, mu, out);
   if (rc == SDAE_OK) rc = damping(m, t, mu);
-  if (rc == SDAE_OK && m->eval->sys.input_force) rc = input_p(m, t, mu, m->Bu);
+  if (rc == SDAE_OK && m->eval->sys.input_force) rc = input_p(m, t, mu);
   if (rc != SDAE_OK) return code(m, rc);
   for (size_t a = 0; a < n_f && m->eval->sys.input_force; a++) out[n_f + a] -= m->Bu[a];
   for (size_t a = 0; a < n_f; a++) { /* out = (q0_q, q0_p) becomes (-q0_p - R q0_q, q0_q) */
@@ -142,8 +154,12 @@ void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
   m->row = sdae__take(a, m->n_f, 1);
   m->F_in = sdae__take(a, m->n_q, 1);
   m->Bu = sdae__take(a, m->n_f, 1);
+  m->Bu_mu = sdae__take(a, 2 * m->n_f, 1);
   m->floor = sdae__take(a, 2 * m->n_c, 1);
   m->derive.floor = m->floor;
 }
 
-void sdae__mbs_model_forget(sdae_mbs_model *m) { sdae__derive_forget(&m->derive); }
+void sdae__mbs_model_forget(sdae_mbs_model *m) {
+  sdae__derive_forget(&m->derive);
+  m->Bu_have = 0;
+}

@@ -25,6 +25,9 @@ typedef struct sdae_mbs_model {
   double *row;   /* n_f: grad H's first half while q0's is still read */
   double *F_in;  /* n_q: the forces from outside the Lagrangian at Phi^-1(t, 0, mu) */
   double *Bu;    /* n_f: W^T F_in, the input's momentum part, taken from q0 in grad H */
+  double *Bu_mu; /* n_mu: the mu Bu was evaluated at (with Bu_t), kept for the map's input */
+  double Bu_t;
+  int Bu_have;
   double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
@@ -32,7 +35,7 @@ typedef struct sdae_mbs_model {
  * sdae__mbs_model_carve */
 void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co);
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
-/* forgets the q0 kept: another start of Phi^-1, another chart */
+/* forgets the q0 and B u kept: another start of Phi^-1, another chart */
 void sdae__mbs_model_forget(sdae_mbs_model *m);
 
 #endif /* STABDAE_SRC_MBS_MBS_MODEL_H */
