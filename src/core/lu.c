@@ -172,8 +172,8 @@ static double max_entry(const double *A, size_t n) {
   return scale;
 }
 
-/* one pass: the largest asymmetry and the largest entry (a front-end checks every M it
- * evaluates) */
+/* one pass: the largest asymmetry and the largest entry (a front-end checks M at every state a
+ * step starts from or hands out) */
 int sdae__symmetric(const double *A, size_t n) {
   double asym = 0.0, big = 0.0;
   for (size_t i = 0; i < n; i++) {
