@@ -319,11 +319,11 @@ START_TEST(cond18_bad_input) {
 END_TEST
 
 START_TEST(strerror_names_every_status) {
-  for (int st = SDAE_ERR_MASS; st <= SDAE_STOPPED; st++) {
+  for (int st = SDAE_ERR_PATTERN; st <= SDAE_STOPPED; st++) {
     const char *msg = sdae_strerror(st);
     ck_assert_ptr_nonnull(msg);
     ck_assert_str_ne(msg, "unknown status");
-    for (int other = SDAE_ERR_MASS; other < st; other++)
+    for (int other = SDAE_ERR_PATTERN; other < st; other++)
       ck_assert_str_ne(msg, sdae_strerror(other));
   }
   ck_assert_str_eq(sdae_strerror(-999), "unknown status");

@@ -13,6 +13,7 @@
 
 #include <stddef.h>
 
+#include <stabdae/pattern.h>
 #include <stabdae/stabdae.h>
 
 #ifdef __cplusplus
@@ -20,7 +21,8 @@ extern "C" {
 #endif
 
 /* Every callback returns 0 on success, > 0 for a recoverable failure and < 0 for a fatal one,
- * and receives params. Matrices are row-major. */
+ * and receives params. Matrices are row-major, or their nonzeros in pattern order where the
+ * mechanism gives a pattern (mass_pattern, jacobian_pattern). */
 typedef struct sdae_mbs {
   size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
   /* n_q x n_q, symmetric; the reduced mass W^T M W (M on the constraints' tangent space, W
@@ -60,6 +62,13 @@ typedef struct sdae_mbs {
    * balance H(x+) - H(x) = -T gradbar^T R gradbar + T gradbar^T B u_mid (docs/front-ends.md);
    * every other map just sees F plus them. */
   int (*input_force)(double t, const double *q, const double *v, double *F, void *params);
+  /* optional sparsity (<stabdae/pattern.h>), copied when the stepper is built and checked there
+   * (SDAE_ERR_PATTERN). NULL: dense. n_q rows, both triangles, symmetric; with it mass() and
+   * damping() write nnz values in pattern order */
+  const sdae_pattern *mass_pattern;
+  /* NULL: dense. n_c rows; with it jacobian() and jacobian_dot() write nnz values in pattern
+   * order (jacobian is then needed: SDAE_ERR_NULL without it) */
+  const sdae_pattern *jacobian_pattern;
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure
@@ -179,9 +188,14 @@ typedef struct sdae_mbs_check_report {
  * of large entries hides no wrong small one; the differences' rounding is allowed for, so a
  * derivative that vanishes at the state (a force at equilibrium) is no false alarm. Smooth
  * callbacks agree to about 1e-9: tol = 1e-6 separates a right derivative from a wrong one.
+ * With a jacobian_pattern, an entry of G that the differences of c show nonzero outside it is a
+ * mismatch of SDAE_MBS_JACOBIAN there (the given G is zero there). An entry outside a
+ * mass_pattern is never written, so it shows only through what M's derivatives change: the
+ * checks of mass_dot_v and of the force.
  * On SDAE_OK *r is written whole; otherwise it is untouched and the status says why:
- * SDAE_ERR_NULL (sys, q, v, r, a required callback, or jacobian_dot without jacobian,
- * constraint_t_dot without constraint_t), SDAE_ERR_DIM, SDAE_ERR_PARAM (tol not positive, a
+ * SDAE_ERR_NULL (sys, q, v, r, a required callback, jacobian_dot without jacobian,
+ * constraint_t_dot without constraint_t, or jacobian_pattern without jacobian), SDAE_ERR_DIM,
+ * SDAE_ERR_PATTERN, SDAE_ERR_PARAM (tol not positive, a
  * state not finite), SDAE_ERR_NOMEM, SDAE_ERR_OVERFLOW, or a callback's failure
  * (SDAE_ERR_CALLBACK_*, SDAE_ERR_NONFINITE). With its workspace (one block, given back before
  * it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */

@@ -67,7 +67,10 @@ typedef enum sdae_status {
   SDAE_ERR_MASS = -20,    /* the mass matrix is not symmetric, or W^T M W not positive definite */
   /* a stepper's state as bytes (sdae_mbs_set_state) */
   SDAE_ERR_STATE_DAMAGED = -21, /* the bytes are cut short or damaged (checksum) */
-  SDAE_ERR_STATE_FOREIGN = -22  /* the bytes are of another mechanism, map, options or build */
+  SDAE_ERR_STATE_FOREIGN = -22, /* the bytes are of another mechanism, map, options or build */
+  /* a sparsity pattern (<stabdae/pattern.h>) unsorted, out of range, duplicated, inconsistent
+   * with its nnz, or (a mass's) not symmetric */
+  SDAE_ERR_PATTERN = -23
 } sdae_status;
 
 /* ---- options ------------------------------------------------------------------------------ */

@@ -18,6 +18,8 @@
 #include "core/alloc.h"
 #include "core/arena.h"
 #include "core/callback.h"
+#include "core/pattern.h"
+#include "mbs/mbs_eval.h"
 
 #define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5): truncation and rounding balanced */
 
@@ -38,7 +40,20 @@ typedef struct checker {
   double *fd, *nz, *given; /* width each: the difference, its noise, the derivative given */
   double *col, *col_nz;    /* n_q each: one column (or gradient) and its noise */
   double *e;               /* n_q: a direction */
+  double *values;          /* a matrix's nonzeros, written by a callback with a pattern */
 } checker;
+
+/* a matrix callback's status, its values put in place (rows x n_q) when it has a pattern:
+ * where it writes is matrix_out's */
+static double *matrix_out(checker *k, const sdae_pattern *p, double *out) {
+  return p ? k->values : out;
+}
+static int matrix_checked(checker *k, int rc, const sdae_pattern *p, size_t rows, double *out) {
+  if (!p) return sdae__callback_checked(rc, out, rows * k->n_q);
+  if ((rc = sdae__callback_checked(rc, k->values, p->nnz)) == SDAE_OK)
+    sdae__pattern_scatter(p, rows, k->n_q, k->values, out);
+  return rc;
+}
 
 static size_t width(const checker *k) {
   return k->n_c * k->n_q > k->n_q ? k->n_c * k->n_q : k->n_q;
@@ -59,7 +74,8 @@ static int mass_times_v(checker *k, double t, const double *q, int kinetic, doub
   const sdae_mbs *s = k->sys;
   size_t n = k->n_q;
   double e = 0.0;
-  int rc = sdae__callback_checked(s->mass(t, q, k->Mq, s->params), k->Mq, n * n);
+  const sdae_pattern *p = s->mass_pattern;
+  int rc = matrix_checked(k, s->mass(t, q, matrix_out(k, p, k->Mq), s->params), p, n, k->Mq);
   if (rc != SDAE_OK) return rc;
   for (size_t i = 0; i < n; i++) {
     double acc = 0.0;
@@ -73,12 +89,20 @@ static int mass_times_v(checker *k, double t, const double *q, int kinetic, doub
   return SDAE_OK;
 }
 
+/* a quantity evaluated only where the mechanism gives its callback (run's tests); a missing one
+ * is SDAE_ERR_NULL, never called */
 static int evaluate(checker *k, quantity what, double t, const double *q, double *out) {
   const sdae_mbs *s = k->sys;
+  if ((what == CT && !s->constraint_t) || (what == G && !s->jacobian) ||
+      (what == V && !s->potential))
+    return SDAE_ERR_NULL;
   switch (what) {
   case C: return sdae__callback_checked(s->constraint(t, q, out, s->params), out, k->n_c);
   case CT: return sdae__callback_checked(s->constraint_t(t, q, out, s->params), out, k->n_c);
-  case G: return sdae__callback_checked(s->jacobian(t, q, out, s->params), out, k->n_c * k->n_q);
+  case G: {
+    const sdae_pattern *p = s->jacobian_pattern;
+    return matrix_checked(k, s->jacobian(t, q, matrix_out(k, p, out), s->params), p, k->n_c, out);
+  }
   case MV: return mass_times_v(k, t, q, 0, out);
   case V: return sdae__callback_checked(s->potential(t, q, out, s->params), out, 1);
   default: return mass_times_v(k, t, q, 1, out);
@@ -205,8 +229,9 @@ static int check_force(checker *k, double t, const double *q, sdae_mbs_check_rep
     k->nz[j] = nV + nT + k->col_nz[j];
   }
   if (s->damping) {
-    if ((rc = sdae__callback_checked(s->damping(t, q, k->Mq, s->params), k->Mq, n * n)) != SDAE_OK)
-      return rc;
+    const sdae_pattern *p = s->mass_pattern;
+    rc = s->damping(t, q, matrix_out(k, p, k->Mq), s->params);
+    if ((rc = matrix_checked(k, rc, p, n, k->Mq)) != SDAE_OK) return rc;
     for (size_t i = 0; i < n; i++)
       for (size_t j = 0; j < n; j++) k->fd[i] -= k->Mq[i * n + j] * k->v[j];
   }
@@ -232,9 +257,12 @@ static int run(checker *k, double t, const double *q, sdae_mbs_check_report *r) 
     rc = compare(k, SDAE_MBS_CONSTRAINT_T, C, t, q, 1.0, zero, r);
   if (rc == SDAE_OK && s->mass_dot_v && (rc = along(k, s->mass_dot_v, t, q, n_q)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_MASS_DOT_V, MV, t, q, 1.0, k->v, r);
-  if (rc == SDAE_OK && s->jacobian_dot &&
-      (rc = along(k, s->jacobian_dot, t, q, n_c * n_q)) == SDAE_OK)
-    rc = compare(k, SDAE_MBS_JACOBIAN_DOT, G, t, q, 1.0, k->v, r);
+  if (rc == SDAE_OK && s->jacobian_dot) {
+    const sdae_pattern *p = s->jacobian_pattern;
+    rc = s->jacobian_dot(t, q, k->v, matrix_out(k, p, k->given), s->params);
+    if ((rc = matrix_checked(k, rc, p, n_c, k->given)) == SDAE_OK)
+      rc = compare(k, SDAE_MBS_JACOBIAN_DOT, G, t, q, 1.0, k->v, r);
+  }
   if (rc == SDAE_OK && s->constraint_t_dot &&
       (rc = along(k, s->constraint_t_dot, t, q, n_c)) == SDAE_OK)
     rc = compare(k, SDAE_MBS_CONSTRAINT_T_DOT, CT, t, q, 1.0, k->v, r);
@@ -253,14 +281,17 @@ static void carve(checker *k, sdae_arena *a) {
   k->col = sdae__take(a, n_q, 1);
   k->col_nz = sdae__take(a, n_q, 1);
   k->e = sdae__take(a, n_q, 1);
+  k->values = sdae__take(a, n_q, n_q); /* no pattern has more entries than its dense matrix */
 }
 
 static int valid(const sdae_mbs *sys, double t, const double *q, const double *v, double tol) {
+  int rc;
   if (!sys || !q || !v || !sys->mass || !sys->force || !sys->constraint) return SDAE_ERR_NULL;
   if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
   /* the derivatives of G and dc/dt are checked against the callbacks themselves */
   if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
     return SDAE_ERR_NULL;
+  if ((rc = sdae__mbs_patterns_check(sys)) != SDAE_OK) return rc;
   if (!(tol > 0.0) || !isfinite(t) || !sdae__all_finite(q, sys->n_q) ||
       !sdae__all_finite(v, sys->n_q))
     return SDAE_ERR_PARAM;

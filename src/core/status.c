@@ -47,6 +47,9 @@ const char *sdae_strerror(int status) {
     return "the saved state is cut short or damaged (its length or checksum does not match)";
   case SDAE_ERR_STATE_FOREIGN:
     return "the saved state is of another mechanism, map, options or build of the library";
+  case SDAE_ERR_PATTERN:
+    return "a sparsity pattern is not one: its columns unsorted, duplicated or out of range, "
+           "row_start inconsistent with nnz, or a mass pattern not symmetric";
   }
   return "unknown status";
 }

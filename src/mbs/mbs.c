@@ -19,7 +19,7 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
   if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
     return SDAE_ERR_NULL;
   if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
-  return SDAE_OK;
+  return sdae__mbs_patterns_check(sys);
 }
 
 /* the parts' arrays, the step's own, then the normal form's stepper (its bytes counted by its

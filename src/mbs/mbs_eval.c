@@ -19,10 +19,30 @@ static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
 static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
 #define FD_STEP 7.4e-4                                  /* DBL_EPSILON^(1/5) */
 
+int sdae__mbs_patterns_check(const sdae_mbs *sys) {
+  int rc;
+  if (sys->jacobian_pattern && !sys->jacobian) return SDAE_ERR_NULL;
+  if (sys->mass_pattern &&
+      (rc = sdae__pattern_check(sys->mass_pattern, sys->n_q, sys->n_q, 1)) != SDAE_OK)
+    return rc;
+  return sys->jacobian_pattern ? sdae__pattern_check(sys->jacobian_pattern, sys->n_c, sys->n_q, 0)
+                               : SDAE_OK;
+}
+
 void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys) {
   e->sys = *sys;
   e->n_q = sys->n_q;
   e->n_c = sys->n_c;
+}
+
+/* a pattern of the mechanism copied into the block, with room for its values; from then on the
+ * mechanism's pattern is the copy (the caller's arrays may change or go) */
+static void pattern_carve(const sdae_pattern **given, sdae_pattern *copy, double **values,
+                          size_t rows, sdae_arena *a) {
+  if (!*given) return;
+  sdae__pattern_copy(copy, *given, rows, a);
+  *values = sdae__take(a, copy->nnz, 1);
+  if (copy->row_start) *given = copy;
 }
 
 void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
@@ -40,6 +60,8 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   e->t_Mdv = sdae__take(a, n_q, 1);
   e->t_ctdot = sdae__take(a, n_c, 1);
   e->input = sdae__take(a, n_q, 1);
+  pattern_carve(&e->sys.mass_pattern, &e->mass_pattern, &e->mass_values, n_q, a);
+  pattern_carve(&e->sys.jacobian_pattern, &e->jacobian_pattern, &e->jacobian_values, n_c, a);
 }
 
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v) {
@@ -47,8 +69,25 @@ int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const 
   return sdae__all_finite(q, e->n_q) && sdae__all_finite(v, e->n_q) ? SDAE_OK : SDAE_ERR_STATE;
 }
 
+/* a matrix callback's status, its values (in pattern order with a pattern) checked and put in
+ * place: rows x n_q, row-major */
+static int matrix_checked(int rc, const sdae_pattern *p, const double *values, size_t rows,
+                          size_t n_q, double *out) {
+  if (!p) return sdae__callback_checked(rc, out, rows * n_q);
+  if ((rc = sdae__callback_checked(rc, values, p->nnz)) == SDAE_OK)
+    sdae__pattern_scatter(p, rows, n_q, values, out);
+  return rc;
+}
+
+/* where a matrix callback writes: out, or the values of its pattern */
+static double *target(const sdae_pattern *p, double *values, double *out) {
+  return p ? values : out;
+}
+
 int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
-  return sdae__callback_checked(e->sys.mass(t, q, M, e->sys.params), M, e->n_q * e->n_q);
+  const sdae_pattern *p = e->sys.mass_pattern;
+  int rc = e->sys.mass(t, q, target(p, e->mass_values, M), e->sys.params);
+  return matrix_checked(rc, p, e->mass_values, e->n_q, e->n_q, M);
 }
 
 int sdae__mbs_mass_symmetric(sdae_mbs_eval *e, double t, const double *q, double *M) {
@@ -82,7 +121,9 @@ int sdae__mbs_potential(sdae_mbs_eval *e, double t, const double *q, double *V) 
 }
 
 int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D) {
-  return sdae__callback_checked(e->sys.damping(t, q, D, e->sys.params), D, e->n_q * e->n_q);
+  const sdae_pattern *p = e->sys.mass_pattern;
+  int rc = e->sys.damping(t, q, target(p, e->mass_values, D), e->sys.params);
+  return matrix_checked(rc, p, e->mass_values, e->n_q, e->n_q, D);
 }
 
 /* a step h near h0 that x + h represents exactly */
@@ -112,8 +153,11 @@ static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
 }
 
 int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
+  const sdae_pattern *p = e->sys.jacobian_pattern;
+  int rc;
   if (!e->sys.jacobian) return jacobian_fd(e, t, q, G);
-  return sdae__callback_checked(e->sys.jacobian(t, q, G, e->sys.params), G, e->n_c * e->n_q);
+  rc = e->sys.jacobian(t, q, target(p, e->jacobian_values, G), e->sys.params);
+  return matrix_checked(rc, p, e->jacobian_values, e->n_c, e->n_q, G);
 }
 
 /* A difference step in t relative to max(1, |t|): where t is so large that its doubles are too
@@ -243,10 +287,11 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
   int fd_ct = gdot && !s->constraint_t_dot, rc;
   along_parts fd = {fd_G ? Gd : NULL, fd_M ? Mdv : NULL, fd_ct ? ctd : NULL};
   if ((fd_G || fd_M || fd_ct) && (rc = differenced(e, t, q, v, &fd)) != SDAE_OK) return rc;
-  if (want_G && s->jacobian_dot &&
-      (rc = sdae__callback_checked(s->jacobian_dot(t, q, v, Gd, s->params), Gd, n_c * n_q)) !=
-          SDAE_OK)
-    return rc;
+  if (want_G && s->jacobian_dot) {
+    const sdae_pattern *p = s->jacobian_pattern;
+    rc = s->jacobian_dot(t, q, v, target(p, e->jacobian_values, Gd), s->params);
+    if ((rc = matrix_checked(rc, p, e->jacobian_values, n_c, n_q, Gd)) != SDAE_OK) return rc;
+  }
   if (Mdv && s->mass_dot_v &&
       (rc = sdae__callback_checked(s->mass_dot_v(t, q, v, Mdv, s->params), Mdv, n_q)) != SDAE_OK)
     return rc;

@@ -9,10 +9,13 @@
 #include <stabdae/mbs.h>
 
 #include "core/arena.h"
+#include "core/pattern.h"
 
 typedef struct sdae_mbs_eval {
-  sdae_mbs sys;
+  sdae_mbs sys; /* its patterns point at the copies below */
   size_t n_q, n_c;
+  sdae_pattern mass_pattern, jacobian_pattern; /* the mechanism's, copied (nnz 0: none) */
+  double *mass_values, *jacobian_values;       /* nnz each: what a callback with one writes */
   double *jac_q, *jac_c; /* G by differences: q moved in one coordinate, c there */
   double *ct_c;          /* dc/dt by differences: c at a moved t */
   double *along_q;       /* the derivatives along (1, v): q moved along v, and there */
@@ -22,7 +25,11 @@ typedef struct sdae_mbs_eval {
   double *input;                        /* n_q: the forces from outside the Lagrangian */
 } sdae_mbs_eval;
 
-/* the mechanism (copied) and its sizes; the arrays come from sdae__mbs_eval_carve */
+/* the mechanism's patterns: SDAE_ERR_NULL for a Jacobian's without jacobian, SDAE_ERR_PATTERN
+ * for one that is not a pattern of its matrix */
+int sdae__mbs_patterns_check(const sdae_mbs *sys);
+/* the mechanism (copied) and its sizes; the arrays come from sdae__mbs_eval_carve, its patterns
+ * copied there */
 void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys);
 void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a);
 

@@ -54,8 +54,8 @@ static uint64_t build_identity(void) {
 
 #define HASH(h, x) ((h) = sdae__fnv((h), &(x), sizeof(x)))
 
-/* the stepper: the mechanism's sizes and which optional callbacks it gives, the options (the
- * map by its name, the same in every process) */
+/* the stepper: the mechanism's sizes, which optional callbacks it gives and its patterns, the
+ * options (the map by its name, the same in every process) */
 static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
   const sdae_mbs *m = &s->eval.sys;
   const sdae_options *o = &s->opt;
@@ -63,13 +63,16 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
   unsigned given = (m->jacobian != NULL) | (m->constraint_t != NULL) << 1 |
                    (m->potential != NULL) << 2 | (m->damping != NULL) << 3 |
                    (m->mass_dot_v != NULL) << 4 | (m->jacobian_dot != NULL) << 5 |
-                   (m->constraint_t_dot != NULL) << 6 | (m->input_force != NULL) << 7;
+                   (m->constraint_t_dot != NULL) << 6 | (m->input_force != NULL) << 7 |
+                   (m->mass_pattern != NULL) << 8 | (m->jacobian_pattern != NULL) << 9;
   int scheme = (int)o->scheme, stabilizer = (int)o->stabilizer;
   uint64_t h = SDAE_FNV_START;
   HASH(h, s->n_q), HASH(h, s->n_c), HASH(h, given);
   HASH(h, scheme), HASH(h, o->delta), HASH(h, o->epsilon), HASH(h, o->newton_tol);
   HASH(h, o->newton_max_iter), HASH(h, o->bandwidth), HASH(h, stabilizer);
   HASH(h, o->baumgarte_alpha);
+  if (m->mass_pattern) h = sdae__pattern_hash(h, m->mass_pattern, s->n_q);
+  if (m->jacobian_pattern) h = sdae__pattern_hash(h, m->jacobian_pattern, s->n_c);
   return sdae__fnv(h, map, strlen(map));
 }
 
