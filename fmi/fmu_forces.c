@@ -74,5 +74,7 @@ void fmu_forces_wrap(sdae_mbs *sys, fmu_forces *w) {
       .jacobian_dot = u->jacobian_dot ? jacobian_dot : NULL,
       .constraint_t_dot = u->constraint_t_dot ? constraint_t_dot : NULL,
       .input_force = input_force,
+      .mass_pattern = u->mass_pattern, /* the user's callbacks write by them, as wrapped */
+      .jacobian_pattern = u->jacobian_pattern,
   };
 }

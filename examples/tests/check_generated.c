@@ -15,6 +15,7 @@
 #include "car_axis.h"
 #include "double_pendulum.h"
 #include "fourbar.h"
+#include "fourbar_sparse.h"
 #include "mechanisms.h"
 #include "slider_crank.h"
 #include "test_util.h"
@@ -519,6 +520,42 @@ START_TEST(test_trajectories_agree) {
 }
 END_TEST
 
+/* The four-bar written by its nonzeros (sym/fourbar_sparse.py): its patterns are the
+ * structural nonzeros of the geometry, M = diag(mB, mB, mC, mC) and each constraint's row at the
+ * coordinates of its moving ends (B; B and C; C), and it steps as the dense generated four-bar,
+ * whose matrices the library builds from the same values (agreeing to rounding: the generator
+ * eliminates common subexpressions over the nonzeros alone) */
+START_TEST(test_sparse_fourbar_steps_as_the_dense) {
+  static const size_t mass_start[] = {0, 1, 2, 3, 4}, mass_col[] = {0, 1, 2, 3};
+  static const size_t jac_start[] = {0, 2, 6, 8}, jac_col[] = {0, 1, 0, 1, 2, 3, 2, 3};
+  fourbar_params pd;
+  fourbar_sparse_params ps;
+  double q0[4], v0[4];
+  static double qd[STEPS * 4], vd[STEPS * 4], qs[STEPS * 4], vs[STEPS * 4];
+  fourbar_params_default(&pd);
+  fourbar_sparse_params_default(&ps);
+  sdae_mbs dense = fourbar_mbs(&pd), sparse = fourbar_sparse_mbs(&ps);
+  ck_assert_ptr_null(dense.mass_pattern);
+  ck_assert_int_eq(FOURBAR_SPARSE, 0);
+  ck_assert_int_eq(FOURBAR_SPARSE_SPARSE, 1);
+  ck_assert_uint_eq(sparse.mass_pattern->nnz, 4);
+  ck_assert_mem_eq(sparse.mass_pattern->row_start, mass_start, sizeof mass_start);
+  ck_assert_mem_eq(sparse.mass_pattern->col, mass_col, sizeof mass_col);
+  ck_assert_uint_eq(sparse.jacobian_pattern->nnz, 8);
+  ck_assert_mem_eq(sparse.jacobian_pattern->row_start, jac_start, sizeof jac_start);
+  ck_assert_mem_eq(sparse.jacobian_pattern->col, jac_col, sizeof jac_col);
+  fourbar_start(&pd, q0, v0);
+  const sdae_map_type *maps[] = {sdae_map_dgrad, sdae_map_rk4};
+  for (int j = 0; j < 2; j++) {
+    trajectory(&dense, maps[j], 1e-3, STEPS, q0, v0, qd, vd);
+    trajectory(&sparse, maps[j], 1e-3, STEPS, q0, v0, qs, vs);
+    ck_assert_double_lt(trajectory_mismatch(qs, qd, STEPS * 4), 1e-12);
+    ck_assert_double_lt(trajectory_mismatch(vs, vd, STEPS * 4), 1e-12);
+    ck_assert_double_gt(trajectory_mismatch(qd + (STEPS - 1) * 4, q0, 4), 1e-3);
+  }
+}
+END_TEST
+
 static Suite *generated_suite(void) {
   Suite *s = suite_create("generated");
   TCase *tc = tcase_create("callbacks");
@@ -536,6 +573,9 @@ static Suite *generated_suite(void) {
   tc = tcase_create("trajectories");
   tcase_set_timeout(tc, 60);
   tcase_add_test(tc, test_trajectories_agree);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("sparse");
+  tcase_add_test(tc, test_sparse_fourbar_steps_as_the_dense);
   suite_add_tcase(s, tc);
   return s;
 }

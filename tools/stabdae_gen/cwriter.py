@@ -148,10 +148,19 @@ def _prologue(name, uses, args):
     return lines + _unused([a for a in args if not uses[a]] + ([] if uses["p"] else ["params"]))
 
 
-def _callback(mech, printer, names, field, spec):
+# the callbacks that write a matrix by the nonzeros of a pattern, for a sparse mechanism
+PATTERN_OF = {"mass": "mass", "damping": "mass", "jacobian": "jacobian", "jacobian_dot": "jacobian"}
+
+
+def _callback(mech, printer, names, field, spec, pattern=None):
+    """The C function of a callback; with a pattern (its rows' columns), the matrix's entries
+    there alone, in the pattern's order."""
     args, out, matrix = spec
-    targets = [f"{out}[{k}]" for k in range(len(matrix))]
-    exprs = list(matrix)
+    if pattern is None:
+        exprs = list(matrix)
+    else:
+        exprs = [matrix[i, j] for i, cols in enumerate(pattern) for j in cols]
+    targets = [f"{out}[{k}]" for k in range(len(exprs))]
     fill = []
     if sum(e == 0 for e in exprs) >= ZERO_LOOP:
         fill = [f"  for (size_t k = 0; k < {len(exprs)}; k++) {out}[k] = 0;"]
@@ -195,9 +204,37 @@ def _coordinate_name(mech):
     return "\n".join(lines + ["    default: return NULL;", "  }", "}"])
 
 
+def _numbers(values):
+    """Numbers as the lines of a C initializer, a few to a line."""
+    per = 16
+    return [" " * 4 + ", ".join(str(x) for x in values[k:k + per]) + ","
+            for k in range(0, len(values), per)] or ["    0,"]
+
+
+def _pattern(mech, what, rows, description):
+    """A pattern (rows' ascending columns) as the static arrays and sdae_pattern of name.c."""
+    name = f"{mech.name}_{what}"
+    starts, cols = [0], []
+    for r in rows:
+        cols += r
+        starts.append(len(cols))
+    return "\n".join([
+        f"/* {description}: row i's columns are {name}_col[{name}_row_start[i]] .. "
+        f"{name}_col[{name}_row_start[i + 1] - 1] */",
+        f"static const size_t {name}_row_start[{len(starts)}] = {{",
+        *_numbers(starts),
+        "};",
+        f"static const size_t {name}_col[{max(1, len(cols))}] = {{",
+        *_numbers(cols),
+        "};",
+        f"static const sdae_pattern {name}_pattern = {{{len(cols)}, {name}_row_start, {name}_col}};",
+    ])
+
+
 def _system(mech, fields):
     """name_mbs: the struct by designated initializers, every callback named (NULL where the
-    description has none), so that a reader sees which the library gets."""
+    description has none), so that a reader sees which the library gets; a sparse mechanism's
+    patterns."""
     lines = [f"sdae_mbs {mech.name}_mbs({mech.name}_params *p) {{",
              "  sdae_mbs sys = {",
              f"      .n_q = {mech.n},",
@@ -205,6 +242,9 @@ def _system(mech, fields):
     for field in CALLBACKS:
         value = f"{mech.name}_{field}" if field in fields else "NULL"
         lines.append(f"      .{field} = {value},")
+    for what in ("mass", "jacobian"):
+        value = f"&{mech.name}_{what}_pattern" if mech.sparse else "NULL"
+        lines.append(f"      .{what}_pattern = {value},")
     return "\n".join(lines + ["      .params = p,", "  };", "  return sys;", "}"])
 
 
@@ -270,6 +310,9 @@ def header(mech, banner):
         f"#define {N}_N_Q {mech.n} /* coordinates */",
         f"#define {N}_N_C {len(mech.c)} /* constraints */",
         f"#define {N}_N_PARAMS {len(mech.params)} /* parameters, the fields of {mech.name}_params */",
+        f"/* 1: M, D, G and dG/ds are written by their nonzeros in the patterns of {mech.name}_mbs's "
+        "mass_pattern and jacobian_pattern; 0: dense */",
+        f"#define {N}_SPARSE {int(mech.sparse)}",
         "",
         *_tables(mech),
         "",
@@ -300,9 +343,15 @@ def source(mech, banner):
     names = _Names(mech)
     callbacks = mech.callbacks()
     parts = [banner + f'#include "{mech.name}.h"\n\n#include <math.h>']
+    patterns = {}
+    if mech.sparse:
+        patterns["mass"], patterns["jacobian"] = mech.patterns()
+        parts.append(_pattern(mech, "mass", patterns["mass"], "M's and D's nonzeros"))
+        parts.append(_pattern(mech, "jacobian", patterns["jacobian"], "G's and dG/ds's nonzeros"))
     for field in CALLBACKS:
         if field in callbacks:
-            parts.append(_callback(mech, printer, names, field, callbacks[field]))
+            pattern = patterns.get(PATTERN_OF.get(field))
+            parts.append(_callback(mech, printer, names, field, callbacks[field], pattern))
     parts.append(_params_default(mech))
     parts.append(_system(mech, callbacks))
     parts.append(_start(mech, printer, names))

@@ -43,6 +43,11 @@ CPP_KEYWORDS = frozenset(
 SYSTEM_MACROS = frozenset(
     """linux unix i386 sun sparc mips MIPSEB MIPSEL R3000 R4000 vax mc68000 m68k PPC powerpc
     AVR BSD""".split())
+# a mechanism of this many coordinates or more is written sparse unless its description says
+# (sparse=False): its M and G by their structural nonzeros in patterns, the generated file
+# growing with them and not with n^2 (a 32-rod chain's dense file held 8000 zero stores)
+SPARSE_FROM = 16
+
 C_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 # the stems of C11's standard headers: a generated name.h on the include path would hide one
 C_HEADERS = frozenset(
@@ -172,6 +177,9 @@ class Mechanism:
       have none ("").
     coordinate_units: n units, one per coordinate, or a dict coordinate Symbol -> unit (those
       not named have none).
+    sparse: True writes M, D, G and dG/ds by their structural nonzeros (the library's
+      mass_pattern and jacobian_pattern), False densely; None (the default) sparse from
+      SPARSE_FROM coordinates on.
 
     The library is told of the potential (and damping), which enables the discrete-gradient
     maps, when F without the `force` terms is exactly the Lagrangian's: T = v^T M v / 2 (no
@@ -189,7 +197,7 @@ class Mechanism:
 
     def __init__(self, name, t, q, v, kinetic=None, potential=0, force=None, damping=None,
                  constraints=(), params=None, q0=None, v0=None, coordinate_names=None,
-                 mass=None, units=None, coordinate_units=None):
+                 mass=None, units=None, coordinate_units=None, sparse=None):
         self.name = check_identifier(name, "the name")
         if name in C_HEADERS:
             raise ModelError(f"the name {name!r} would make {name}.h, which hides the C "
@@ -221,6 +229,9 @@ class Mechanism:
         self._units(units, coordinate_units)
         self.q0 = self._start(q0, "q0")
         self.v0 = self._start(v0, "v0")
+        if sparse not in (None, True, False):
+            raise ModelError(f"sparse: {sparse!r} is not True, False or None (by the size)")
+        self.sparse = self.n >= SPARSE_FROM if sparse is None else sparse
         self._check_symbols()
         # the class's docstring says why
         self.declares_potential = self.homogeneous and not self.M.has(t) and (
@@ -502,6 +513,19 @@ class Mechanism:
         """F = Q + lagrangian_force(): every force."""
         F = self.lagrangian_force()
         return F if self.Q is None else F + self.Q
+
+    def patterns(self):
+        """The structural nonzeros, each pattern as its rows' ascending columns: M's and D's,
+        both triangles, made symmetric (the library's mass pattern, which damping shares), and
+        G's and dG/ds's (the Jacobian's pattern, which jacobian_dot shares)."""
+        mass = {(i, j) for i in range(self.n) for j in range(self.n)
+                if any(m is not None and (m[i, j] != 0 or m[j, i] != 0) for m in (self.M, self.D))}
+        G = self.jacobian()
+        Gdot = self.along(G)
+        jac = {(i, j) for i in range(G.rows) for j in range(self.n)
+               if G[i, j] != 0 or Gdot[i, j] != 0}
+        return ([sorted(j for r, j in mass if r == i) for i in range(self.n)],
+                [sorted(j for r, j in jac if r == i) for i in range(G.rows)])
 
     def callbacks(self):
         """The callbacks of sdae_mbs this description determines: field -> (arguments, output

@@ -10,7 +10,8 @@ import sympy as sp
 from stabdae_gen import Mechanism
 
 
-def mechanism():
+def fourbar(name="fourbar", sparse=None):
+    """The four-bar as `name`, dense or (sparse=True) written by its nonzeros."""
     t = sp.Symbol("t")
     Bx, By, Cx, Cy = q = sp.symbols("Bx By Cx Cy")
     v = sp.symbols("vBx vBy vCx vCy")
@@ -31,7 +32,7 @@ def mechanism():
     vC = sp.Matrix([rhs * r2[1] / det, -rhs * r2[0] / det])
 
     return Mechanism(
-        "fourbar", t, q, v,
+        name, t, q, v,
         mass=sp.diag(mB, mB, mC, mC),
         potential=ga * (mB * By + mC * Cy),
         constraints=[(Bx**2 + By**2 - a**2) / 2,
@@ -45,4 +46,8 @@ def mechanism():
         units={a: "m", b: "m", e: "m", d: "m", mB: "kg", mC: "kg", ga: "m/s^2",
                theta0: "rad", omega0: "rad/s"},
         coordinate_units=["m"] * 4,
-        q0=list(B0) + list(C0), v0=list(vB) + list(vC))
+        q0=list(B0) + list(C0), v0=list(vB) + list(vC), sparse=sparse)
+
+
+def mechanism():
+    return fourbar()

@@ -79,7 +79,8 @@ def generated(tmp_path_factory):
 
 # A program that evaluates every callback of a generated mechanism at its default parameters:
 # it reads points "t q_1..q_n v_1..v_n" from stdin and prints, per point, a line per field of
-# sdae_mbs, "field x_1 x_2 ..." (or "field NULL"), then "end".
+# sdae_mbs, "field x_1 x_2 ..." (or "field NULL"), then "end"; a matrix written by the
+# nonzeros of a pattern is printed whole, zero outside it.
 EVALUATOR = r"""
 #include <stdio.h>
 
@@ -94,6 +95,26 @@ static void show(const char *field, int rc, const double *x, size_t n) {
   printf("\n");
 }
 
+/* a matrix of rows x NQ from the values a callback wrote: in the pattern's order with one */
+static void matrix(const char *field, int rc, const sdae_pattern *p, size_t rows,
+                   const double *x) {
+  static double dense[NQ * NQ];
+  if (!p) {
+    show(field, rc, x, rows * NQ);
+    return;
+  }
+  for (size_t i = 0; i < rows * NQ; i++) dense[i] = 0.0;
+  for (size_t i = 0; i < rows; i++)
+    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) dense[i * NQ + p->col[k]] = x[k];
+  show(field, rc, dense, rows * NQ);
+}
+
+#define TQM(FIELD, PATTERN, ROWS)                                                      \
+  if (s.FIELD) matrix(#FIELD, s.FIELD(t, q, out, s.params), s.PATTERN, ROWS, out);     \
+  else printf("%s NULL\n", #FIELD);
+#define TQVM(FIELD, PATTERN, ROWS)                                                     \
+  if (s.FIELD) matrix(#FIELD, s.FIELD(t, q, v, out, s.params), s.PATTERN, ROWS, out);  \
+  else printf("%s NULL\n", #FIELD);
 #define TQ(FIELD, N)                                                    \
   if (s.FIELD) show(#FIELD, s.FIELD(t, q, out, s.params), out, N);     \
   else printf("%s NULL\n", #FIELD);
@@ -110,15 +131,15 @@ int main(void) {
   while (scanf("%lf", &t) == 1) {
     for (size_t i = 0; i < NQ; i++) if (scanf("%lf", &q[i]) != 1) return 1;
     for (size_t i = 0; i < NQ; i++) if (scanf("%lf", &v[i]) != 1) return 1;
-    TQ(mass, NQ * NQ)
+    TQM(mass, mass_pattern, NQ)
     TQV(force, NQ)
     TQ(constraint, NC)
-    TQ(jacobian, NC * NQ)
+    TQM(jacobian, jacobian_pattern, NC)
     TQ(constraint_t, NC)
     TQ(potential, 1)
-    TQ(damping, NQ * NQ)
+    TQM(damping, mass_pattern, NQ)
     TQV(mass_dot_v, NQ)
-    TQV(jacobian_dot, NC * NQ)
+    TQVM(jacobian_dot, jacobian_pattern, NC)
     TQV(constraint_t_dot, NC)
     TQV(input_force, NQ)
     printf("end\n");

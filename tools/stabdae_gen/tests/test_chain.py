@@ -13,7 +13,7 @@ import random
 
 import pytest
 
-from conftest import HERE, evaluator, needs_build
+from conftest import HERE, evaluator, needs_build, run_mbsgen
 
 # CPU seconds: several times the 2 to 3 s the generation takes, under half the 45 s it took
 CPU_LIMIT = 20.0
@@ -85,3 +85,51 @@ def test_chain_generated_and_correct(generated, name, tmp_path):
             assert len(got[field]) == len(values), field
             for a, b in zip(got[field], values):
                 assert abs(a - b) <= 1e-13 * max(1.0, abs(b)), (field, a, b)
+
+
+def structural_nonzeros(closed):
+    """The chain's nonzeros from its geometry: M = m I, and each rod's row of G (and of dG/ds)
+    at the coordinates of its moving ends, 2 for an end at an anchor and 4 between joints."""
+    n = 2 * (N - 1) if closed else 2 * N
+    anchored = 2 if closed else 1  # rods with one end fixed
+    return n, 4 * N - 2 * anchored
+
+
+@needs_build
+@pytest.mark.parametrize("name", CHAINS)
+def test_chain_written_by_its_nonzeros(generated, name):
+    """A chain of 32 rods is sparse by its size: its patterns hold exactly the structural
+    nonzeros, and its C writes those alone"""
+    d, name, _ = generated[path(name)]
+    mass_nnz, jacobian_nnz = structural_nonzeros(CHAINS[name])
+    source = (d / (name + ".c")).read_text()
+    header = (d / (name + ".h")).read_text()
+    assert f"#define {name.upper()}_SPARSE 1" in header
+    assert f"{name}_mass_pattern = {{{mass_nnz}," in source
+    assert f"{name}_jacobian_pattern = {{{jacobian_nnz}," in source
+    assert f"G[{jacobian_nnz - 1}] =" in source and f"G[{jacobian_nnz}]" not in source
+    assert f"M[{mass_nnz - 1}] =" in source and f"M[{mass_nnz}]" not in source
+
+
+def chain_model(tmp_path, N, sparse):
+    """A model file of the open chain of N rods, sparse or dense."""
+    model = tmp_path / f"chain{N}_{sparse}.py"
+    model.write_text(f"import sys\nsys.path.insert(0, {os.path.join(HERE, 'models')!r})\n"
+                     "from chain import chain\n\n\ndef mechanism():\n"
+                     f"    return chain('chain{N}', closed=False, N={N}, sparse={sparse})\n")
+    return str(model)
+
+
+@needs_build
+def test_files_grow_with_the_nonzeros(tmp_path):
+    """Written sparse, a chain's file grows with its nonzeros (linearly in N): doubling N at
+    most doubles it and a little (the longer indices). (Written densely the file stays small
+    too, its zeros stored by a loop, but its callbacks then write all n^2 entries at every
+    call.)"""
+    sizes = {}
+    for N, sparse in ((16, True), (32, True)):
+        out = tmp_path / f"out{N}{sparse}"
+        rc, _, err = run_mbsgen(chain_model(tmp_path, N, sparse), "--out", str(out))
+        assert rc == 0, err
+        sizes[N, sparse] = (out / f"chain{N}.c").stat().st_size
+    assert sizes[32, True] <= 2.2 * sizes[16, True], sizes

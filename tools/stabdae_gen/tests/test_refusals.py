@@ -91,6 +91,7 @@ IN_PROCESS = [
     ("param_bool", "args['params'][sp.Symbol('bool')] = 1.0", "'bool' is a C keyword"),
     ("param_header_macro", "args['params'][sp.Symbol('PENDULUM_N_Q')] = 1.0",
      "the prefix PENDULUM_ of the generated header's macros"),
+    ("sparse_not_bool", "args['sparse'] = 'yes'", "sparse: 'yes' is not True, False or None"),
     # units
     ("unit_with_quote", "args['units'] = {m: 'k\"g'}", "is not a unit"),
     ("unit_too_long", "args['units'] = {m: 'm' * 33}", "is not a unit"),

@@ -19,7 +19,8 @@ from stabdae_gen import Mechanism
 N = 32
 
 
-def chain(name, closed):
+def chain(name, closed, N=N, sparse=None):
+    """The chain of N rods; sparse as Mechanism's (None: by the size)."""
     joints = N - 1 if closed else N
     t = sp.Symbol("t")
     x = sp.symbols(f"x1:{joints + 1}")
@@ -48,4 +49,5 @@ def chain(name, closed):
         v0 = [e for k in range(1, N + 1) for e in (k * L * omega0 * c, k * L * omega0 * s)]
     rods = [((px[k + 1] - px[k])**2 + (py[k + 1] - py[k])**2 - L**2) / 2 for k in range(N)]
     return Mechanism(name, t, q, v, kinetic=m * sum(e**2 for e in v) / 2,
-                     potential=m * g * sum(y), constraints=rods, params=params, q0=q0, v0=v0)
+                     potential=m * g * sum(y), constraints=rods, params=params, q0=q0, v0=v0,
+                     sparse=sparse)
