@@ -1,0 +1,72 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* A wide sparse matrix A (m x n, m < n, its nonzeros in a pattern of compressed rows) factored
+ * row by row, each row choosing its pivot column by the values: the chart of a sparse mechanism,
+ * A = G and its pivot columns q_D, chosen without forming the dense G_D^-1 G_I.
+ *
+ * Row r of A, with the rows before it eliminated (their pivot columns taken out, smallest pivot
+ * first), is row r of U; the multipliers are row r of L (unit lower triangular, m x m):
+ *
+ *   A = L U,   A_D = L U_D,   B = A_D^-1 A_I = U_D^-1 U_I,
+ *
+ * U_D (U's pivot columns, in pivot order) upper triangular. The pivot of row r is, among its
+ * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
+ * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
+ * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its
+ * value, so the factors' structure is set by A's pattern and the pivots alone, and a
+ * refactorization with the pivots kept fills the same places. Every array is carved when the
+ * owner is built: SDAE_ERR_CHART when the factors would need more than their reserve
+ * (SDAE_SPARSE_LU_FILL). */
+#ifndef STABDAE_SRC_CORE_SPARSE_LU_H
+#define STABDAE_SRC_CORE_SPARSE_LU_H
+
+#include <stddef.h>
+
+#include "arena.h"
+#include "pattern.h"
+
+/* the entries L and U may hold, each: this many times A's nonzeros, plus one per row */
+#define SDAE_SPARSE_LU_FILL 4
+/* the threshold of the pivot choice: a candidate at least this fraction of the row's largest */
+#define SDAE_SPARSE_LU_TAU 0.5
+
+typedef struct sdae_sparse_lu {
+  size_t m, n, cap;
+  /* the pivots: row k's column, and a column's row (or m: none) */
+  size_t *pivot, *row_of;
+  /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's
+   * strictly lower rows (the multipliers l_rk, by k) */
+  size_t *u_start, *u_col, *u_diag;
+  double *u_val;
+  size_t *l_start, *l_col;
+  double *l_val;
+  /* the elimination's workspace: the row (dense, n), its columns (a list and a mark), the pivot
+   * rows to take out (a heap, smallest first, with a mark), the rows to come holding a column */
+  double *x;
+  size_t *list, *heap, *count;
+  unsigned char *in_row, *pending;
+  double *w, *v; /* m each: the solves', the estimate's */
+} sdae_sparse_lu;
+
+/* its arrays for A of m x n with nnz nonzeros, counted or handed out */
+void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a);
+/* the pivots chosen and A factored (values in A's pattern order): SDAE_OK; SDAE_ERR_RANK when a
+ * row is dependent on those before it (its largest remaining value at rounding); SDAE_ERR_CHART
+ * when the factors outgrow their reserve */
+int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);
+/* A factored again with the pivots kept (A's values changed, not its pattern): SDAE_ERR_RANK
+ * when a pivot falls to rounding */
+int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);
+/* x = A_D^-1 b: b by A's rows, x by pivot (x[k] belongs to column pivot[k]) */
+void sdae__sparse_lu_solve(sdae_sparse_lu *lu, const double *b, double *x);
+/* y = A_D^-T c: c by pivot, y by A's rows */
+void sdae__sparse_lu_solve_t(sdae_sparse_lu *lu, const double *c, double *y);
+/* out = B x (m, by pivot) for x over A's n columns (its pivot columns not read) */
+void sdae__sparse_lu_times_b(sdae_sparse_lu *lu, const double *x, double *out);
+/* out = B^T y (n, over A's columns; 0 at the pivot columns) for y by pivot */
+void sdae__sparse_lu_times_bt(sdae_sparse_lu *lu, const double *y, double *out);
+/* Hager's estimate of ||B||_1 = max_j sum_i |B_ij| (Higham's form, LAPACK's dlacn2): a lower
+ * bound, most often equal, from at most 5 products with B and with B^T, in O(nnz(L) + nnz(U))
+ * each; x, z: n doubles of workspace */
+double sdae__sparse_lu_norm1(sdae_sparse_lu *lu, double *x, double *z);
+
+#endif /* STABDAE_SRC_CORE_SPARSE_LU_H */

@@ -1,0 +1,275 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The wide sparse LU that chooses a sparse mechanism's chart (core/sparse_lu.c), against dense
+ * linear algebra (GSL's LU of the chosen columns) and the mathematics: A_D x = b and
+ * A_D^T y = c solved to rounding, B = A_D^-1 A_I applied as the dense B, Hager's estimate a
+ * lower bound of ||B||_1 and on the rope its value, dependent rows refused, the pivots kept by a
+ * refactorization, and on a rope of 4096 links factors of the size of G. */
+#include <float.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sparse_lu.h"
+#include "rope.h"
+#include "testmodels.h"
+
+/* a factorization of A with its own block (malloc'd: the test's, not the library's) */
+typedef struct factored {
+  sdae_sparse_lu lu;
+  void *mem;
+} factored;
+
+static void factored_init(factored *f, size_t m, size_t n, size_t nnz) {
+  sdae_arena a = {0};
+  sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
+  ck_assert(!a.overflow);
+  f->mem = calloc(1, a.used + 64);
+  ck_assert_ptr_nonnull(f->mem);
+  a = (sdae_arena){.base = f->mem};
+  sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
+}
+
+/* a rope of N links (closed: N + 1) at a random configuration, its G's values */
+typedef struct rope_g {
+  mech_rope r;
+  sdae_mbs sys;
+  double *q, *G;
+} rope_g;
+
+static void rope_g_at(rope_g *g, size_t N, int closed, gsl_rng *rng) {
+  g->r = (mech_rope){.N = N,
+                     .L = 1.0,
+                     .m = 1.0,
+                     .ga = 9.81,
+                     .anchor_x = 0.5 * (double)(N + 1),
+                     .closed = closed,
+                     .sparse = 1};
+  ck_assert_int_eq(mech_rope_system(&g->sys, &g->r), 0);
+  g->q = malloc(2 * N * sizeof *g->q);
+  g->G = malloc(g->r.jacobian_pattern.nnz * sizeof *g->G);
+  for (size_t i = 0; i < 2 * N; i++) g->q[i] = 4.0 * (gsl_rng_uniform(rng) - 0.5);
+  ck_assert_int_eq(g->sys.jacobian(0.0, g->q, g->G, g->sys.params), 0);
+}
+
+static void rope_g_free(rope_g *g) {
+  free(g->q), free(g->G);
+  mech_rope_free(&g->r);
+}
+
+/* A dense (m x n, row-major) from its pattern */
+static double *dense(const sdae_pattern *p, const double *values, size_t m, size_t n) {
+  double *A = calloc(m * n, sizeof *A);
+  for (size_t i = 0; i < m; i++)
+    for (size_t e = p->row_start[i]; e < p->row_start[i + 1]; e++) A[i * n + p->col[e]] = values[e];
+  return A;
+}
+
+/* max |a - b| over max |b| */
+static double rel_err(const double *a, const double *b, size_t n) {
+  double d = 0.0, s = DBL_MIN;
+  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i])), s = fmax(s, fabs(b[i]));
+  return d / s;
+}
+
+/* The factors against dense algebra: A_D (the chosen columns, in pivot order) by GSL's LU,
+ * then b = A_D x for a random x solved back, A_D^T y likewise, and B = A_D^-1 A_I column by
+ * column against times_b and (its rows) times_bt; the estimate against the exact ||B||_1.
+ * Returns the estimate over ||B||_1. */
+static double against_dense(sdae_sparse_lu *lu, const double *A, gsl_rng *rng) {
+  size_t m = lu->m, n = lu->n;
+  gsl_matrix *AD = gsl_matrix_alloc(m, m);
+  gsl_permutation *perm = gsl_permutation_alloc(m);
+  gsl_vector *col = gsl_vector_alloc(m), *sol = gsl_vector_alloc(m);
+  double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *b = malloc(m * sizeof *b);
+  double *z = malloc(n * sizeof *z), *Bd = calloc(m * n, sizeof *Bd), exact = 0.0;
+  int sign;
+  for (size_t k = 0; k < m; k++) { /* the pivots are distinct columns */
+    ck_assert_uint_lt(lu->pivot[k], n);
+    ck_assert_uint_eq(lu->row_of[lu->pivot[k]], k);
+    for (size_t i = 0; i < m; i++) gsl_matrix_set(AD, i, k, A[i * n + lu->pivot[k]]);
+  }
+  /* A_D x = b: b formed from a known x, solved back */
+  for (size_t k = 0; k < m; k++) x[k] = gsl_rng_uniform(rng) - 0.5;
+  for (size_t i = 0; i < m; i++) {
+    b[i] = 0.0;
+    for (size_t k = 0; k < m; k++) b[i] += gsl_matrix_get(AD, i, k) * x[k];
+  }
+  sdae__sparse_lu_solve(lu, b, y);
+  ck_assert_double_le(rel_err(y, x, m), 1e-10);
+  /* A_D^T y = c, c formed from a known y */
+  for (size_t k = 0; k < m; k++) {
+    b[k] = 0.0;
+    for (size_t i = 0; i < m; i++) b[k] += gsl_matrix_get(AD, i, k) * x[i];
+  }
+  sdae__sparse_lu_solve_t(lu, b, y);
+  ck_assert_double_le(rel_err(y, x, m), 1e-10);
+  /* B = A_D^-1 A_I densely, column by column of A_I */
+  gsl_linalg_LU_decomp(AD, perm, &sign);
+  for (size_t c = 0; c < n; c++) {
+    double colsum = 0.0;
+    if (lu->row_of[c] != m) continue;
+    for (size_t i = 0; i < m; i++) gsl_vector_set(col, i, A[i * n + c]);
+    gsl_linalg_LU_solve(AD, perm, col, sol);
+    for (size_t k = 0; k < m; k++) Bd[k * n + c] = gsl_vector_get(sol, k);
+    for (size_t k = 0; k < m; k++) colsum += fabs(Bd[k * n + c]);
+    exact = fmax(exact, colsum);
+    memset(x, 0, n * sizeof *x);
+    x[c] = 1.0;
+    sdae__sparse_lu_times_b(lu, x, y);
+    for (size_t k = 0; k < m; k++) b[k] = Bd[k * n + c];
+    ck_assert_double_le(rel_err(y, b, m), 1e-10);
+  }
+  for (size_t k = 0; k < m; k++) { /* row k of B by B^T e_k */
+    memset(b, 0, m * sizeof *b);
+    b[k] = 1.0;
+    sdae__sparse_lu_times_bt(lu, b, y);
+    for (size_t c = 0; c < n; c++) ck_assert_double_le(fabs(y[c] - Bd[k * n + c]), 1e-10 * exact);
+  }
+  double est = sdae__sparse_lu_norm1(lu, x, z);
+  ck_assert_double_le(est, exact * (1.0 + 1e-12)); /* ||B x||_1 with ||x||_1 = 1 */
+  gsl_matrix_free(AD), gsl_permutation_free(perm), gsl_vector_free(col), gsl_vector_free(sol);
+  free(x), free(y), free(b), free(z), free(Bd);
+  return est / exact;
+}
+
+/* On ropes open and closed at random configurations (their G's rows the links' directions):
+ * a chart, its solves and B as the dense algebra's. Hager's estimate of ||B||_1 is a lower bound
+ * (a theorem, checked in against_dense); how far below is not bounded in general, so here it is
+ * held to a factor 3 and to being exact on at least half of the ropes (measured: 15 of 20
+ * exact, the least 0.52) */
+START_TEST(rope_charts_solve_as_dense_algebra) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  int exact = 0;
+  gsl_rng_set(rng, 7);
+  for (int trial = 0; trial < 20; trial++) {
+    rope_g g;
+    factored f;
+    rope_g_at(&g, 3 + (size_t)trial % 9, trial % 2, rng);
+    size_t m = g.sys.n_c, n = g.sys.n_q;
+    double *A = dense(&g.r.jacobian_pattern, g.G, m, n);
+    factored_init(&f, m, n, g.r.jacobian_pattern.nnz);
+    ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &g.r.jacobian_pattern, g.G), SDAE_OK);
+    double ratio = against_dense(&f.lu, A, rng);
+    ck_assert_double_ge(ratio, 1.0 / 3.0);
+    exact += ratio >= 1.0 - 1e-12;
+    free(A), free(f.mem);
+    rope_g_free(&g);
+  }
+  ck_assert_int_ge(exact, 10);
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* random wide sparse matrices, 4 nonzeros a row: the same against dense algebra */
+START_TEST(random_wide_matrices_solve_as_dense_algebra) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  for (int trial = 0; trial < 20; trial++) {
+    size_t m = 10 + (size_t)trial, n = 2 * m + 3, start[64], col[256], k = 0;
+    double values[256];
+    factored f;
+    start[0] = 0;
+    for (size_t i = 0; i < m; i++) { /* columns i, and three others ascending and distinct */
+      unsigned char used[64] = {0};
+      used[i] = 1;
+      for (int c = 0; c < 3; c++) used[gsl_rng_uniform_int(rng, n)] = 1;
+      for (size_t c = 0; c < n; c++)
+        if (used[c]) col[k] = c, values[k++] = gsl_rng_uniform(rng) - 0.5;
+      start[i + 1] = k;
+    }
+    sdae_pattern p = {k, start, col};
+    double *A = dense(&p, values, m, n);
+    ck_assert_int_eq(sdae__pattern_check(&p, m, n, 0), SDAE_OK);
+    factored_init(&f, m, n, k);
+    ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_OK);
+    ck_assert_double_ge(against_dense(&f.lu, A, rng), 1.0 / 3.0);
+    free(A), free(f.mem);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* a row that is a combination of the rows before it has no pivot: SDAE_ERR_RANK */
+START_TEST(dependent_rows_are_rank) {
+  static const size_t start[] = {0, 2, 4, 7}, col[] = {0, 1, 1, 2, 0, 1, 2};
+  static const double values[] = {1.0, 2.0, 3.0, -1.0, 1.0, 5.0, -1.0}; /* row 2 = row 0 + 1 */
+  sdae_pattern p = {7, start, col};
+  factored f;
+  factored_init(&f, 3, 5, 7);
+  ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_ERR_RANK);
+  free(f.mem);
+}
+END_TEST
+
+/* A refactorization keeps the pivots and solves at the new values; one whose pivot vanishes
+ * there is SDAE_ERR_RANK (a rope link whose pivot coordinate's component turns to 0) */
+START_TEST(refactor_keeps_the_pivots) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  rope_g g, h;
+  factored f;
+  gsl_rng_set(rng, 3);
+  rope_g_at(&g, 7, 0, rng);
+  rope_g_at(&h, 7, 0, rng);
+  size_t m = g.sys.n_c, n = g.sys.n_q, pivots[8];
+  factored_init(&f, m, n, g.r.jacobian_pattern.nnz);
+  ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &g.r.jacobian_pattern, g.G), SDAE_OK);
+  memcpy(pivots, f.lu.pivot, m * sizeof *pivots);
+  ck_assert_int_eq(sdae__sparse_lu_refactor(&f.lu, &h.r.jacobian_pattern, h.G), SDAE_OK);
+  ck_assert_mem_eq(pivots, f.lu.pivot, m * sizeof *pivots);
+  double *A = dense(&h.r.jacobian_pattern, h.G, m, n);
+  against_dense(&f.lu, A, rng);
+  /* the first link's pivot column is x_1 or y_1, its value in G the coordinate itself: zero it */
+  h.q[pivots[0]] = 0.0;
+  ck_assert_int_eq(h.sys.jacobian(0.0, h.q, h.G, h.sys.params), 0);
+  ck_assert_int_eq(sdae__sparse_lu_refactor(&f.lu, &h.r.jacobian_pattern, h.G), SDAE_ERR_RANK);
+  free(A), free(f.mem);
+  rope_g_free(&g), rope_g_free(&h);
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* A rope of 4096 links: a chart in its reserve, factors of at most three times G's nonzeros
+ * (Markowitz's count takes the link's far end, which no later link holds, whenever its value
+ * passes the threshold, and fill then stops), and a solve to rounding (residual) */
+START_TEST(a_rope_of_4096_links_factors_in_its_nonzeros) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 5);
+  for (int closed = 0; closed <= 1; closed++) {
+    rope_g g;
+    factored f;
+    rope_g_at(&g, 4095, closed, rng);
+    const sdae_pattern *p = &g.r.jacobian_pattern;
+    size_t m = g.sys.n_c, n = g.sys.n_q;
+    double *b = malloc(m * sizeof *b), *x = malloc(m * sizeof *x), worst = 0.0, size = 0.0;
+    factored_init(&f, m, n, p->nnz);
+    ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, p, g.G), SDAE_OK);
+    ck_assert_uint_le(f.lu.u_start[m] + f.lu.l_start[m], 3 * p->nnz);
+    for (size_t i = 0; i < m; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
+    sdae__sparse_lu_solve(&f.lu, b, x);
+    for (size_t i = 0; i < m; i++) { /* (A_D x - b)_i over A's row i */
+      double r = -b[i], s = fabs(b[i]);
+      for (size_t e = p->row_start[i]; e < p->row_start[i + 1]; e++) {
+        size_t k = f.lu.row_of[p->col[e]];
+        if (k < m) r += g.G[e] * x[k], s += fabs(g.G[e] * x[k]);
+      }
+      worst = fmax(worst, fabs(r)), size = fmax(size, s);
+    }
+    ck_assert_double_le(worst, 1e-12 * size);
+    free(b), free(x), free(f.mem);
+    rope_g_free(&g);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("sparse_lu");
+  ADD_CASE(s, rope_charts_solve_as_dense_algebra);
+  ADD_CASE(s, random_wide_matrices_solve_as_dense_algebra);
+  ADD_CASE(s, dependent_rows_are_rank);
+  ADD_CASE(s, refactor_keeps_the_pivots);
+  ADD_CASE(s, a_rope_of_4096_links_factors_in_its_nonzeros);
+  return run_suite(s);
+}
