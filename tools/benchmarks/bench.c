@@ -700,8 +700,9 @@ static void print_mbs(FILE *f, const result *res, size_t n, const baseline *bl, 
   /* the baseline and its reference, mechanism by mechanism */
   fprintf(f,
           "\nThe RK4 baseline: 4 stages, each M, F, G, gamma and one solve of the "
-          "(n_q + n_c) KKT system by GSL's LU (its banded routines with the full band, which "
-          "work in the caller's memory); gamma's Gdot and d/ds c_t from the mechanism when it "
+          "KKT system [M G^T; G 0] [a; lambda] = [F; -gamma] by its Schur complement, M and "
+          "G M^-1 G^T factored by the library's own Cholesky (as lean as the front-end's "
+          "solves); gamma's Gdot and d/ds c_t from the mechanism when it "
           "gives them, else by the fourth-order central difference along (1, v) the "
           "front-end uses (4 calls of jacobian or constraint_t). The reference: rk8pd on the "
           "same index-1 ODE at tolerance %.0e (absolute and relative); its spread: max_j "

@@ -15,46 +15,45 @@
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
 #include <gsl/gsl_odeiv2.h>
+
+#include "core/lu.h"
 
 static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
 static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
 #define FD_STEP 7.4e-4                                  /* DBL_EPSILON^(1/5) */
 
-/* The KKT matrix goes to GSL's banded LU with the full band, lb = ub = n_k - 1: its dense
- * gsl_linalg_LU_decomp allocates its pivots on every call, the banded one works in the
- * caller's memory (as the library's own src/core/lu.c). GSL's band format: row j holds column
- * j, AB[j][lb + ub + i - j] = K[i][j], its first lb cells left for the fill-in. */
+/* The saddle-point system [M G^T; G 0] [a; lambda] = [F; -gamma] by its Schur complement, in
+ * the library's own written-out Cholesky (src/core/lu.c), as lean as the front-end's solves
+ * (GSL's banded LU, used here before, took three quarters of this step in BLAS calls and views
+ * for these small systems): M = L L^T, Y = M^-1 G^T, S = G Y, S lambda = G M^-1 F + gamma,
+ * a = M^-1 F - Y lambda. It needs M positive definite (the library needs its reduced mass
+ * positive definite only). */
 struct index1 {
   sdae_mbs sys;
-  size_t n_q, n_c, n_k;  /* n_k = n_q + n_c, the KKT system's size */
-  size_t ld;             /* the band's row length, 3 n_k - 2 */
-  double *K, *rhs, *sol; /* K: the band, n_k x ld, factored in place */
-  unsigned *piv;
+  size_t n_q, n_c;
+  double *S, *Y, *lambda; /* n_c x n_c (factored in place), n_c x n_q (rows M^-1 G_r^T), n_c */
   double *M, *F, *G, *Gs, *gamma, *g, *ct;
   double *qs;                      /* a stencil point, or a stage's q */
   double *kq[4], *kv[4], *sq, *sv; /* RK4's stage rates and stage state */
-  double *block;                   /* every array above but piv, one allocation */
+  double *block;                   /* every array above, one allocation */
 };
 
 index1 *index1_alloc(const sdae_mbs *sys) {
-  size_t n = sys->n_q, m = sys->n_c, nk = n + m;
+  size_t n = sys->n_q, m = sys->n_c;
   if (!sys->mass || !sys->force || !sys->jacobian || m == 0 || m >= n) return NULL;
   index1 *w = calloc(1, sizeof *w);
-  size_t ld = 3 * nk - 2;
-  /* K, rhs, sol, M, F, G, Gs, gamma, g, ct, qs, kq[4], kv[4], sq, sv */
-  size_t total = nk * ld + 2 * nk + n * n + n + 2 * m * n + 3 * m + n + 8 * n + 2 * n;
-  if (!w || !(w->block = malloc(total * sizeof(double))) ||
-      !(w->piv = malloc(nk * sizeof *w->piv))) {
+  /* S, Y, lambda, M, F, G, Gs, gamma, g, ct, qs, kq[4], kv[4], sq, sv */
+  size_t total = m * m + m * n + m + n * n + n + 2 * m * n + 3 * m + n + 8 * n + 2 * n;
+  if (!w || !(w->block = malloc(total * sizeof(double)))) {
     index1_free(w);
     return NULL;
   }
-  w->sys = *sys, w->n_q = n, w->n_c = m, w->n_k = nk, w->ld = ld;
+  w->sys = *sys, w->n_q = n, w->n_c = m;
   double *p = w->block;
-  w->K = p, p += nk * ld;
-  w->rhs = p, p += nk;
-  w->sol = p, p += nk;
+  w->S = p, p += m * m;
+  w->Y = p, p += m * n;
+  w->lambda = p, p += m;
   w->M = p, p += n * n;
   w->F = p, p += n;
   w->G = p, p += m * n;
@@ -72,7 +71,6 @@ index1 *index1_alloc(const sdae_mbs *sys) {
 
 void index1_free(index1 *w) {
   if (!w) return;
-  free(w->piv);
   free(w->block);
   free(w);
 }
@@ -150,49 +148,37 @@ static int gamma_at(index1 *w, double t, const double *q, const double *v) {
   return 0;
 }
 
-/* K[i][j] into the band */
-static void put(index1 *w, size_t i, size_t j, double x) {
-  w->K[j * w->ld + 2 * (w->n_k - 1) + i - j] = x;
-}
-
+/* The Schur complement's solve (above): M and S factored by Cholesky; -1 when either is not
+ * positive definite to working precision */
 int index1_accel(index1 *w, double t, const double *q, const double *v, double *a) {
   const sdae_mbs *s = &w->sys;
-  size_t n = w->n_q, m = w->n_c, nk = w->n_k, lb = nk - 1;
-  double scale = 0.0;
+  size_t n = w->n_q, m = w->n_c;
   int rc;
   if ((rc = s->mass(t, q, w->M, s->params)) != 0 ||
       (rc = s->force(t, q, v, w->F, s->params)) != 0 ||
       (rc = s->jacobian(t, q, w->G, s->params)) != 0 || (rc = gamma_at(w, t, q, v)) != 0)
     return rc;
-  /* [M G^T; G 0] and [F; -gamma]; the band's cells outside K zero, as GSL's elimination reads
-   * them */
-  memset(w->K, 0, nk * w->ld * sizeof *w->K);
-  for (size_t i = 0; i < n; i++) {
-    for (size_t j = 0; j < n; j++) {
-      put(w, i, j, w->M[i * n + j]);
-      scale = max_abs(scale, w->M[i * n + j]);
+  if (sdae__cholesky_factor(w->M, n) != 0) return -1;
+  memcpy(a, w->F, n * sizeof *a);
+  sdae__cholesky_solve(w->M, n, a); /* a = M^-1 F */
+  for (size_t r = 0; r < m; r++) {  /* Y's row r = M^-1 G_r^T; S's row r = G Y_r */
+    double *y = w->Y + r * n;
+    memcpy(y, w->G + r * n, n * sizeof *y);
+    sdae__cholesky_solve(w->M, n, y);
+    w->lambda[r] = w->gamma[r];
+    for (size_t j = 0; j < n; j++) w->lambda[r] += w->G[r * n + j] * a[j];
+    for (size_t c = 0; c <= r; c++) { /* symmetric: the lower triangle, mirrored */
+      double acc = 0.0;
+      for (size_t j = 0; j < n; j++) acc += w->G[c * n + j] * y[j];
+      w->S[r * m + c] = w->S[c * m + r] = acc;
     }
-    w->rhs[i] = w->F[i];
   }
-  for (size_t r = 0; r < m; r++) {
-    for (size_t j = 0; j < n; j++) {
-      double g = w->G[r * n + j];
-      put(w, n + r, j, g);
-      put(w, j, n + r, g);
-      scale = max_abs(scale, g);
-    }
-    w->rhs[n + r] = -w->gamma[r];
-  }
-  gsl_matrix_view K = gsl_matrix_view_array(w->K, nk, w->ld);
-  gsl_vector_uint_view P = gsl_vector_uint_view_array(w->piv, nk);
-  gsl_vector_view b = gsl_vector_view_array(w->rhs, nk), x = gsl_vector_view_array(w->sol, nk);
-  gsl_linalg_LU_band_decomp(nk, lb, lb, &K.matrix, &P.vector);
-  /* U's diagonal in column lb + ub: a pivot at n_k eps of K's largest entry is a singular K
-   * (the library's test); NaN fails it too */
-  for (size_t j = 0; j < nk; j++)
-    if (!(fabs(w->K[j * w->ld + 2 * lb]) > (double)nk * DBL_EPSILON * scale)) return -1;
-  gsl_linalg_LU_band_solve(lb, lb, &K.matrix, &P.vector, &b.vector, &x.vector);
-  memcpy(a, w->sol, n * sizeof *a);
+  if (sdae__cholesky_factor(w->S, m) != 0) return -1;
+  sdae__cholesky_solve(w->S, m, w->lambda);
+  for (size_t r = 0; r < m; r++)
+    for (size_t j = 0; j < n; j++) a[j] -= w->Y[r * n + j] * w->lambda[r];
+  for (size_t j = 0; j < n; j++)
+    if (!isfinite(a[j])) return -1;
   return 0;
 }
 

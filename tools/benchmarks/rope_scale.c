@@ -1,0 +1,149 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* rope_scale: a step's cost against the size of a mechanism, the rope of examples/models/rope.h
+ * (N point masses on unit rods hung from the origin, 2N Cartesian coordinates, N constraints,
+ * exact derivatives, M and G by their patterns), from N = 8 up: the front-end's rk4 step beside
+ * the classical RK4 on the index-1 form from the same callbacks (index1_rk4.c), T = 1e-3,
+ * median CPU time of the thread over the repetitions, and max abs(c) over the front-end's run.
+ * A Markdown table on stdout, one row per N, and the growth exponent between successive N.
+ *
+ *   rope_scale [--max-n N (8..4096, default 128)] [--reps R (1..15, default 5)]
+ *              [--budget S (seconds of CPU per stepper and N, default 0.5)] */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <stabdae/mbs.h>
+
+#include "index1_rk4.h"
+#include "measure.h"
+#include "rope.h"
+
+static const double T = 1e-3;
+
+static double thread_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+typedef int (*step_fn)(void *stepper, double t, double *q, double *v);
+
+static int frontend(void *s, double t, double *q, double *v) {
+  return sdae_mbs_step(s, t, T, q, v);
+}
+
+static int baseline(void *w, double t, double *q, double *v) {
+  return index1_rk4_step(w, t, T, q, v);
+}
+
+/* max abs(c) at q into *c_max, c (n_c values) the caller's */
+static int track_c(const sdae_mbs *sys, const double *q, double *c, double *c_max) {
+  int rc = sys->constraint(0.0, q, c, sys->params);
+  for (size_t j = 0; rc == 0 && j < sys->n_c; j++) *c_max = fmax(*c_max, fabs(c[j]));
+  return rc;
+}
+
+/* steps from the rope's start; the seconds per step, and max abs(c) over them when c_max (its
+ * evaluations inside the timing: only the untimed warm-up asks for it) */
+static int run(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, size_t steps,
+               double *per_step, double *c_max) {
+  size_t n = 2 * r->N;
+  double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), *c = malloc(sys->n_c * sizeof *c);
+  double t0;
+  int rc = q && v && c ? 0 : -1;
+  if (rc == 0) mech_rope_start(r, 0.3, q, v);
+  if (c_max) *c_max = 0.0;
+  t0 = thread_seconds();
+  for (size_t k = 0; k < steps && rc == 0; k++) {
+    rc = step(s, (double)k * T, q, v);
+    if (c_max && rc == 0) rc = track_c(sys, q, c, c_max);
+  }
+  *per_step = (thread_seconds() - t0) / (double)steps;
+  free(q), free(v), free(c);
+  return rc;
+}
+
+/* the median seconds per step over reps runs (a warm-up first, which measures max abs(c)), as
+ * many steps a run as fit the budget by the warm-up's single step */
+static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, int reps,
+                 double budget, double *median, double *c_max) {
+  double probe, t[15];
+  size_t steps;
+  int rc = run(step, s, r, sys, 1, &probe, NULL);
+  steps = probe > 0.0 ? (size_t)fmax(1.0, fmin(2000.0, budget / (reps * probe))) : 2000;
+  if (rc == 0) rc = run(step, s, r, sys, steps, &t[0], c_max);
+  for (int i = 0; i < reps && rc == 0; i++) rc = run(step, s, r, sys, steps, &t[i], NULL);
+  qsort(t, (size_t)reps, sizeof *t, cmp_double);
+  *median = t[reps / 2];
+  return rc;
+}
+
+/* the front-end steps the rope given by its patterns, the baseline (dense algebra) the same rope
+ * given densely */
+static int row(size_t N, int reps, double budget, double *us_front, double *us_rk4) {
+  mech_rope r = {.N = N, .L = 1.0, .m = 1.0, .ga = 9.81, .sparse = 1}, rd = r;
+  sdae_mbs sys, dense;
+  sdae_options o;
+  sdae_mbs_stepper *s = NULL;
+  index1 *w = NULL;
+  double c_front, c_rk4;
+  int rc = mech_rope_system(&sys, &r);
+  rd.sparse = 0;
+  if (rc == 0) rc = mech_rope_system(&dense, &rd);
+  sdae_options_default(&o);
+  o.map = sdae_map_rk4, o.delta = 2.0, o.epsilon = 1.0;
+  if (rc == 0) rc = sdae_mbs_stepper_alloc(&s, &sys, &o);
+  if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_front, &c_front);
+  if (rc == 0 && !(w = index1_alloc(&dense))) rc = -1;
+  if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, us_rk4, &c_rk4);
+  if (rc == 0)
+    printf("| %zu | %zu | %zu | %.1f | %.1f | %.1fx | %.1e | %.1e | %zu |\n", N, 2 * N,
+           sdae_mbs_stepper_size(&sys, &o), 1e6 * *us_front, 1e6 * *us_rk4, *us_front / *us_rk4,
+           c_front, c_rk4, sdae_mbs_state_size(s));
+  sdae_mbs_stepper_free(s);
+  index1_free(w);
+  mech_rope_free(&r);
+  mech_rope_free(&rd);
+  return rc;
+}
+
+int main(int argc, char **argv) {
+  double max_n = 128, reps = 5, budget = 0.5, prev = 0.0;
+  for (int i = 1; i < argc; i += 2) {
+    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+    int rc;
+    if (!v) return wp_bad("rope_scale", "a flag without its value: ", argv[i]);
+    if (strcmp(argv[i], "--max-n") == 0)
+      rc = wp_parse_positive("rope_scale", "--max-n", v, 4096, &max_n);
+    else if (strcmp(argv[i], "--reps") == 0)
+      rc = wp_parse_positive("rope_scale", "--reps", v, WP_MAX_REPS, &reps);
+    else if (strcmp(argv[i], "--budget") == 0)
+      rc = wp_parse_positive("rope_scale", "--budget", v, 600, &budget);
+    else
+      return wp_bad("rope_scale", "unknown flag: ", argv[i]);
+    if (rc != 0) return rc;
+  }
+  if (max_n < 8) return wp_bad("rope_scale", "--max-n below 8: ", "the smallest rope");
+  printf("| N | coordinates | stepper bytes | stabdae rk4, us/step | index-1 RK4, us/step | "
+         "ratio | stabdae max abs(c) | RK4 max abs(c) | state bytes |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t N = 8; N <= (size_t)max_n; N *= 2) {
+    double front, rk4;
+    if (row(N, (int)reps, budget, &front, &rk4) != 0) {
+      fprintf(stderr, "rope_scale: N = %zu failed\n", N);
+      return 1;
+    }
+    if (prev > 0.0)
+      fprintf(stderr, "rope_scale: N = %zu: growth exponent %.2f\n", N, log2(front / prev));
+    prev = front;
+  }
+  return 0;
+}
