@@ -702,6 +702,34 @@ START_TEST(mbs_stepper_alloc_sweep) {
 }
 END_TEST
 
+/* a sparse mechanism in its own coordinates (a rope of 64 masses, rk4, through chart switches
+ * of its swing): its steps take no allocation either, its block from the caller's allocator */
+#include "rope.h"
+START_TEST(mbs_sparse_steps_take_no_allocation) {
+  mech_rope r = {.N = 64, .L = 1.0, .m = 1.0, .ga = 9.81, .sparse = 1};
+  counting_allocator ca = {0};
+  sdae_allocator h = allocator_of(&ca);
+  sdae_options o = quartic_options(sdae_map_rk4, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  double q[128], v[128];
+  int rc = SDAE_OK;
+  ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &h), SDAE_OK);
+  ck_assert_int_eq(mech_rope_start(&r, 0.3, q, v), 0);
+  long calls_before = ca.calls;
+  start_counting(0);
+  for (int k = 0; k < 200 && rc == SDAE_OK; k++) rc = sdae_mbs_step(s, k * 1e-2, 1e-2, q, v);
+  stop_counting();
+  ck_assert_int_eq(rc, SDAE_OK);
+  if (!malloc_unseen("no malloc in a sparse sdae_mbs_step")) ck_assert_int_eq(allocations, 0);
+  ck_assert_int_eq(ca.calls, calls_before);
+  sdae_mbs_stepper_free(s);
+  ck_assert_int_eq(ca.live, 0);
+  mech_rope_free(&r);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("alloc");
   interposed = malloc_is_interposed();
@@ -715,6 +743,7 @@ int main(void) {
   ADD_CASE(s, check_model_with_sweep);
   ADD_CASE(s, hook_guards);
   ADD_CASE(s, mbs_stepper_alloc_sweep);
+  ADD_CASE(s, mbs_sparse_steps_take_no_allocation);
   ADD_CASE(s, dae_model_alloc_sweep);
   ADD_CASE(s, dae_model_alloc_with_sweep);
   return run_suite(s);

@@ -29,6 +29,7 @@ static void factored_init(factored *f, size_t m, size_t n, size_t nnz) {
   ck_assert_ptr_nonnull(f->mem);
   a = (sdae_arena){.base = f->mem};
   sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
+  f->lu.leaf_first = 1; /* as a chart's */
 }
 
 /* a rope of N links (closed: N + 1) at a random configuration, its G's values */
@@ -220,8 +221,9 @@ START_TEST(refactor_keeps_the_pivots) {
   ck_assert_mem_eq(pivots, f.lu.pivot, m * sizeof *pivots);
   double *A = dense(&h.r.jacobian_pattern, h.G, m, n);
   against_dense(&f.lu, A, rng);
-  /* the first link's pivot column is x_1 or y_1, its value in G the coordinate itself: zero it */
-  h.q[pivots[0]] = 0.0;
+  /* the first link's row (G's row 0 = (x_1, y_1), the coordinates themselves): zero its pivot's */
+  for (size_t k = 0; k < m; k++)
+    if (f.lu.order[k] == 0) h.q[pivots[k]] = 0.0;
   ck_assert_int_eq(h.sys.jacobian(0.0, h.q, h.G, h.sys.params), 0);
   ck_assert_int_eq(sdae__sparse_lu_refactor(&f.lu, &h.r.jacobian_pattern, h.G), SDAE_ERR_RANK);
   free(A), free(f.mem);

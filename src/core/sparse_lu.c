@@ -16,7 +16,8 @@
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a) {
   size_t cap =
       nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
-  lu->m = m, lu->n = n, lu->cap = cap;
+  lu->m = m, lu->n = n, lu->cap = cap, lu->diagonal = 0, lu->leaf_first = 0;
+  lu->order = sdae__take_indices(a, m);
   lu->pivot = sdae__take_indices(a, m);
   lu->row_of = sdae__take_indices(a, n);
   lu->u_start = sdae__take_indices(a, m + 1);
@@ -34,9 +35,17 @@ void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, s
   lu->pending = sdae__take_array(a, m, 1, 1);
   lu->w = sdae__take(a, m, 1);
   lu->v = sdae__take(a, m, 1);
+  lu->t_start = sdae__take_indices(a, n + 1);
+  lu->t_row = sdae__take_indices(a, nnz);
+  lu->queue = sdae__take_indices(a, 2 * n); /* a column leaves one row at most twice */
+  lu->done = sdae__take_array(a, m, 1, 1);
 }
 
 /* ---- the elimination of one row ---- */
+
+/* the larger of m and |x|, written out: fmax is a call (its NaN rules) on every entry's path,
+ * and the values here are finite (a callback's, checked) */
+static double max_abs(double m, double x) { return fabs(x) > m ? fabs(x) : m; }
 
 /* the pending pivot rows, a binary heap with the smallest on top */
 static void heap_push(sdae_sparse_lu *lu, size_t *len, size_t k) {
@@ -74,18 +83,19 @@ static void touch(sdae_sparse_lu *lu, size_t r, size_t c, size_t *n_list, size_t
   }
 }
 
-/* Row r of A into x (its columns in list) with the rows before it taken out, smallest pivot
- * first (a row taken out adds its columns, among them later pivots), the multipliers into L's
- * row r; *scale the row's largest |value| in A. SDAE_ERR_CHART when L is full. */
+/* Step r: A's row order[r] into x (its columns in list) with the steps before it taken out,
+ * smallest pivot first (a step taken out adds its columns, among them later pivots), the
+ * multipliers into L's row r; *scale the row's largest |value| in A. SDAE_ERR_CHART when L is
+ * full. */
 static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, size_t r,
                      size_t *n_list, size_t *l_used, double *scale) {
-  size_t n_heap = 0;
+  size_t n_heap = 0, ar = lu->order[r];
   *n_list = 0, *scale = 0.0;
   lu->l_start[r] = *l_used;
-  for (size_t e = A->row_start[r]; e < A->row_start[r + 1]; e++) {
+  for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) {
     touch(lu, r, A->col[e], n_list, &n_heap);
     lu->x[A->col[e]] = values[e];
-    *scale = fmax(*scale, fabs(values[e]));
+    *scale = max_abs(*scale, values[e]);
   }
   while (n_heap > 0) {
     size_t k = heap_pop(lu, &n_heap), p = lu->pivot[k];
@@ -114,8 +124,16 @@ static int pick(const sdae_sparse_lu *lu, size_t r, size_t n_list, double scale,
   double big = 0.0;
   size_t best = lu->n;
   for (size_t i = 0; i < n_list; i++)
-    if (lu->row_of[lu->list[i]] >= r) big = fmax(big, fabs(lu->x[lu->list[i]]));
+    if (lu->row_of[lu->list[i]] >= r) big = max_abs(big, lu->x[lu->list[i]]);
   if (!(big > (double)lu->n * DBL_EPSILON * scale)) return SDAE_ERR_RANK;
+  if (lu->diagonal) { /* A's own row order[r]'s diagonal */
+    size_t d = lu->order[r];
+    if (d < lu->n && lu->in_row[d] && lu->row_of[d] >= r &&
+        fabs(lu->x[d]) > (double)lu->n * DBL_EPSILON * scale) {
+      *p = d;
+      return SDAE_OK;
+    }
+  }
   for (size_t i = 0; i < n_list; i++) {
     size_t c = lu->list[i];
     double v = fabs(lu->x[c]);
@@ -147,21 +165,65 @@ static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t *u_used) {
   return rc;
 }
 
-/* the factorization, the pivots chosen (choose) or kept */
+/* ---- the rows' order ---- */
+
+/* A^T's pattern: the rows holding each column, and the columns only one row holds queued */
+static void leaves_init(sdae_sparse_lu *lu, const sdae_pattern *A, size_t *n_queue) {
+  size_t n = lu->n, *at = lu->t_start;
+  memset(at, 0, (n + 1) * sizeof *at);
+  for (size_t e = 0; e < A->nnz; e++) at[A->col[e] + 1]++;
+  for (size_t c = 0; c < n; c++) at[c + 1] += at[c];
+  for (size_t r = 0; r < lu->m; r++) /* at[c] moves on as column c's rows are written */
+    for (size_t e = A->row_start[r]; e < A->row_start[r + 1]; e++) lu->t_row[at[A->col[e]]++] = r;
+  for (size_t c = n; c > 0; c--) at[c] = at[c - 1]; /* each now at the next column's start */
+  at[0] = 0;
+  memset(lu->done, 0, lu->m);
+  *n_queue = 0;
+  for (size_t c = 0; c < n; c++)
+    if (lu->count[c] == 1) lu->queue[(*n_queue)++] = lu->t_row[at[c]];
+}
+
+/* the next row: a queued leaf not taken yet, else the first row not taken */
+static size_t next_row(sdae_sparse_lu *lu, size_t *n_queue, size_t *first) {
+  while (*n_queue > 0) {
+    size_t r = lu->queue[--*n_queue];
+    if (!lu->done[r]) return r;
+  }
+  while (lu->done[*first]) ++*first;
+  return *first;
+}
+
+/* A's row ar taken: its columns' counts of rows to come, and a column left to one row queues
+ * that row */
+static void taken(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar, size_t *n_queue) {
+  lu->done[ar] = 1;
+  for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) {
+    size_t c = A->col[e];
+    if (--lu->count[c] != 1 || !lu->leaf_first) continue;
+    for (size_t k = lu->t_start[c]; k < lu->t_start[c + 1]; k++)
+      if (!lu->done[lu->t_row[k]]) lu->queue[(*n_queue)++] = lu->t_row[k];
+  }
+}
+
+/* the factorization, the order and the pivots chosen (choose) or kept */
 static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, int choose) {
-  size_t m = lu->m, l_used = 0, u_used = 0;
+  size_t m = lu->m, l_used = 0, u_used = 0, n_queue = 0, first = 0;
   int rc = SDAE_OK;
   lu->l_start[0] = lu->u_start[0] = 0;
   if (choose) {
     for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = m, lu->count[c] = 0;
     for (size_t e = 0; e < A->nnz; e++) lu->count[A->col[e]]++;
+    leaves_init(lu, A, &n_queue);
+    if (!lu->leaf_first) n_queue = 0;
   }
   for (size_t r = 0; r < m && rc == SDAE_OK; r++) {
     size_t n_list, p = lu->pivot[r];
     double scale;
+    if (choose) {
+      lu->order[r] = next_row(lu, &n_queue, &first);
+      taken(lu, A, lu->order[r], &n_queue); /* the counts: the rows to come */
+    }
     rc = eliminate(lu, A, values, r, &n_list, &l_used, &scale);
-    for (size_t e = A->row_start[r]; choose && e < A->row_start[r + 1]; e++)
-      lu->count[A->col[e]]--; /* the rows to come */
     if (rc == SDAE_OK && choose && (rc = pick(lu, r, n_list, scale, &p)) == SDAE_OK)
       lu->pivot[r] = p, lu->row_of[p] = r;
     if (rc == SDAE_OK && !choose && !(fabs(lu->x[p]) > (double)lu->n * DBL_EPSILON * scale))
@@ -210,8 +272,8 @@ static void forward_t(const sdae_sparse_lu *lu, double *w) {
 
 void sdae__sparse_lu_solve(sdae_sparse_lu *lu, const double *b, double *x) {
   double *y = lu->w;
-  for (size_t r = 0; r < lu->m; r++) { /* y = L^-1 b */
-    double s = b[r];
+  for (size_t r = 0; r < lu->m; r++) { /* y = L^-1 b, b's rows in the steps' order */
+    double s = b[lu->order[r]];
     for (size_t e = lu->l_start[r]; e < lu->l_start[r + 1]; e++)
       s -= lu->l_val[e] * y[lu->l_col[e]];
     y[r] = s;
@@ -226,7 +288,7 @@ void sdae__sparse_lu_solve_t(sdae_sparse_lu *lu, const double *c, double *y) {
   for (size_t r = lu->m; r-- > 0;) /* y = L^-T w in place, from the last row */
     for (size_t e = lu->l_start[r]; e < lu->l_start[r + 1]; e++)
       w[lu->l_col[e]] -= lu->l_val[e] * w[r];
-  memcpy(y, w, lu->m * sizeof *y);
+  for (size_t r = 0; r < lu->m; r++) y[lu->order[r]] = w[r]; /* by A's rows */
 }
 
 void sdae__sparse_lu_times_b(sdae_sparse_lu *lu, const double *x, double *out) {

@@ -8,11 +8,15 @@
  *
  *   A = L U,   A_D = L U_D,   B = A_D^-1 A_I = U_D^-1 U_I,
  *
- * U_D (U's pivot columns, in pivot order) upper triangular. The pivot of row r is, among its
+ * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order of
+ * their own (leaf_first: a row holding a column no row still to come holds, whenever there is
+ * one, as a chain's outer link before the link inside it, so that a pivot there is never taken
+ * out again; A's own order otherwise). The pivot of row r is, among its
  * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
  * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
  * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its
- * value, so the factors' structure is set by A's pattern and the pivots alone, and a
+ * value (nor is a zero kept out), so the factors' structure is set by A's pattern and the
+ * pivots alone, and a
  * refactorization with the pivots kept fills the same places. Every array is carved when the
  * owner is built: SDAE_ERR_CHART when the factors would need more than their reserve
  * (SDAE_SPARSE_LU_FILL). */
@@ -31,8 +35,14 @@
 
 typedef struct sdae_sparse_lu {
   size_t m, n, cap;
-  /* the pivots: row k's column, and a column's row (or m: none) */
-  size_t *pivot, *row_of;
+  /* a square symmetric quasi-definite matrix (a saddle-point system [M G^T; G 0], M positive
+   * definite, its coordinates first): row r pivots on its diagonal whenever that is not at
+   * rounding, as an LDL^T factorization without pivoting does (stable for such matrices, and
+   * its fill is the symmetric one); the owner sets it after the carve */
+  int diagonal;
+  int leaf_first; /* the rows' order chosen (above); the owner sets it after the carve */
+  /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
+  size_t *order, *pivot, *row_of;
   /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's
    * strictly lower rows (the multipliers l_rk, by k) */
   size_t *u_start, *u_col, *u_diag;
@@ -44,6 +54,11 @@ typedef struct sdae_sparse_lu {
   double *x;
   size_t *list, *heap, *count;
   unsigned char *in_row, *pending;
+  /* the order's: A^T's pattern (the rows holding each column), the rows taken, the leaves
+   * (2 n: each column queues a row when A holds it in one row, and when the rows taken leave it
+   * in one) */
+  size_t *t_start, *t_row, *queue;
+  unsigned char *done;
   double *w, *v; /* m each: the solves', the estimate's */
 } sdae_sparse_lu;
 
@@ -56,7 +71,7 @@ int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const doub
 /* A factored again with the pivots kept (A's values changed, not its pattern): SDAE_ERR_RANK
  * when a pivot falls to rounding */
 int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);
-/* x = A_D^-1 b: b by A's rows, x by pivot (x[k] belongs to column pivot[k]) */
+/* x = A_D^-1 b: b by A's rows, x by step (x[k] belongs to column pivot[k]) */
 void sdae__sparse_lu_solve(sdae_sparse_lu *lu, const double *b, double *x);
 /* y = A_D^-T c: c by pivot, y by A's rows */
 void sdae__sparse_lu_solve_t(sdae_sparse_lu *lu, const double *c, double *y);

@@ -26,10 +26,15 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
  * own rule) */
 static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   sdae__mbs_eval_carve(&s->eval, a);
-  sdae__mbs_chart_carve(&s->chart, a);
-  sdae__mbs_coords_carve(&s->coords, a);
+  if (s->sparse) { /* the dense parts not carved: their arrays grow with n_q^2 */
+    sdae__mbs_sparse_carve(&s->sp, a);
+    sdae__mbs_sparse_query_carve(&s->sq, &s->sp, a);
+  } else {
+    sdae__mbs_chart_carve(&s->chart, a);
+    sdae__mbs_coords_carve(&s->coords, a);
+    sdae__mbs_query_carve(&s->query, s->n_q, s->n_c, a);
+  }
   sdae__mbs_model_carve(&s->nf, a);
-  sdae__mbs_query_carve(&s->query, s->n_q, s->n_c, a);
   s->xi = sdae__take(a, 2 * s->n_c, 1);
   s->mu = sdae__take(a, 2 * s->n_f, 1);
   s->rollback = sdae__take_array(a, sdae__mbs_parts_bytes(s), 1, 1);
@@ -51,7 +56,10 @@ static void wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o
   sdae__mbs_eval_init(&s->eval, sys);
   sdae__mbs_chart_init(&s->chart, s->n_q, s->n_c);
   sdae__mbs_coords_init(&s->coords, &s->eval, &s->chart, o->newton_max_iter);
-  sdae__mbs_model_init(&s->nf, &s->eval, &s->coords);
+  s->sparse = sdae__mbs_sparse_applies(sys, o);
+  s->eval.matrices = !s->sparse;
+  if (s->sparse) sdae__mbs_sparse_init(&s->sp, &s->eval, o->newton_max_iter);
+  sdae__mbs_model_init(&s->nf, &s->eval, &s->coords, s->sparse ? &s->sp : NULL);
 }
 
 /* the block's bytes (with room to align a caller's block) and the normal form's stepper's */
@@ -123,9 +131,9 @@ void sdae_mbs_stepper_free(sdae_mbs_stepper *s) {
 
 void sdae__mbs_stepper_gather(sdae_mbs_stepper *s) {
   s->stats.step = *sdae_stepper_stats(s->inner);
-  s->stats.chart_switches = s->chart.switches;
-  s->stats.phi_inv_iters = s->coords.phi_inv_iters;
-  s->stats.chart_measure = s->chart.measure;
+  s->stats.chart_switches = s->sparse ? s->sp.switches : s->chart.switches;
+  s->stats.phi_inv_iters = s->sparse ? s->sp.phi_inv_iters : s->coords.phi_inv_iters;
+  s->stats.chart_measure = s->sparse ? s->sp.measure : s->chart.measure;
 }
 
 /* what coords and the normal form keep (Phi^-1's configuration, q0 at a (t, mu)) came from an
@@ -133,16 +141,23 @@ void sdae__mbs_stepper_gather(sdae_mbs_stepper *s) {
  * without it, and a failed one leaves none of its own behind */
 static void forget(sdae_mbs_stepper *s) {
   sdae__mbs_coords_forget(&s->coords);
+  if (s->sparse) sdae__mbs_sparse_forget(&s->sp);
   sdae__mbs_model_forget(&s->nf);
 }
 
-/* the energy-conserving maps need time-independent constraints */
+/* the energy-conserving maps need time-independent constraints (implicit maps: never sparse) */
 static int energy_map_ok(const sdae_mbs_stepper *s) {
   if (!s->energy_map) return SDAE_OK;
   for (size_t j = 0; j < s->n_c; j++)
     if (s->coords.ct[j] != 0.0) return SDAE_ERR_MAP;
   return SDAE_OK;
 }
+
+static unsigned long switches(const sdae_mbs_stepper *s) {
+  return s->sparse ? s->sp.switches : s->chart.switches;
+}
+
+static int kept(const sdae_mbs_stepper *s) { return s->sparse ? s->sp.kept : s->chart.kept; }
 
 /* the normal form's step; a failing callback of it reports the front-end's own status */
 static int normal_step(sdae_mbs_stepper *s, double t, double T) {
@@ -155,8 +170,8 @@ static int normal_step(sdae_mbs_stepper *s, double t, double T) {
 
 /* a new chart: mu is other coordinates, the Newton matrix kept by the normal form's stepper
  * (a function of mu) is not theirs */
-static int chart_news(sdae_mbs_stepper *s, unsigned long switches) {
-  if (s->chart.switches != switches) sdae__stepper_newton_forget(s->inner);
+static int chart_news(sdae_mbs_stepper *s, unsigned long before) {
+  if (switches(s) != before) sdae__stepper_newton_forget(s->inner);
   return SDAE_OK;
 }
 
@@ -167,17 +182,44 @@ static int at_floors(const sdae_mbs_stepper *s) {
   return 1;
 }
 
+/* try_step's start for a sparse mechanism: xi, the chart, mu and the floors by mbs_sparse */
+static int sparse_start(sdae_mbs_stepper *s, double t, const double *q, const double *v,
+                        int force_best) {
+  unsigned long before = s->sp.switches;
+  int rc;
+  if ((rc = sdae__mbs_sparse_xi(&s->sp, t, q, v, s->xi)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_choose(&s->sp, force_best)) != SDAE_OK ||
+      (rc = chart_news(s, before)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_begin(&s->sp, t, q, v, s->mu)) != SDAE_OK)
+    return rc;
+  sdae__mbs_sparse_floors(&s->sp, q, v, s->nf.floor);
+  forget(s);
+  if (at_floors(s) && (rc = sdae__mbs_sparse_seed(&s->sp, t, q, v, s->mu)) != SDAE_OK) return rc;
+  return SDAE_OK;
+}
+
+static int sparse_try_step(sdae_mbs_stepper *s, double t, double T, const double *q,
+                           const double *v, int force_best) {
+  int rc;
+  s->nf.status = SDAE_OK;
+  if ((rc = sparse_start(s, t, q, v, force_best)) != SDAE_OK ||
+      (rc = normal_step(s, t, T)) != SDAE_OK)
+    return rc;
+  return sdae__mbs_sparse_phi_inv_state(&s->sp, t + T, s->xi, s->mu);
+}
+
 /* (q, v) -> xi, the chart (the best one with force_best), mu -> one step -> Phi^-1 at t + T;
  * on the manifold the state is the first evaluation's Phi^-1(t, 0, mu) */
 static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v,
                     int force_best) {
-  unsigned long switches = s->chart.switches;
+  unsigned long before = s->chart.switches;
   int rc;
+  if (s->sparse) return sparse_try_step(s, t, T, q, v, force_best);
   s->nf.status = SDAE_OK;
   if ((rc = sdae__mbs_coords_xi(&s->coords, t, q, v, s->xi)) != SDAE_OK ||
       (rc = energy_map_ok(s)) != SDAE_OK ||
       (rc = sdae__mbs_chart_choose(&s->chart, s->coords.G, force_best)) != SDAE_OK ||
-      (rc = chart_news(s, switches)) != SDAE_OK ||
+      (rc = chart_news(s, before)) != SDAE_OK ||
       (rc = sdae__mbs_coords_begin(&s->coords, t, q, v, s->mu)) != SDAE_OK)
     return rc;
   sdae__mbs_coords_floors(&s->coords, q, v, s->nf.floor);
@@ -195,15 +237,15 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
   if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK) return rc;
   sdae__mbs_rollback_save(s);
   rc = try_step(s, t, T, q, v, 0);
-  if (rc == SDAE_ERR_PHI_INV && s->chart.kept) {
+  if (rc == SDAE_ERR_PHI_INV && kept(s)) {
     /* the chart kept by hysteresis folds within the step: once more in the best one, counted
      * as the one step it is (the first try's work is not kept, as a failed step's is not) */
     sdae__mbs_rollback(s);
     rc = try_step(s, t, T, q, v, 1);
   }
   if (rc == SDAE_OK) {
-    memcpy(q, s->coords.q, s->n_q * sizeof *q);
-    memcpy(v, s->coords.v, s->n_q * sizeof *v);
+    memcpy(q, s->sparse ? s->sp.q : s->coords.q, s->n_q * sizeof *q);
+    memcpy(v, s->sparse ? s->sp.v : s->coords.v, s->n_q * sizeof *v);
   } else {
     sdae__mbs_rollback(s);
   }
@@ -248,6 +290,7 @@ void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   if (!s) return;
   s->chart.switches = 0; /* the counters; the chart's measure is the current chart's */
   s->coords.phi_inv_iters = 0;
+  s->sp.switches = 0, s->sp.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
   sdae__mbs_stepper_gather(s);
 }
@@ -272,22 +315,30 @@ int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len) {
 
 int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
   if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
+  if (s->sparse) return sdae__mbs_sparse_query_xi(&s->sq, t, q, v, xi);
   return sdae__mbs_query_xi(&s->query, &s->eval, t, q, v, xi);
 }
 
 int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *E) {
   if (!s || !q || !v || !E) return SDAE_ERR_NULL;
+  if (s->sparse) return sdae__mbs_sparse_query_energy(&s->sq, t, q, v, E);
   return sdae__mbs_query_energy(&s->query, &s->eval, t, q, v, E);
 }
 
 int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                     double *lambda) {
   if (!s || !q || !v || !lambda) return SDAE_ERR_NULL;
+  if (s->sparse) return sdae__mbs_sparse_query_lambda(&s->sq, t, q, v, lambda);
   return sdae__mbs_query_lambda(&s->query, &s->eval, t, q, v, lambda);
 }
 
 int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
   if (!s || !dependent) return SDAE_ERR_NULL;
+  if (s->sparse) {
+    if (!s->sp.have) return SDAE_ERR_CHART;
+    sdae__mbs_sparse_chart(&s->sp, dependent);
+    return SDAE_OK;
+  }
   if (!s->chart.have) return SDAE_ERR_CHART;
   memcpy(dependent, s->chart.dep, s->n_c * sizeof *dependent);
   return SDAE_OK;

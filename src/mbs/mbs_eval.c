@@ -33,6 +33,7 @@ void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys) {
   e->sys = *sys;
   e->n_q = sys->n_q;
   e->n_c = sys->n_c;
+  e->matrices = 1;
 }
 
 /* a pattern of the mechanism copied into the block, with room for its values; from then on the
@@ -46,17 +47,17 @@ static void pattern_carve(const sdae_pattern **given, sdae_pattern *copy, double
 }
 
 void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
-  size_t n_q = e->n_q, n_c = e->n_c;
+  size_t n_q = e->n_q, n_c = e->n_c, m = e->matrices ? n_q : 0;
   e->jac_q = sdae__take(a, n_q, 1);
   e->jac_c = sdae__take(a, n_c, 1);
   e->ct_c = sdae__take(a, n_c, 1);
   e->along_q = sdae__take(a, n_q, 1);
-  e->along_G = sdae__take(a, n_c, n_q);
-  e->along_M = sdae__take(a, n_q, n_q);
+  e->along_G = sdae__take(a, n_c, m);
+  e->along_M = sdae__take(a, m, m);
   e->along_ct = sdae__take(a, n_c, 1);
-  e->along_Gdot = sdae__take(a, n_c, n_q);
+  e->along_Gdot = sdae__take(a, n_c, m);
   e->along_ctdot = sdae__take(a, n_c, 1);
-  e->t_Gdot = sdae__take(a, n_c, n_q);
+  e->t_Gdot = sdae__take(a, n_c, m);
   e->t_Mdv = sdae__take(a, n_q, 1);
   e->t_ctdot = sdae__take(a, n_c, 1);
   e->input = sdae__take(a, n_q, 1);
@@ -88,6 +89,27 @@ int sdae__mbs_mass(sdae_mbs_eval *e, double t, const double *q, double *M) {
   const sdae_pattern *p = e->sys.mass_pattern;
   int rc = e->sys.mass(t, q, target(p, e->mass_values, M), e->sys.params);
   return matrix_checked(rc, p, e->mass_values, e->n_q, e->n_q, M);
+}
+
+int sdae__mbs_mass_values(sdae_mbs_eval *e, double t, const double *q, double *values) {
+  return sdae__callback_checked(e->sys.mass(t, q, values, e->sys.params), values,
+                                e->sys.mass_pattern->nnz);
+}
+
+int sdae__mbs_jacobian_values(sdae_mbs_eval *e, double t, const double *q, double *values) {
+  return sdae__callback_checked(e->sys.jacobian(t, q, values, e->sys.params), values,
+                                e->sys.jacobian_pattern->nnz);
+}
+
+int sdae__mbs_jacobian_dot_values(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                                  double *values) {
+  return sdae__callback_checked(e->sys.jacobian_dot(t, q, v, values, e->sys.params), values,
+                                e->sys.jacobian_pattern->nnz);
+}
+
+int sdae__mbs_mass_dot_v(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                         double *out) {
+  return sdae__callback_checked(e->sys.mass_dot_v(t, q, v, out, e->sys.params), out, e->n_q);
 }
 
 int sdae__mbs_mass_symmetric(sdae_mbs_eval *e, double t, const double *q, double *M) {
@@ -274,6 +296,14 @@ static int differenced(sdae_mbs_eval *e, double t, const double *q, const double
   add(p->Mdv, e->t_Mdv, n_q);
   add(p->ctdot, e->t_ctdot, n_c);
   return SDAE_OK;
+}
+
+int sdae__mbs_ct_dot(sdae_mbs_eval *e, double t, const double *q, const double *v, double *out) {
+  const sdae_mbs *s = &e->sys;
+  along_parts p = {NULL, NULL, out};
+  if (s->constraint_t_dot)
+    return sdae__callback_checked(s->constraint_t_dot(t, q, v, out, s->params), out, e->n_c);
+  return differenced(e, t, q, v, &p);
 }
 
 /* Each derivative the mechanism gives replaces its stencil (docs/front-ends.md, the cost of a

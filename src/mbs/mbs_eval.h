@@ -23,6 +23,8 @@ typedef struct sdae_mbs_eval {
   double *along_Gdot, *along_ctdot;     /* gamma's Gdot and d/ds dc/dt */
   double *t_Gdot, *t_Mdv, *t_ctdot;     /* the stencils' parts along t alone, at late times */
   double *input;                        /* n_q: the forces from outside the Lagrangian */
+  int matrices; /* the stencils' matrices carved (G and M along the motion): not for a sparse
+                 * mechanism's coordinates, which read the derivatives given */
 } sdae_mbs_eval;
 
 /* the mechanism's patterns: SDAE_ERR_NULL for a Jacobian's without jacobian, SDAE_ERR_PATTERN
@@ -50,6 +52,16 @@ int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G);
 int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct);
 int sdae__mbs_potential(sdae_mbs_eval *e, double t, const double *q, double *V);
 int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D);
+
+/* a sparse mechanism's matrices as their nonzeros in pattern order (the patterns given), and
+ * (d/ds M) v, each callback given (mbs_sparse.c) */
+int sdae__mbs_mass_values(sdae_mbs_eval *e, double t, const double *q, double *values);
+int sdae__mbs_jacobian_values(sdae_mbs_eval *e, double t, const double *q, double *values);
+int sdae__mbs_jacobian_dot_values(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                                  double *values);
+int sdae__mbs_mass_dot_v(sdae_mbs_eval *e, double t, const double *q, const double *v, double *out);
+/* d/ds (dc/dt)(t + s, q + s v): constraint_t_dot, or the difference stencil (n_c values) */
+int sdae__mbs_ct_dot(sdae_mbs_eval *e, double t, const double *q, const double *v, double *out);
 
 /* derivatives along (1, v) in (t, q), v held fixed: Gdot = d/ds G (n_c x n_q), Mdv = (d/ds M) v
  * and gdot = d/ds (G v + dc/dt); each may be NULL (not wanted). The mechanism's jacobian_dot,

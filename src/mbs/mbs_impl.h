@@ -15,6 +15,8 @@
 #include "mbs_eval.h"
 #include "mbs_model.h"
 #include "mbs_query.h"
+#include "mbs_sparse.h"
+#include "mbs_sparse_query.h"
 
 struct sdae_mbs_stepper {
   sdae_options opt;
@@ -22,7 +24,10 @@ struct sdae_mbs_stepper {
   sdae_mbs_eval eval;
   sdae_mbs_atlas chart;
   sdae_mbs_coords coords;
-  sdae_mbs_model nf; /* the normal form in the current chart */
+  int sparse;               /* a sparse mechanism stepped by an explicit map: the coordinates */
+  sdae_mbs_sparse sp;       /* are sp's (mbs_sparse.h), not chart's and coords' */
+  sdae_mbs_sparse_query sq; /* and the quantities at a state sq's, not query's */
+  sdae_mbs_model nf;        /* the normal form in the current chart */
   sdae_mbs_query query;
   sdae_stepper *inner;     /* the normal form's stepper, in this block */
   sdae_block block;        /* what sdae_mbs_stepper_alloc_with allocated */

@@ -21,7 +21,12 @@ static int code(sdae_mbs_model *m, int rc) {
 
 static int rate(void *ctx, double t, const double *xi, const double *mu, double *out) {
   sdae_mbs_model *m = ctx;
-  int rc = sdae__mbs_phi_inv(m->co, t, xi, mu);
+  int rc;
+  if (m->sp) {
+    rc = sdae__mbs_sparse_phi_inv(m->sp, t, xi, mu);
+    return rc == SDAE_OK ? sdae__mbs_sparse_mu_dot(m->sp, t, out) : rc;
+  }
+  rc = sdae__mbs_phi_inv(m->co, t, xi, mu);
   return rc == SDAE_OK ? sdae__mbs_mu_dot(m->co, t, out) : rc;
 }
 
@@ -123,10 +128,12 @@ static int S(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co) {
+void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co,
+                          sdae_mbs_sparse *sp) {
   sdae_model *nf = &m->model;
   m->eval = eval;
   m->co = co;
+  m->sp = sp;
   m->n_q = co->n_q;
   m->n_c = co->n_c;
   m->n_f = co->n_f;
@@ -135,7 +142,7 @@ void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coord
   nf->n_mu = 2 * m->n_f;
   nf->q0 = q0;
   nf->Q_apply = Q_apply;
-  if (eval->sys.potential) {
+  if (eval->sys.potential && !sp) { /* the energy structure: the discrete gradients, never sparse */
     nf->H = H;
     nf->grad_H = grad_H;
     nf->S = S;
@@ -149,8 +156,8 @@ void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
   m->zero = sdae__take(a, 2 * m->n_c, 1);
   if (m->zero) /* NULL while the block is only counted */
     memset(m->zero, 0, 2 * m->n_c * sizeof *m->zero);
-  m->D = sdae__take(a, m->n_q, m->n_q);
-  m->R = sdae__take(a, m->n_f, m->n_f);
+  m->D = sdae__take(a, m->sp ? 0 : m->n_q, m->n_q); /* the energy structure's alone */
+  m->R = sdae__take(a, m->sp ? 0 : m->n_f, m->n_f);
   m->row = sdae__take(a, m->n_f, 1);
   m->F_in = sdae__take(a, m->n_q, 1);
   m->Bu = sdae__take(a, m->n_f, 1);

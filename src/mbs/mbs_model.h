@@ -11,6 +11,7 @@
 #include "core/arena.h"
 #include "mbs_coords.h"
 #include "mbs_eval.h"
+#include "mbs_sparse.h"
 #include "model/derive.h"
 
 typedef struct sdae_mbs_model {
@@ -18,6 +19,7 @@ typedef struct sdae_mbs_model {
   sdae_derive derive; /* q0 and Q from the mu-dynamics */
   sdae_mbs_eval *eval;
   sdae_mbs_coords *co;
+  sdae_mbs_sparse *sp; /* a sparse mechanism's coordinates (mbs_sparse.h), or NULL: co's */
   size_t n_q, n_c, n_f;
   int status;    /* the status behind the last failing callback of the normal form */
   double *zero;  /* 2 n_c zeros: xi on the manifold, where H and R are taken */
@@ -33,7 +35,8 @@ typedef struct sdae_mbs_model {
 
 /* the normal form of the mechanism behind eval, in coords' chart; the arrays come from
  * sdae__mbs_model_carve */
-void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co);
+void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co,
+                          sdae_mbs_sparse *sp);
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
 /* forgets the q0 and B u kept: another start of Phi^-1, another chart */
 void sdae__mbs_model_forget(sdae_mbs_model *m);

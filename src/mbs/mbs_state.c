@@ -77,17 +77,25 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
 }
 
 /* every part's fields, in the one order */
-static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
+/* the chart and the coordinates: a sparse mechanism's (mbs_sparse.c) or the dense ones */
+static void coordinates(sdae_mbs_stepper *s, sdae_bytes *b) {
+  if (s->sparse) {
+    sdae__mbs_sparse_state(&s->sp, b);
+    return;
+  }
   sdae__mbs_chart_state(&s->chart, b);
   sdae__mbs_coords_state(&s->coords, b);
+}
+
+static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
+  coordinates(s, b);
   sdae__stepper_state(s->inner, b);
 }
 
 size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {
   sdae_mbs_stepper probe = *s; /* counted: the sizes read, nothing else */
   sdae_bytes b = {NULL, NULL, 0};
-  sdae__mbs_chart_state(&probe.chart, &b);
-  sdae__mbs_coords_state(&probe.coords, &b);
+  coordinates(&probe, &b);
   return b.at + sdae__stepper_state_bytes(&s->nf.model, &s->opt);
 }
 
@@ -149,7 +157,8 @@ int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
    * hand: read, checked, and the stepper put back as it was when it is not whole */
   sdae__mbs_rollback_save(s);
   parts(s, &b);
-  if (!sdae__mbs_chart_valid(&s->chart) || !sdae__stepper_state_valid(s->inner)) {
+  if (!(s->sparse ? sdae__mbs_sparse_valid(&s->sp) : sdae__mbs_chart_valid(&s->chart)) ||
+      !sdae__stepper_state_valid(s->inner)) {
     sdae__mbs_rollback(s);
     return SDAE_ERR_STATE_DAMAGED;
   }

@@ -1,12 +1,15 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* rope_scale: a step's cost against the size of a mechanism, the rope of examples/models/rope.h
  * (N point masses on unit rods hung from the origin, 2N Cartesian coordinates, N constraints,
- * exact derivatives, M and G by their patterns), from N = 8 up: the front-end's rk4 step beside
- * the classical RK4 on the index-1 form from the same callbacks (index1_rk4.c), T = 1e-3,
- * median CPU time of the thread over the repetitions, and max abs(c) over the front-end's run.
- * A Markdown table on stdout, one row per N, and the growth exponent between successive N.
+ * exact derivatives), from N = 8 up: the front-end's rk4 step on the rope given by its patterns
+ * (the sparse coordinates, src/mbs/mbs_sparse.c) and, up to --dense-max, on the rope given
+ * densely (the dense coordinates) and the classical RK4 on the index-1 form from the same
+ * callbacks (index1_rk4.c, dense algebra); T = 1e-3, median CPU time of the thread over the
+ * repetitions, and max abs(c) over the sparse run. A Markdown table on stdout, one row per N, and
+ * the sparse step's growth exponent between successive N on stderr.
  *
- *   rope_scale [--max-n N (8..4096, default 128)] [--reps R (1..15, default 5)]
+ *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
+ *              [--reps R (1..15, default 5)]
  *              [--budget S (seconds of CPU per stepper and N, default 0.5)] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
@@ -86,29 +89,43 @@ static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys,
   return rc;
 }
 
-/* the front-end steps the rope given by its patterns, the baseline (dense algebra) the same rope
- * given densely */
-static int row(size_t N, int reps, double budget, double *us_front, double *us_rk4) {
+/* a time as the table's cell: microseconds, or "-" when not measured */
+static void cell(double seconds) {
+  if (seconds > 0.0)
+    printf(" %.1f |", 1e6 * seconds);
+  else
+    printf(" - |");
+}
+
+/* the front-end on the rope given by its patterns (the sparse coordinates); up to dense_max
+ * also on the rope given densely and the index-1 baseline (dense algebra) */
+static int row(size_t N, size_t dense_max, int reps, double budget, double *us_sparse) {
   mech_rope r = {.N = N, .L = 1.0, .m = 1.0, .ga = 9.81, .sparse = 1}, rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
-  sdae_mbs_stepper *s = NULL;
+  sdae_mbs_stepper *s = NULL, *sd = NULL;
   index1 *w = NULL;
-  double c_front, c_rk4;
+  double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
   if (rc == 0) rc = mech_rope_system(&dense, &rd);
   sdae_options_default(&o);
   o.map = sdae_map_rk4, o.delta = 2.0, o.epsilon = 1.0;
   if (rc == 0) rc = sdae_mbs_stepper_alloc(&s, &sys, &o);
-  if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_front, &c_front);
-  if (rc == 0 && !(w = index1_alloc(&dense))) rc = -1;
-  if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, us_rk4, &c_rk4);
-  if (rc == 0)
-    printf("| %zu | %zu | %zu | %.1f | %.1f | %.1fx | %.1e | %.1e | %zu |\n", N, 2 * N,
-           sdae_mbs_stepper_size(&sys, &o), 1e6 * *us_front, 1e6 * *us_rk4, *us_front / *us_rk4,
-           c_front, c_rk4, sdae_mbs_state_size(s));
+  if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_sparse, &c_sparse);
+  if (rc == 0 && N <= dense_max) {
+    if ((rc = sdae_mbs_stepper_alloc(&sd, &dense, &o)) == 0)
+      rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other);
+    if (rc == 0 && !(w = index1_alloc(&dense))) rc = -1;
+    if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other);
+  }
+  if (rc == 0) {
+    printf("| %zu | %zu | %zu |", N, 2 * N, sdae_mbs_stepper_size(&sys, &o));
+    cell(*us_sparse), cell(us_dense), cell(us_rk4);
+    printf(" %.1e |\n", c_sparse);
+  }
   sdae_mbs_stepper_free(s);
+  sdae_mbs_stepper_free(sd);
   index1_free(w);
   mech_rope_free(&r);
   mech_rope_free(&rd);
@@ -116,13 +133,15 @@ static int row(size_t N, int reps, double budget, double *us_front, double *us_r
 }
 
 int main(int argc, char **argv) {
-  double max_n = 128, reps = 5, budget = 0.5, prev = 0.0;
+  double max_n = 4096, dense_max = 256, reps = 5, budget = 0.5, prev = 0.0;
   for (int i = 1; i < argc; i += 2) {
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
     int rc;
     if (!v) return wp_bad("rope_scale", "a flag without its value: ", argv[i]);
     if (strcmp(argv[i], "--max-n") == 0)
       rc = wp_parse_positive("rope_scale", "--max-n", v, 4096, &max_n);
+    else if (strcmp(argv[i], "--dense-max") == 0)
+      rc = wp_parse_positive("rope_scale", "--dense-max", v, 4096, &dense_max);
     else if (strcmp(argv[i], "--reps") == 0)
       rc = wp_parse_positive("rope_scale", "--reps", v, WP_MAX_REPS, &reps);
     else if (strcmp(argv[i], "--budget") == 0)
@@ -132,12 +151,12 @@ int main(int argc, char **argv) {
     if (rc != 0) return rc;
   }
   if (max_n < 8) return wp_bad("rope_scale", "--max-n below 8: ", "the smallest rope");
-  printf("| N | coordinates | stepper bytes | stabdae rk4, us/step | index-1 RK4, us/step | "
-         "ratio | stabdae max abs(c) | RK4 max abs(c) | state bytes |\n"
-         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  printf("| N | coordinates | stepper bytes (sparse) | rk4 sparse, us/step | rk4 dense, us/step | "
+         "index-1 RK4, us/step | max abs(c), sparse |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t N = 8; N <= (size_t)max_n; N *= 2) {
-    double front, rk4;
-    if (row(N, (int)reps, budget, &front, &rk4) != 0) {
+    double front;
+    if (row(N, (size_t)dense_max, (int)reps, budget, &front) != 0) {
       fprintf(stderr, "rope_scale: N = %zu failed\n", N);
       return 1;
     }

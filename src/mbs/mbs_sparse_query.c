@@ -1,0 +1,88 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The quantities at a state of a sparse mechanism (mbs_sparse_query.h). */
+#include <string.h>
+
+#include "core/callback.h"
+#include "mbs_sparse_query.h"
+
+void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse *sp,
+                                  sdae_arena *a) {
+  size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->n_k, gnz = sp->Gp->nnz, knz = sp->Kp.nnz;
+  qy->sp = sp;
+  qy->c = sdae__take(a, n_c, 1), qy->ct = sdae__take(a, n_c, 1);
+  qy->gamma = sdae__take(a, n_c, 1), qy->xi = sdae__take(a, 2 * n_c, 1);
+  qy->G = sdae__take(a, gnz, 1), qy->Gd = sdae__take(a, gnz, 1);
+  qy->M = sdae__take(a, sp->Mp->nnz, 1);
+  qy->F = sdae__take(a, n_q, 1), qy->Mv = sdae__take(a, n_q, 1);
+  qy->K = sdae__take(a, knz, 1);
+  qy->rhs = sdae__take(a, n_k, 1), qy->xk = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
+  sdae__sparse_lu_carve(&qy->kkt, n_k, n_k, knz, a);
+  qy->kkt.diagonal = 1;
+}
+
+int sdae__mbs_sparse_query_xi(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v,
+                              double *xi) {
+  const sdae_mbs_sparse *sp = qy->sp;
+  sdae_mbs_eval *e = sp->eval;
+  int rc;
+  if ((rc = sdae__mbs_constraint(e, t, q, qy->c)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian_values(e, t, q, qy->G)) != SDAE_OK ||
+      (rc = sdae__mbs_constraint_t(e, t, q, qy->ct)) != SDAE_OK)
+    return rc;
+  sdae__mbs_sparse_g_times(sp, qy->G, v, qy->ct, qy->gamma); /* G v + dc/dt */
+  for (size_t j = 0; j < sp->n_c; j++) qy->xi[2 * j] = qy->c[j], qy->xi[2 * j + 1] = qy->gamma[j];
+  if (!sdae__all_finite(qy->xi, 2 * sp->n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(xi, qy->xi, 2 * sp->n_c * sizeof *xi);
+  return SDAE_OK;
+}
+
+int sdae__mbs_sparse_query_energy(sdae_mbs_sparse_query *qy, double t, const double *q,
+                                  const double *v, double *E) {
+  const sdae_mbs_sparse *sp = qy->sp;
+  double V = 0.0, kinetic = 0.0;
+  int rc;
+  if ((rc = sdae__mbs_mass_values(sp->eval, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_mass_symmetric(sp, qy->M)) != SDAE_OK ||
+      (sp->eval->sys.potential && (rc = sdae__mbs_potential(sp->eval, t, q, &V)) != SDAE_OK))
+    return rc;
+  sdae__mbs_sparse_m_times(sp, qy->M, v, qy->Mv);
+  for (size_t i = 0; i < sp->n_q; i++) kinetic += v[i] * qy->Mv[i];
+  kinetic = 0.5 * kinetic + V;
+  if (!sdae__all_finite(&kinetic, 1)) return SDAE_ERR_NONFINITE;
+  *E = kinetic;
+  return SDAE_OK;
+}
+
+/* gamma = Gdot v + d/ds dc/dt at the state */
+static int gamma_at(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v) {
+  const sdae_mbs_sparse *sp = qy->sp;
+  int rc;
+  if ((rc = sdae__mbs_jacobian_dot_values(sp->eval, t, q, v, qy->Gd)) != SDAE_OK ||
+      (rc = sdae__mbs_ct_dot(sp->eval, t, q, v, qy->ct)) != SDAE_OK)
+    return rc;
+  sdae__mbs_sparse_g_times(sp, qy->Gd, v, qy->ct, qy->gamma);
+  return SDAE_OK;
+}
+
+int sdae__mbs_sparse_query_lambda(sdae_mbs_sparse_query *qy, double t, const double *q,
+                                  const double *v, double *lambda) {
+  const sdae_mbs_sparse *sp = qy->sp;
+  size_t n_q = sp->n_q, n_c = sp->n_c;
+  int rc;
+  if ((rc = sdae__mbs_mass_values(sp->eval, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_mass_symmetric(sp, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian_values(sp->eval, t, q, qy->G)) != SDAE_OK ||
+      (rc = sdae__mbs_force(sp->eval, t, q, v, qy->F)) != SDAE_OK ||
+      (rc = gamma_at(qy, t, q, v)) != SDAE_OK)
+    return rc;
+  sdae__mbs_sparse_kkt_values(sp, qy->M, qy->G, qy->K);
+  if ((rc = sdae__sparse_lu_choose(&qy->kkt, &sp->Kp, qy->K)) != SDAE_OK)
+    return rc == SDAE_ERR_RANK ? SDAE_ERR_MASS : rc;
+  memcpy(qy->rhs, qy->F, n_q * sizeof *qy->rhs);
+  for (size_t j = 0; j < n_c; j++) qy->rhs[n_q + j] = -qy->gamma[j];
+  sdae__sparse_lu_solve(&qy->kkt, qy->rhs, qy->xk);
+  for (size_t k = 0; k < sp->n_k; k++) qy->sol[qy->kkt.pivot[k]] = qy->xk[k];
+  if (!sdae__all_finite(qy->sol + n_q, n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(lambda, qy->sol + n_q, n_c * sizeof *lambda);
+  return SDAE_OK;
+}

@@ -1,0 +1,276 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* A sparse mechanism stepped by an explicit map in its own coordinates (src/mbs/mbs_sparse.c),
+ * against the mathematics: rk4 and rk8 keep their orders, the constraints stay at the rounding
+ * of q on a long rope, the block and the factors grow with the nonzeros, lambda, the energy and
+ * xi are the dense coordinates' (the same quantities, another algebra), the state as bytes
+ * continues bit for bit, and a failed step leaves no trace. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "mbs/mbs_impl.h"
+#include "rope.h"
+#include "testmodels.h"
+
+static sdae_options options(const sdae_map_type *map) {
+  sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
+  o.delta = 2.0, o.epsilon = 1.0;
+  return o;
+}
+
+static mech_rope rope(size_t N, int closed, int sparse) {
+  return (mech_rope){.N = N,
+                     .L = 1.0,
+                     .m = 1.0,
+                     .ga = 9.81,
+                     .anchor_x = 0.5 * (double)(N + 1),
+                     .closed = closed,
+                     .sparse = sparse};
+}
+
+/* a stepper of the rope (its system into sys) and the rope's start */
+typedef struct roped {
+  mech_rope r;
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  double *q, *v;
+} roped;
+
+static void roped_init(roped *w, size_t N, int closed, int sparse, const sdae_map_type *map) {
+  sdae_options o = options(map);
+  w->r = rope(N, closed, sparse);
+  ck_assert_int_eq(mech_rope_system(&w->sys, &w->r), 0);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&w->s, &w->sys, &o), SDAE_OK);
+  w->q = malloc(2 * N * sizeof *w->q), w->v = malloc(2 * N * sizeof *w->v);
+  ck_assert_int_eq(mech_rope_start(&w->r, 0.3, w->q, w->v), 0);
+}
+
+static void roped_free(roped *w) {
+  sdae_mbs_stepper_free(w->s);
+  free(w->q), free(w->v);
+  mech_rope_free(&w->r);
+}
+
+/* n steps of T */
+static int steps(roped *w, size_t n, double T) {
+  int rc = SDAE_OK;
+  for (size_t k = 0; k < n && rc == SDAE_OK; k++)
+    rc = sdae_mbs_step(w->s, (double)k * T, T, w->q, w->v);
+  return rc;
+}
+
+/* q after 1 s at T (the open rope of 6 masses) */
+static void q_after(const sdae_map_type *map, double T, double *q) {
+  roped w;
+  roped_init(&w, 6, 0, 1, map);
+  ck_assert_int_eq(steps(&w, (size_t)llround(1.0 / T), T), SDAE_OK);
+  memcpy(q, w.q, 12 * sizeof *q);
+  roped_free(&w);
+}
+
+static double max_diff(const double *a, const double *b, size_t n) {
+  double d = 0.0;
+  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i]));
+  return d;
+}
+
+/* a sparse mechanism with its derivatives takes the sparse coordinates under an explicit map;
+ * an implicit map, or a mechanism without a pattern or a derivative, the dense ones */
+START_TEST(the_sparse_coordinates_serve_explicit_maps) {
+  const sdae_map_type *maps[] = {sdae_map_euler, sdae_map_rk4, sdae_map_rk8, sdae_map_midpoint,
+                                 sdae_map_dgrad};
+  for (size_t k = 0; k < 5; k++) {
+    roped w;
+    roped_init(&w, 4, 0, 1, maps[k]);
+    ck_assert_int_eq(w.s->sparse, k < 3);
+    roped_free(&w);
+  }
+  roped w;
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s;
+  roped_init(&w, 4, 0, 0, sdae_map_rk4);
+  ck_assert_int_eq(w.s->sparse, 0); /* dense */
+  roped_free(&w);
+  roped_init(&w, 4, 0, 1, sdae_map_rk4);
+  w.sys.jacobian_dot = NULL; /* differences of G: the dense stencils */
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &w.sys, &o), SDAE_OK);
+  ck_assert_int_eq(s->sparse, 0);
+  sdae_mbs_stepper_free(s);
+  roped_free(&w);
+}
+END_TEST
+
+/* rk4 and rk8 through the sparse coordinates: the error against rk8 at a small step falls by
+ * 2^4 and 2^8 as T halves (measured 15 to 20, and 2900 and 400) */
+START_TEST(rk4_and_rk8_keep_their_orders) {
+  double ref[12], q[12], e[3];
+  q_after(sdae_map_rk8, 0.0025, ref);
+  for (int h = 0; h < 3; h++) {
+    q_after(sdae_map_rk4, 0.02 / (1 << h), q);
+    e[h] = max_diff(q, ref, 12);
+  }
+  ck_assert_double_ge(e[0] / e[1], 12.0);
+  ck_assert_double_ge(e[1] / e[2], 12.0);
+  for (int h = 0; h < 2; h++) {
+    q_after(sdae_map_rk8, 0.04 / (1 << h), q);
+    e[h] = max_diff(q, ref, 12);
+  }
+  ck_assert_double_ge(e[0] / e[1], 100.0);
+}
+END_TEST
+
+/* A rope of 512 masses (1024 coordinates, q up to 512 in size): over 100 steps max |c| stays
+ * within a few ulps of q's largest coordinate, where the rounding of q itself puts c */
+START_TEST(constraints_at_the_rounding_of_q_on_a_long_rope) {
+  roped w;
+  double *c, worst = 0.0, big = 0.0;
+  roped_init(&w, 512, 0, 1, sdae_map_rk4);
+  c = malloc(512 * sizeof *c);
+  for (int k = 0; k < 100; k++) {
+    ck_assert_int_eq(sdae_mbs_step(w.s, k * 1e-3, 1e-3, w.q, w.v), SDAE_OK);
+    ck_assert_int_eq(w.sys.constraint(0.0, w.q, c, w.sys.params), 0);
+    for (size_t j = 0; j < 512; j++) worst = fmax(worst, fabs(c[j]));
+    for (size_t i = 0; i < 1024; i++) big = fmax(big, fabs(w.q[i]));
+  }
+  ck_assert_double_le(worst, 8.0 * DBL_EPSILON * big);
+  free(c);
+  roped_free(&w);
+}
+END_TEST
+
+/* the block, and the chart's and the velocity system's factors, grow with the nonzeros: twice
+ * the rope, at most twice (and a little) the bytes; on a chain the chart's factors have no fill
+ * (each link pivots on its outer mass, solved from the free end in) */
+START_TEST(the_block_grows_with_the_nonzeros) {
+  sdae_options o = options(sdae_map_rk4);
+  size_t bytes[2];
+  for (int h = 0; h < 2; h++) {
+    mech_rope r = rope(h ? 4096 : 2048, 0, 1);
+    sdae_mbs sys;
+    ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
+    bytes[h] = sdae_mbs_stepper_size(&sys, &o);
+    ck_assert_uint_gt(bytes[h], 0);
+    mech_rope_free(&r);
+  }
+  ck_assert_uint_le(bytes[1], 2 * bytes[0] + bytes[0] / 20);
+  roped w;
+  roped_init(&w, 1024, 0, 1, sdae_map_rk4);
+  ck_assert_int_eq(steps(&w, 3, 1e-3), SDAE_OK);
+  const sdae_sparse_lu *lu = &w.s->sp.lu[w.s->sp.cur];
+  ck_assert_uint_eq(lu->l_start[lu->m], 0);
+  ck_assert_uint_eq(lu->u_start[lu->m], w.sys.jacobian_pattern->nnz);
+  ck_assert_uint_le(w.s->sp.kkt.u_start[w.s->sp.kkt.m] + w.s->sp.kkt.l_start[w.s->sp.kkt.m],
+                    2 * w.s->sp.Kp.nnz);
+  roped_free(&w);
+}
+END_TEST
+
+/* lambda, the energy and xi at a state are the same quantities in either coordinates: the
+ * sparse saddle-point solve against the dense null-space one, to rounding */
+START_TEST(lambda_energy_and_xi_as_the_dense_ones) {
+  roped sp, de;
+  double ls[6], ld[6], xs[12], xd[12], Es, Ed;
+  roped_init(&sp, 5, 1, 1, sdae_map_rk4);
+  roped_init(&de, 5, 1, 0, sdae_map_rk4);
+  ck_assert_int_eq(sp.s->sparse, 1);
+  ck_assert_int_eq(steps(&sp, 40, 1e-2), SDAE_OK); /* a state in motion */
+  ck_assert_int_eq(sdae_mbs_lambda(sp.s, 0.4, sp.q, sp.v, ls), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_lambda(de.s, 0.4, sp.q, sp.v, ld), SDAE_OK);
+  ck_assert_double_le(max_diff(ls, ld, 6), 1e-10 * (1.0 + fabs(ld[0])));
+  ck_assert_double_gt(fabs(ld[0]), 1.0); /* the rods pull */
+  ck_assert_int_eq(sdae_mbs_energy(sp.s, 0.4, sp.q, sp.v, &Es), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_energy(de.s, 0.4, sp.q, sp.v, &Ed), SDAE_OK);
+  ck_assert_double_le(fabs(Es - Ed), 1e-13 * fabs(Ed));
+  ck_assert_int_eq(sdae_mbs_xi(sp.s, 0.4, sp.q, sp.v, xs), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_xi(de.s, 0.4, sp.q, sp.v, xd), SDAE_OK);
+  ck_assert_double_le(max_diff(xs, xd, 12), 1e-14);
+  roped_free(&sp), roped_free(&de);
+}
+END_TEST
+
+/* a state taken after some steps and set into a fresh stepper continues bit for bit */
+START_TEST(the_state_continues_bit_for_bit) {
+  roped a, b;
+  unsigned char *state;
+  size_t len;
+  roped_init(&a, 7, 1, 1, sdae_map_rk4);
+  roped_init(&b, 7, 1, 1, sdae_map_rk4);
+  ck_assert_int_eq(steps(&a, 30, 1e-2), SDAE_OK);
+  len = sdae_mbs_state_size(a.s);
+  state = malloc(len);
+  ck_assert_int_eq(sdae_mbs_get_state(a.s, state, len), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_set_state(b.s, state, len), SDAE_OK);
+  memcpy(b.q, a.q, 14 * sizeof *b.q), memcpy(b.v, a.v, 14 * sizeof *b.v);
+  for (int k = 30; k < 60; k++) {
+    ck_assert_int_eq(sdae_mbs_step(a.s, k * 1e-2, 1e-2, a.q, a.v), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(b.s, k * 1e-2, 1e-2, b.q, b.v), SDAE_OK);
+  }
+  ck_assert_mem_eq(a.q, b.q, 14 * sizeof *a.q);
+  ck_assert_mem_eq(a.v, b.v, 14 * sizeof *a.v);
+  free(state);
+  roped_free(&a), roped_free(&b);
+}
+END_TEST
+
+/* a constraint that fails at one call: the step fails, the state bytes are as before it, and
+ * the step retried (the callback healthy again) is a fresh stepper's from the same state */
+typedef struct flaky {
+  mech_rope r; /* first: the rope's callbacks read their params from a flaky */
+  int (*constraint)(double t, const double *q, double *c, void *params); /* the rope's */
+  long calls, fail_at;
+} flaky;
+
+static int flaky_constraint(double t, const double *q, double *c, void *params) {
+  flaky *f = params;
+  if (++f->calls == f->fail_at) return 1;
+  return f->constraint(t, q, c, &f->r);
+}
+
+START_TEST(a_failed_step_leaves_no_trace) {
+  flaky f = {.r = rope(5, 0, 1)};
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s, *fresh;
+  double q[10], v[10], q2[10], v2[10];
+  unsigned char *before, *after, *state;
+  size_t len;
+  ck_assert_int_eq(mech_rope_system(&sys, &f.r), 0);
+  f.constraint = sys.constraint;
+  sys.params = &f, sys.constraint = flaky_constraint;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&fresh, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(mech_rope_start(&f.r, 0.3, q, v), 0);
+  for (int k = 0; k < 10; k++) ck_assert_int_eq(sdae_mbs_step(s, k * 1e-2, 1e-2, q, v), SDAE_OK);
+  len = sdae_mbs_state_size(s);
+  before = malloc(len), after = malloc(len), state = malloc(len);
+  ck_assert_int_eq(sdae_mbs_get_state(s, before, len), SDAE_OK);
+  memcpy(q2, q, sizeof q), memcpy(v2, v, sizeof v);
+  f.fail_at = f.calls + 3; /* inside the step's Phi^-1 */
+  ck_assert_int_eq(sdae_mbs_step(s, 0.1, 1e-2, q, v), SDAE_ERR_CALLBACK_RECOVERABLE);
+  ck_assert_mem_eq(q, q2, sizeof q);
+  ck_assert_mem_eq(v, v2, sizeof v);
+  ck_assert_int_eq(sdae_mbs_get_state(s, after, len), SDAE_OK);
+  ck_assert_mem_eq(before, after, len);
+  ck_assert_int_eq(sdae_mbs_set_state(fresh, before, len), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.1, 1e-2, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(fresh, 0.1, 1e-2, q2, v2), SDAE_OK);
+  ck_assert_mem_eq(q, q2, sizeof q);
+  ck_assert_mem_eq(v, v2, sizeof v);
+  free(before), free(after), free(state);
+  sdae_mbs_stepper_free(s), sdae_mbs_stepper_free(fresh);
+  mech_rope_free(&f.r);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("mbs_sparse");
+  ADD_CASE(s, the_sparse_coordinates_serve_explicit_maps);
+  ADD_CASE(s, rk4_and_rk8_keep_their_orders);
+  ADD_CASE(s, constraints_at_the_rounding_of_q_on_a_long_rope);
+  ADD_CASE(s, the_block_grows_with_the_nonzeros);
+  ADD_CASE(s, lambda_energy_and_xi_as_the_dense_ones);
+  ADD_CASE(s, the_state_continues_bit_for_bit);
+  ADD_CASE(s, a_failed_step_leaves_no_trace);
+  return run_suite(s);
+}
