@@ -12,6 +12,7 @@
 #include "mbs/mbs_impl.h"
 #include "rope.h"
 #include "testmodels.h"
+#include "wire.h"
 
 static sdae_options options(const sdae_map_type *map) {
   sdae_options o = quartic_options(map, SDAE_SCHEME_SEMI_IMPLICIT);
@@ -263,8 +264,105 @@ START_TEST(a_failed_step_leaves_no_trace) {
 }
 END_TEST
 
+/* The bead on the rotating wire (wire.h: c(t, q) = -sin(w t) x + cos(w t) y, a constraint that
+ * depends on t) given by full patterns, which its dense callbacks write in their order: in the
+ * sparse coordinates it follows the exact motion, its lambda is the exact -2 m w r', and its xi
+ * at the state's own t is zero while the wire has turned away from it at t + 1 */
+START_TEST(a_constraint_in_time_in_sparse_coordinates) {
+  static const size_t m_start[] = {0, 2, 4}, m_col[] = {0, 1, 0, 1}, g_start[] = {0, 2},
+                      g_col[] = {0, 1};
+  static const sdae_pattern full_m = {4, m_start, m_col}, full_g = {2, g_start, g_col};
+  wire p = {.m = 1.5, .w = 1.3};
+  sdae_mbs sys = wire_mbs(&p);
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], qe[2], ve[2], lambda, lambda_exact, xi[2];
+  sys.mass_pattern = &full_m, sys.jacobian_pattern = &full_g;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(s->sparse, 1);
+  wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
+  for (int k = 0; k < 500; k++) ck_assert_int_eq(sdae_mbs_step(s, k * 1e-3, 1e-3, q, v), SDAE_OK);
+  wire_exact(&p, 0.5, 0.0, 0.5, qe, ve, &lambda_exact);
+  ck_assert_double_le(max_diff(q, qe, 2), 1e-10);
+  ck_assert_double_le(max_diff(v, ve, 2), 1e-10);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.5, q, v, &lambda), SDAE_OK);
+  ck_assert_double_le(fabs(lambda - lambda_exact), 1e-8 * fabs(lambda_exact));
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.5, q, v, xi), SDAE_OK);
+  ck_assert_double_le(fabs(xi[0]) + fabs(xi[1]), 1e-12);
+  ck_assert_int_eq(sdae_mbs_xi(s, 1.5, q, v, xi), SDAE_OK);
+  ck_assert_double_ge(fabs(xi[0]), 0.1); /* the wire a radian ahead: the bead off it */
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* a pendulum (the rope of one mass) at its pivot, G = 0: no chart, SDAE_ERR_RANK, at the first
+ * step and after steps in a chart (its refactoring fails, and so does a new choice) */
+START_TEST(a_zero_jacobian_is_rank) {
+  roped w;
+  double q0[2] = {0.0, 0.0}, v0[2] = {0.0, 0.0};
+  for (int after = 0; after <= 1; after++) {
+    roped_init(&w, 1, 0, 1, sdae_map_rk4);
+    ck_assert_int_eq(w.s->sparse, 1);
+    if (after) ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(w.s, 0.05, 1e-2, q0, v0), SDAE_ERR_RANK);
+    ck_assert_double_eq(q0[0], 0.0);
+    roped_free(&w);
+  }
+}
+END_TEST
+
+/* the quantities at a state report a failing callback and write nothing */
+typedef struct failing {
+  mech_rope r; /* first: the rope's callbacks read their params from a failing */
+  int (*jacobian)(double t, const double *q, double *G, void *params);
+  int (*mass)(double t, const double *q, double *M, void *params);
+  int fail;
+} failing;
+
+static int failing_jacobian(double t, const double *q, double *G, void *params) {
+  failing *f = params;
+  return f->fail ? 1 : f->jacobian(t, q, G, &f->r);
+}
+
+static int failing_mass(double t, const double *q, double *M, void *params) {
+  failing *f = params;
+  return f->fail ? -1 : f->mass(t, q, M, &f->r);
+}
+
+START_TEST(a_failing_callback_in_a_query_is_reported) {
+  failing f = {.r = rope(4, 0, 1)};
+  sdae_mbs sys;
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s;
+  double q[8], v[8], lambda[4] = {7, 7, 7, 7}, xi[8] = {7, 7, 7, 7, 7, 7, 7, 7}, E = 7.0;
+  ck_assert_int_eq(mech_rope_system(&sys, &f.r), 0);
+  f.jacobian = sys.jacobian, f.mass = sys.mass;
+  sys.params = &f, sys.jacobian = failing_jacobian, sys.mass = failing_mass;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(mech_rope_start(&f.r, 0.3, q, v), 0);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, lambda), SDAE_OK);
+  f.fail = 1;
+  for (int i = 0; i < 4; i++) lambda[i] = 7.0;
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, lambda), SDAE_ERR_CALLBACK_FATAL); /* M first */
+  sys.mass = f.mass; /* only the Jacobian failing now: a stepper of that */
+  sdae_mbs_stepper_free(s);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.0, q, v, lambda), SDAE_ERR_CALLBACK_RECOVERABLE);
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.0, q, v, xi), SDAE_ERR_CALLBACK_RECOVERABLE);
+  for (int i = 0; i < 4; i++) ck_assert_double_eq(lambda[i], 7.0);
+  for (int i = 0; i < 8; i++) ck_assert_double_eq(xi[i], 7.0);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E), SDAE_OK); /* needs no Jacobian */
+  ck_assert_double_ne(E, 7.0);
+  sdae_mbs_stepper_free(s);
+  mech_rope_free(&f.r);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_sparse");
+  ADD_CASE(s, a_constraint_in_time_in_sparse_coordinates);
+  ADD_CASE(s, a_zero_jacobian_is_rank);
+  ADD_CASE(s, a_failing_callback_in_a_query_is_reported);
   ADD_CASE(s, the_sparse_coordinates_serve_explicit_maps);
   ADD_CASE(s, rk4_and_rk8_keep_their_orders);
   ADD_CASE(s, constraints_at_the_rounding_of_q_on_a_long_rope);
