@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/bytes.h"
 #include "mbs/mbs_impl.h"
 #include "rope.h"
 #include "testmodels.h"
@@ -268,16 +269,14 @@ END_TEST
  * depends on t) given by full patterns, which its dense callbacks write in their order: in the
  * sparse coordinates it follows the exact motion, its lambda is the exact -2 m w r', and its xi
  * at the state's own t is zero while the wire has turned away from it at t + 1 */
+static sdae_mbs full_wire(wire *p);
+
 START_TEST(a_constraint_in_time_in_sparse_coordinates) {
-  static const size_t m_start[] = {0, 2, 4}, m_col[] = {0, 1, 0, 1}, g_start[] = {0, 2},
-                      g_col[] = {0, 1};
-  static const sdae_pattern full_m = {4, m_start, m_col}, full_g = {2, g_start, g_col};
   wire p = {.m = 1.5, .w = 1.3};
-  sdae_mbs sys = wire_mbs(&p);
+  sdae_mbs sys = full_wire(&p);
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s;
   double q[2], v[2], qe[2], ve[2], lambda, lambda_exact, xi[2];
-  sys.mass_pattern = &full_m, sys.jacobian_pattern = &full_g;
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   ck_assert_int_eq(s->sparse, 1);
   wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
@@ -358,8 +357,198 @@ START_TEST(a_failing_callback_in_a_query_is_reported) {
 }
 END_TEST
 
+/* the wire by full patterns, its mass skewed (M = [[m, a], [0, m]]: a pattern symmetric, values
+ * not): refused at the step with SDAE_ERR_MASS, as the dense coordinates refuse it */
+static int skewed_mass(double t, const double *q, double *M, void *params) {
+  const wire *p = params;
+  (void)t, (void)q;
+  M[0] = M[3] = p->m, M[1] = 0.5, M[2] = 0.0;
+  return 0;
+}
+
+static sdae_mbs full_wire(wire *p) {
+  static const size_t m_start[] = {0, 2, 4}, m_col[] = {0, 1, 0, 1}, g_start[] = {0, 2},
+                      g_col[] = {0, 1};
+  static const sdae_pattern full_m = {4, m_start, m_col}, full_g = {2, g_start, g_col};
+  sdae_mbs sys = wire_mbs(p);
+  sys.mass_pattern = &full_m, sys.jacobian_pattern = &full_g;
+  return sys;
+}
+
+START_TEST(a_mass_not_symmetric_is_refused) {
+  wire p = {.m = 1.0, .w = 1.0};
+  sdae_mbs sys = full_wire(&p);
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s;
+  double q[2], v[2], lambda;
+  sys.mass = skewed_mass;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(s->sparse, 1);
+  wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_ERR_MASS);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* A step from the last step's end (q, v) but at another t: the point kept (G and dc/dt there)
+ * is not the state's, which must be evaluated anew: the step equals a fresh stepper's from
+ * (t, q, v) bit for bit (the wire's constraint turns with t) */
+START_TEST(the_kept_point_serves_its_own_t_only) {
+  wire p = {.m = 1.0, .w = 1.3};
+  sdae_mbs sys = full_wire(&p);
+  sdae_options o = options(sdae_map_rk4);
+  sdae_mbs_stepper *s, *fresh;
+  double q[2], v[2], q2[2], v2[2], lambda;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&fresh, &sys, &o), SDAE_OK);
+  wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  memcpy(q2, q, sizeof q), memcpy(v2, v, sizeof v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.25, 1e-3, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(fresh, 0.25, 1e-3, q2, v2), SDAE_OK);
+  ck_assert_mem_eq(q, q2, sizeof q);
+  ck_assert_mem_eq(v, v2, sizeof v);
+  sdae_mbs_stepper_free(s), sdae_mbs_stepper_free(fresh);
+}
+END_TEST
+
+/* xi's floors at a step's start are the dense coordinates' (the same rule, through the
+ * patterns) */
+START_TEST(floors_as_the_dense_ones) {
+  roped sp, de;
+  double xi[12], fs[12], fd[12];
+  roped_init(&sp, 5, 1, 1, sdae_map_rk4);
+  roped_init(&de, 5, 1, 0, sdae_map_rk4);
+  ck_assert_int_eq(steps(&sp, 20, 1e-2), SDAE_OK);
+  for (size_t i = 0; i < 10; i++) sp.v[i] += 0.1 * (double)i; /* off the velocity constraint */
+  ck_assert_int_eq(sdae__mbs_sparse_xi(&sp.s->sp, 0.2, sp.q, sp.v, xi), SDAE_OK);
+  ck_assert_int_eq(sdae__mbs_coords_xi(&de.s->coords, 0.2, sp.q, sp.v, xi), SDAE_OK);
+  sdae__mbs_sparse_floors(&sp.s->sp, sp.q, sp.v, fs);
+  sdae__mbs_coords_floors(&de.s->coords, sp.q, sp.v, fd);
+  for (size_t i = 0; i < 12; i++) {
+    ck_assert_double_gt(fd[i], 0.0);
+    ck_assert_double_le(fabs(fs[i] - fd[i]), 1e-14 * fd[i]);
+  }
+  roped_free(&sp), roped_free(&de);
+}
+END_TEST
+
+/* the rope's callbacks failing (or M turning singular) at their n-th call, inside a step: the
+ * step reports it (SDAE_ERR_MASS for a saddle-point system with no reduced mass) and keeps
+ * nothing; and the queries report their callbacks' failures */
+typedef struct broken {
+  mech_rope r; /* first: the rope's callbacks read their params from a broken */
+  int (*mass)(double t, const double *q, double *M, void *params);
+  int (*constraint_t)(double t, const double *q, double *ct, void *params);
+  int (*jacobian_dot)(double t, const double *q, const double *v, double *Gd, void *params);
+  long mass_calls, mass_at, ct_calls, ct_at, gd_calls, gd_at;
+  int zero_mass; /* from mass_at on, M = 0 instead of a failure */
+} broken;
+
+static int broken_mass(double t, const double *q, double *M, void *params) {
+  broken *b = params;
+  int rc = b->mass(t, q, M, &b->r);
+  if (b->mass_at && ++b->mass_calls >= b->mass_at) {
+    if (!b->zero_mass) return -1;
+    memset(M, 0, b->r.mass_pattern.nnz * sizeof *M);
+  }
+  return rc;
+}
+
+static int broken_ct(double t, const double *q, double *ct, void *params) {
+  broken *b = params;
+  if (b->ct_at && ++b->ct_calls >= b->ct_at) return 1;
+  return b->constraint_t(t, q, ct, &b->r);
+}
+
+static int broken_gd(double t, const double *q, const double *v, double *Gd, void *params) {
+  broken *b = params;
+  if (b->gd_at && ++b->gd_calls >= b->gd_at) return 1;
+  return b->jacobian_dot(t, q, v, Gd, &b->r);
+}
+
+static void broken_init(broken *b, sdae_mbs *sys, sdae_mbs_stepper **s, double *q, double *v) {
+  sdae_options o = options(sdae_map_rk4);
+  b->r = rope(4, 0, 1);
+  ck_assert_int_eq(mech_rope_system(sys, &b->r), 0);
+  b->mass = sys->mass, b->constraint_t = sys->constraint_t, b->jacobian_dot = sys->jacobian_dot;
+  sys->params = b, sys->mass = broken_mass, sys->constraint_t = broken_ct;
+  sys->jacobian_dot = broken_gd;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(s, sys, &o), SDAE_OK);
+  ck_assert_int_eq(mech_rope_start(&b->r, 0.3, q, v), 0);
+  for (int k = 0; k < 3; k++) ck_assert_int_eq(sdae_mbs_step(*s, k * 1e-2, 1e-2, q, v), SDAE_OK);
+}
+
+START_TEST(a_failure_inside_a_configuration_is_the_steps) {
+  for (int zero = 0; zero <= 1; zero++) {
+    broken b = {0};
+    sdae_mbs sys;
+    sdae_mbs_stepper *s;
+    double q[8], v[8], q0[8];
+    broken_init(&b, &sys, &s, q, v);
+    memcpy(q0, q, sizeof q);
+    b.zero_mass = zero;
+    b.mass_calls = 0, b.mass_at = 2; /* the first Phi^-1's configuration, after the start's */
+    ck_assert_int_eq(sdae_mbs_step(s, 0.03, 1e-2, q, v),
+                     zero ? SDAE_ERR_MASS : SDAE_ERR_CALLBACK_FATAL);
+    ck_assert_mem_eq(q, q0, sizeof q);
+    sdae_mbs_stepper_free(s);
+    mech_rope_free(&b.r);
+  }
+}
+END_TEST
+
+START_TEST(a_failure_inside_a_query_is_reported) {
+  broken b = {0};
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  double q[8], v[8], xi[8] = {7, 7, 7, 7, 7, 7, 7, 7}, lambda[4] = {7, 7, 7, 7};
+  broken_init(&b, &sys, &s, q, v);
+  b.ct_calls = 0, b.ct_at = 1;
+  ck_assert_int_eq(sdae_mbs_xi(s, 0.03, q, v, xi), SDAE_ERR_CALLBACK_RECOVERABLE);
+  b.ct_at = 0;
+  b.gd_calls = 0, b.gd_at = 1;
+  ck_assert_int_eq(sdae_mbs_lambda(s, 0.03, q, v, lambda), SDAE_ERR_CALLBACK_RECOVERABLE);
+  for (int i = 0; i < 8; i++) ck_assert_double_eq(xi[i], 7.0);
+  for (int i = 0; i < 4; i++) ck_assert_double_eq(lambda[i], 7.0);
+  sdae_mbs_stepper_free(s);
+  mech_rope_free(&b.r);
+}
+END_TEST
+
+/* a state whose last independent coordinate is made a dependent one's (the chart follows the
+ * header: have, cur, kkt_have, switches, measure, then q_I), the checksum made anew: whole,
+ * yet no chart */
+START_TEST(a_state_with_no_chart_is_damaged) {
+  roped w;
+  unsigned char *state;
+  size_t len, at = 36 + 3 * sizeof(int) + sizeof(unsigned long) + sizeof(double);
+  uint64_t sum;
+  roped_init(&w, 5, 0, 1, sdae_map_rk4);
+  ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);
+  len = sdae_mbs_state_size(w.s);
+  state = malloc(len);
+  ck_assert_int_eq(sdae_mbs_get_state(w.s, state, len), SDAE_OK);
+  ck_assert_mem_eq(state + at, w.s->sp.ind, w.s->sp.n_f * sizeof(size_t)); /* found where said */
+  size_t dep = w.s->sp.lu[w.s->sp.cur].pivot[0];
+  memcpy(state + at + (w.s->sp.n_f - 1) * sizeof(size_t), &dep, sizeof dep);
+  sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
+  memcpy(state + len - sizeof sum, &sum, sizeof sum);
+  ck_assert_int_eq(sdae_mbs_set_state(w.s, state, len), SDAE_ERR_STATE_DAMAGED);
+  free(state);
+  roped_free(&w);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_sparse");
+  ADD_CASE(s, a_mass_not_symmetric_is_refused);
+  ADD_CASE(s, the_kept_point_serves_its_own_t_only);
+  ADD_CASE(s, floors_as_the_dense_ones);
+  ADD_CASE(s, a_failure_inside_a_configuration_is_the_steps);
+  ADD_CASE(s, a_failure_inside_a_query_is_reported);
+  ADD_CASE(s, a_state_with_no_chart_is_damaged);
   ADD_CASE(s, a_constraint_in_time_in_sparse_coordinates);
   ADD_CASE(s, a_zero_jacobian_is_rank);
   ADD_CASE(s, a_failing_callback_in_a_query_is_reported);

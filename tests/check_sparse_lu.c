@@ -266,8 +266,25 @@ START_TEST(a_rope_of_4096_links_factors_in_its_nonzeros) {
 }
 END_TEST
 
+/* one row [2, 1, -3]: its pivot the largest (a tie of Markowitz's counts, 0 each), column 2;
+ * B = A_D^-1 A_I = (2, 1) / -3, ||B||_1 = 2/3, which Hager's estimate finds exactly */
+START_TEST(a_single_row_and_its_norm) {
+  static const size_t start[] = {0, 3}, col[] = {0, 1, 2};
+  static const double values[] = {2.0, 1.0, -3.0};
+  sdae_pattern p = {3, start, col};
+  factored f;
+  double x[3], z[3];
+  factored_init(&f, 1, 3, 3);
+  ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_OK);
+  ck_assert_uint_eq(f.lu.pivot[0], 2);
+  ck_assert_double_eq_tol(sdae__sparse_lu_norm1(&f.lu, x, z), 2.0 / 3.0, 1e-15);
+  free(f.mem);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sparse_lu");
+  ADD_CASE(s, a_single_row_and_its_norm);
   ADD_CASE(s, rope_charts_solve_as_dense_algebra);
   ADD_CASE(s, random_wide_matrices_solve_as_dense_algebra);
   ADD_CASE(s, dependent_rows_are_rank);
