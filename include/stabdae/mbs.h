@@ -63,8 +63,12 @@ typedef struct sdae_mbs {
    * every other map just sees F plus them. */
   int (*input_force)(double t, const double *q, const double *v, double *F, void *params);
   /* optional sparsity (<stabdae/pattern.h>), copied when the stepper is built and checked there
-   * (SDAE_ERR_PATTERN). NULL: dense. n_q rows, both triangles, symmetric; with it mass() and
-   * damping() write nnz values in pattern order */
+   * (SDAE_ERR_PATTERN). With both patterns, jacobian_dot and mass_dot_v, an explicit map (euler,
+   * rk4, rk8) steps the mechanism at the cost of its nonzeros (the block and a step grow with
+   * them, not with n_q^2; M must then be positive definite, not only the reduced mass); an
+   * implicit map, or a mechanism without them, steps it as a dense one (docs/front-ends.md).
+   * NULL: dense. n_q rows, both triangles, symmetric; with it mass() and damping() write nnz
+   * values in pattern order */
   const sdae_pattern *mass_pattern;
   /* NULL: dense. n_c rows; with it jacobian() and jacobian_dot() write nnz values in pattern
    * order (jacobian is then needed: SDAE_ERR_NULL without it) */
