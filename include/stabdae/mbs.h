@@ -65,7 +65,9 @@ typedef struct sdae_mbs {
   /* optional sparsity (<stabdae/pattern.h>), copied when the stepper is built and checked there
    * (SDAE_ERR_PATTERN). With both patterns, jacobian_dot and mass_dot_v, an explicit map (euler,
    * rk4, rk8) steps the mechanism at the cost of its nonzeros (the block and a step grow with
-   * them, not with n_q^2; M must then be positive definite, not only the reduced mass); an
+   * them, not with n_q^2; M must then be positive definite, not only the reduced mass; a
+   * coordinate that many constraints share, as a cart carrying many pendulums, fills the
+   * factors past their reserve, SDAE_ERR_CHART: give such a mechanism without patterns); an
    * implicit map, or a mechanism without them, steps it as a dense one (docs/front-ends.md).
    * NULL: dense. n_q rows, both triangles, symmetric; with it mass() and damping() write nnz
    * values in pattern order */

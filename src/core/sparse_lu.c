@@ -226,7 +226,9 @@ static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *value
     rc = eliminate(lu, A, values, r, &n_list, &l_used, &scale);
     if (rc == SDAE_OK && choose && (rc = pick(lu, r, n_list, scale, &p)) == SDAE_OK)
       lu->pivot[r] = p, lu->row_of[p] = r;
-    if (rc == SDAE_OK && !choose && !(fabs(lu->x[p]) > (double)lu->n * DBL_EPSILON * scale))
+    /* a kept pivot outside its row (as bytes read may hold) has no value: refused too */
+    if (rc == SDAE_OK && !choose &&
+        (!lu->in_row[p] || !(fabs(lu->x[p]) > (double)lu->n * DBL_EPSILON * scale)))
       rc = SDAE_ERR_RANK;
     if (rc == SDAE_OK) {
       rc = store(lu, r, n_list, &u_used);

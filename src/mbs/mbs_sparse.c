@@ -175,26 +175,37 @@ static double estimate(sdae_mbs_sparse *sp, int which) {
   return sdae__sparse_lu_norm1(&sp->lu[which], sp->est_x, sp->est_z);
 }
 
+/* the two factorizations split q alike (the same dependent coordinates) */
+static int same_chart(const sdae_mbs_sparse *sp) {
+  const size_t *a = sp->lu[0].row_of, *b = sp->lu[1].row_of, m = sp->n_c;
+  for (size_t c = 0; c < sp->n_q; c++)
+    if ((a[c] == m) != (b[c] == m)) return 0;
+  return 1;
+}
+
 /* The current chart is refactored at the step's start and its ||G_D^-1 G_I||_1 estimated; a
  * new one is sought only when that grew past SDAE_MBS_CHART_FACTOR times its value where the
- * chart was chosen (or force_best), and taken when better by that factor, as the dense
- * hysteresis (mbs_chart.c) */
+ * chart was chosen or last kept (or force_best), and taken when better by that factor, as the
+ * dense hysteresis (mbs_chart.c), whose measure is the current chart's. A chart kept without a
+ * search is kept too: a step that folds in it is retried in a chart chosen anew. */
 int sdae__mbs_sparse_choose(sdae_mbs_sparse *sp, int force_best) {
   double now = HUGE_VAL, best;
   int other = 1 - sp->cur, rc;
   sp->kept = 0;
   if (sp->have && sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK) {
     now = estimate(sp, sp->cur);
+    sp->kept = 1;
     if (!force_best && now <= SDAE_MBS_CHART_FACTOR * sp->measure) return SDAE_OK;
   }
   if ((rc = sdae__sparse_lu_choose(&sp->lu[other], sp->Gp, sp->G)) != SDAE_OK)
     return now < HUGE_VAL ? SDAE_OK : rc; /* the current one serves */
   best = estimate(sp, other);
   if (sp->have && !force_best && now <= SDAE_MBS_CHART_FACTOR * best) {
-    sp->kept = best < now;
+    sp->measure = now; /* kept: its measure where it was kept */
     return SDAE_OK;
   }
-  if (sp->have) sp->switches++;
+  sp->kept = 0;
+  if (sp->have && !same_chart(sp)) sp->switches++;
   sp->cur = other, sp->have = 1, sp->measure = best;
   independents(sp);
   return SDAE_OK;
@@ -527,8 +538,9 @@ static int lu_valid(sdae_sparse_lu *lu) {
 
 int sdae__mbs_sparse_valid(sdae_mbs_sparse *sp) {
   sdae_sparse_lu *lu = &sp->lu[sp->cur & 1];
+  if (sp->kkt_have && !lu_valid(&sp->kkt)) return 0;
   if (!sp->have) return 1;
-  if (!lu_valid(lu) || (sp->kkt_have && !lu_valid(&sp->kkt))) return 0;
+  if (!lu_valid(lu)) return 0;
   for (size_t f = 0; f < sp->n_f; f++)
     if (sp->ind[f] >= sp->n_q || lu->row_of[sp->ind[f]] != sp->n_c) return 0;
   return 1;
