@@ -706,7 +706,7 @@ END_TEST
  * of its swing): its steps take no allocation either, its block from the caller's allocator */
 #include "rope.h"
 START_TEST(mbs_sparse_steps_take_no_allocation) {
-  mech_rope r = {.N = 64, .L = 1.0, .m = 1.0, .ga = 9.81, .sparse = 1};
+  mech_rope r = mech_rope_unit(64, 0, 1);
   counting_allocator ca = {0};
   sdae_allocator h = allocator_of(&ca);
   sdae_options o = quartic_options(sdae_map_rk4, SDAE_SCHEME_SEMI_IMPLICIT);

@@ -27,12 +27,6 @@ static sdae_mbs_stepper *stepper(const sdae_mbs *sys, const sdae_options *o) {
   return s;
 }
 
-static double max_abs_diff(const double *a, const double *b, size_t n) {
-  double e = 0.0;
-  for (size_t i = 0; i < n; i++) e = fmax(e, fabs(a[i] - b[i]));
-  return e;
-}
-
 /* ---- orders: the pendulum against its exact swing ---- */
 
 static const mech_pendulum PENDULUM = {.L = 1.0, .m = 1.0, .ga = 9.81};

@@ -24,24 +24,6 @@ static int run(const sdae_mbs *sys, const sdae_options *o, size_t n, double T, d
   return rc;
 }
 
-/* the rope of N masses (closed: hung between the origin and (N + 1) / 2 lengths away) */
-static mech_rope rope(size_t N, int closed, int sparse) {
-  return (mech_rope){.N = N,
-                     .L = 1.0,
-                     .m = 1.0,
-                     .ga = 9.81,
-                     .anchor_x = 0.5 * (double)(N + 1),
-                     .closed = closed,
-                     .sparse = sparse};
-}
-
-/* max |a - b| over n values */
-static double max_diff(const double *a, const double *b, size_t n) {
-  double d = 0.0;
-  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i]));
-  return d;
-}
-
 /* M and G given by their nonzeros are M and G: through the implicit maps, which step a sparse
  * mechanism in the dense coordinates (their Newton matrix on mu is dense anyway), the steps are
  * the dense mechanism's, bit for bit */
@@ -49,7 +31,7 @@ START_TEST(a_sparse_rope_steps_as_the_dense_one) {
   const sdae_map_type *maps[] = {sdae_map_midpoint, sdae_map_dgrad};
   for (int closed = 0; closed <= 1; closed++)
     for (size_t k = 0; k < sizeof maps / sizeof *maps; k++) {
-      mech_rope dense = rope(5, closed, 0), sparse = rope(5, closed, 1);
+      mech_rope dense = mech_rope_unit(5, closed, 0), sparse = mech_rope_unit(5, closed, 1);
       sdae_mbs sd, ss;
       sdae_options o = options(maps[k]);
       double q[10], v[10], q2[10], v2[10];
@@ -74,7 +56,7 @@ START_TEST(a_sparse_rope_agrees_with_the_dense_one_to_truncation) {
   for (int closed = 0; closed <= 1; closed++) {
     double diff[2];
     for (int h = 0; h < 2; h++) {
-      mech_rope dense = rope(5, closed, 0), sparse = rope(5, closed, 1);
+      mech_rope dense = mech_rope_unit(5, closed, 0), sparse = mech_rope_unit(5, closed, 1);
       sdae_mbs sd, ss;
       sdae_options o = options(sdae_map_rk4);
       double q[10], v[10], q2[10], v2[10], T = h ? 0.01 : 0.02;
@@ -85,7 +67,7 @@ START_TEST(a_sparse_rope_agrees_with_the_dense_one_to_truncation) {
       ck_assert_int_eq(mech_rope_start(&sparse, 0.5, q2, v2), 0);
       ck_assert_int_eq(run(&sd, &o, n, T, q, v), SDAE_OK);
       ck_assert_int_eq(run(&ss, &o, n, T, q2, v2), SDAE_OK);
-      diff[h] = max_diff(q, q2, 10);
+      diff[h] = max_abs_diff(q, q2, 10);
       mech_rope_free(&sparse);
     }
     ck_assert_double_gt(diff[1], 0.0);
@@ -157,7 +139,7 @@ static const bad_pattern bad[] = {
 
 START_TEST(a_pattern_that_is_not_one_is_refused) {
   for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
-    mech_rope r = rope(2, 0, 1);
+    mech_rope r = mech_rope_unit(2, 0, 1);
     sdae_mbs sys;
     sdae_pattern p = {bad[k].nnz, bad[k].row_start, bad[k].col};
     sdae_options o = options(sdae_map_rk4);
@@ -187,7 +169,7 @@ END_TEST
 
 /* a pattern for a Jacobian the mechanism does not give: nothing would write its values */
 START_TEST(a_jacobian_pattern_without_jacobian_is_refused) {
-  mech_rope r = rope(3, 0, 1);
+  mech_rope r = mech_rope_unit(3, 0, 1);
   sdae_mbs sys;
   sdae_options o = options(sdae_map_rk4);
   ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
@@ -204,7 +186,7 @@ END_TEST
 /* The stepper steps with its own copy of the patterns: the caller's arrays overwritten (or
  * freed) after the build change nothing */
 START_TEST(the_stepper_keeps_its_own_patterns) {
-  mech_rope r = rope(5, 1, 1), ref = rope(5, 1, 1);
+  mech_rope r = mech_rope_unit(5, 1, 1), ref = mech_rope_unit(5, 1, 1);
   sdae_mbs sys, sys_ref;
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s;
@@ -257,7 +239,7 @@ END_TEST
 
 /* the state of a sparse stepper is not a dense one's, nor one of another pattern */
 START_TEST(a_state_of_another_pattern_is_foreign) {
-  mech_rope r = rope(3, 0, 1), d = rope(3, 0, 0);
+  mech_rope r = mech_rope_unit(3, 0, 1), d = mech_rope_unit(3, 0, 0);
   sdae_mbs sys, sys_d;
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s, *sd;

@@ -21,16 +21,6 @@ static sdae_options options(const sdae_map_type *map) {
   return o;
 }
 
-static mech_rope rope(size_t N, int closed, int sparse) {
-  return (mech_rope){.N = N,
-                     .L = 1.0,
-                     .m = 1.0,
-                     .ga = 9.81,
-                     .anchor_x = 0.5 * (double)(N + 1),
-                     .closed = closed,
-                     .sparse = sparse};
-}
-
 /* a stepper of the rope (its system into sys) and the rope's start */
 typedef struct roped {
   mech_rope r;
@@ -41,7 +31,7 @@ typedef struct roped {
 
 static void roped_init(roped *w, size_t N, int closed, int sparse, const sdae_map_type *map) {
   sdae_options o = options(map);
-  w->r = rope(N, closed, sparse);
+  w->r = mech_rope_unit(N, closed, sparse);
   ck_assert_int_eq(mech_rope_system(&w->sys, &w->r), 0);
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&w->s, &w->sys, &o), SDAE_OK);
   w->q = malloc(2 * N * sizeof *w->q), w->v = malloc(2 * N * sizeof *w->v);
@@ -69,12 +59,6 @@ static void q_after(const sdae_map_type *map, double T, double *q) {
   ck_assert_int_eq(steps(&w, (size_t)llround(1.0 / T), T), SDAE_OK);
   memcpy(q, w.q, 12 * sizeof *q);
   roped_free(&w);
-}
-
-static double max_diff(const double *a, const double *b, size_t n) {
-  double d = 0.0;
-  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i]));
-  return d;
 }
 
 /* a sparse mechanism with its derivatives takes the sparse coordinates under an explicit map;
@@ -110,13 +94,13 @@ START_TEST(rk4_and_rk8_keep_their_orders) {
   q_after(sdae_map_rk8, 0.0025, ref);
   for (int h = 0; h < 3; h++) {
     q_after(sdae_map_rk4, 0.02 / (1 << h), q);
-    e[h] = max_diff(q, ref, 12);
+    e[h] = max_abs_diff(q, ref, 12);
   }
   ck_assert_double_ge(e[0] / e[1], 12.0);
   ck_assert_double_ge(e[1] / e[2], 12.0);
   for (int h = 0; h < 2; h++) {
     q_after(sdae_map_rk8, 0.04 / (1 << h), q);
-    e[h] = max_diff(q, ref, 12);
+    e[h] = max_abs_diff(q, ref, 12);
   }
   ck_assert_double_ge(e[0] / e[1], 100.0);
 }
@@ -148,7 +132,7 @@ START_TEST(the_block_grows_with_the_nonzeros) {
   sdae_options o = options(sdae_map_rk4);
   size_t bytes[2];
   for (int h = 0; h < 2; h++) {
-    mech_rope r = rope(h ? 4096 : 2048, 0, 1);
+    mech_rope r = mech_rope_unit(h ? 4096 : 2048, 0, 1);
     sdae_mbs sys;
     ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
     bytes[h] = sdae_mbs_stepper_size(&sys, &o);
@@ -179,14 +163,14 @@ START_TEST(lambda_energy_and_xi_as_the_dense_ones) {
   ck_assert_int_eq(steps(&sp, 40, 1e-2), SDAE_OK); /* a state in motion */
   ck_assert_int_eq(sdae_mbs_lambda(sp.s, 0.4, sp.q, sp.v, ls), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_lambda(de.s, 0.4, sp.q, sp.v, ld), SDAE_OK);
-  ck_assert_double_le(max_diff(ls, ld, 6), 1e-10 * (1.0 + fabs(ld[0])));
+  ck_assert_double_le(max_abs_diff(ls, ld, 6), 1e-10 * (1.0 + fabs(ld[0])));
   ck_assert_double_gt(fabs(ld[0]), 1.0); /* the rods pull */
   ck_assert_int_eq(sdae_mbs_energy(sp.s, 0.4, sp.q, sp.v, &Es), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_energy(de.s, 0.4, sp.q, sp.v, &Ed), SDAE_OK);
   ck_assert_double_le(fabs(Es - Ed), 1e-13 * fabs(Ed));
   ck_assert_int_eq(sdae_mbs_xi(sp.s, 0.4, sp.q, sp.v, xs), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_xi(de.s, 0.4, sp.q, sp.v, xd), SDAE_OK);
-  ck_assert_double_le(max_diff(xs, xd, 12), 1e-14);
+  ck_assert_double_le(max_abs_diff(xs, xd, 12), 1e-14);
   roped_free(&sp), roped_free(&de);
 }
 END_TEST
@@ -230,7 +214,7 @@ static int flaky_constraint(double t, const double *q, double *c, void *params) 
 }
 
 START_TEST(a_failed_step_leaves_no_trace) {
-  flaky f = {.r = rope(5, 0, 1)};
+  flaky f = {.r = mech_rope_unit(5, 0, 1)};
   sdae_mbs sys;
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s, *fresh;
@@ -282,8 +266,8 @@ START_TEST(a_constraint_in_time_in_sparse_coordinates) {
   wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
   for (int k = 0; k < 500; k++) ck_assert_int_eq(sdae_mbs_step(s, k * 1e-3, 1e-3, q, v), SDAE_OK);
   wire_exact(&p, 0.5, 0.0, 0.5, qe, ve, &lambda_exact);
-  ck_assert_double_le(max_diff(q, qe, 2), 1e-10);
-  ck_assert_double_le(max_diff(v, ve, 2), 1e-10);
+  ck_assert_double_le(max_abs_diff(q, qe, 2), 1e-10);
+  ck_assert_double_le(max_abs_diff(v, ve, 2), 1e-10);
   ck_assert_int_eq(sdae_mbs_lambda(s, 0.5, q, v, &lambda), SDAE_OK);
   ck_assert_double_le(fabs(lambda - lambda_exact), 1e-8 * fabs(lambda_exact));
   ck_assert_int_eq(sdae_mbs_xi(s, 0.5, q, v, xi), SDAE_OK);
@@ -329,7 +313,7 @@ static int failing_mass(double t, const double *q, double *M, void *params) {
 }
 
 START_TEST(a_failing_callback_in_a_query_is_reported) {
-  failing f = {.r = rope(4, 0, 1)};
+  failing f = {.r = mech_rope_unit(4, 0, 1)};
   sdae_mbs sys;
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s;
@@ -470,7 +454,7 @@ static int broken_gd(double t, const double *q, const double *v, double *Gd, voi
 
 static void broken_init(broken *b, sdae_mbs *sys, sdae_mbs_stepper **s, double *q, double *v) {
   sdae_options o = options(sdae_map_rk4);
-  b->r = rope(4, 0, 1);
+  b->r = mech_rope_unit(4, 0, 1);
   ck_assert_int_eq(mech_rope_system(sys, &b->r), 0);
   b->mass = sys->mass, b->constraint_t = sys->constraint_t, b->jacobian_dot = sys->jacobian_dot;
   sys->params = b, sys->mass = broken_mass, sys->constraint_t = broken_ct;

@@ -40,13 +40,7 @@ typedef struct rope_g {
 } rope_g;
 
 static void rope_g_at(rope_g *g, size_t N, int closed, gsl_rng *rng) {
-  g->r = (mech_rope){.N = N,
-                     .L = 1.0,
-                     .m = 1.0,
-                     .ga = 9.81,
-                     .anchor_x = 0.5 * (double)(N + 1),
-                     .closed = closed,
-                     .sparse = 1};
+  g->r = mech_rope_unit(N, closed, 1);
   ck_assert_int_eq(mech_rope_system(&g->sys, &g->r), 0);
   g->q = malloc(2 * N * sizeof *g->q);
   g->G = malloc(g->r.jacobian_pattern.nnz * sizeof *g->G);

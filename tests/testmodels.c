@@ -39,6 +39,12 @@ double rel_diff(double a, double b) {
   return scale == 0.0 ? 0.0 : fabs(a - b) / scale;
 }
 
+double max_abs_diff(const double *a, const double *b, size_t n) {
+  double d = 0.0;
+  for (size_t i = 0; i < n; i++) d = fmax(d, fabs(a[i] - b[i]));
+  return d;
+}
+
 void add_case(Suite *s, const char *name, const TTest *test) {
   TCase *tc = tcase_create(name);
   tcase_set_timeout(tc, 300); /* generous: the sanitizer and valgrind builds run slower */

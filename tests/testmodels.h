@@ -20,6 +20,8 @@ void quartic_exact(double k, double A, double t, double *x, double *v);
 double quartic_error(const sdae_options *o, double A, double tf, double T);
 
 double rel_diff(double a, double b);
+/* max_i |a_i - b_i| over n values */
+double max_abs_diff(const double *a, const double *b, size_t n);
 
 /* One test case per behaviour; tests/CMakeLists.txt reads the ADD_CASE lines to register
  * every case as its own ctest test. */

@@ -141,6 +141,16 @@ static int patterns(mech_rope *p) {
   return 0;
 }
 
+mech_rope mech_rope_unit(size_t N, int closed, int sparse) {
+  return (mech_rope){.N = N,
+                     .L = 1.0,
+                     .m = 1.0,
+                     .ga = 9.81,
+                     .anchor_x = 0.5 * (double)(N + 1),
+                     .closed = closed,
+                     .sparse = sparse};
+}
+
 int mech_rope_system(sdae_mbs *sys, mech_rope *p) {
   p->arrays = NULL;
   if (p->sparse && patterns(p) != 0) return -1;

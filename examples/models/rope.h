@@ -23,6 +23,9 @@ typedef struct mech_rope {
   size_t *arrays;
 } mech_rope;
 
+/* The rope the suites and the benchmarks step: unit masses and rods, ga = 9.81, closed to the
+ * anchor at x = (N + 1) / 2, half its length away; given by its patterns with sparse. */
+mech_rope mech_rope_unit(size_t N, int closed, int sparse);
 /* sys from p (p's N, L, m, ga, anchor_x, closed, sparse set): 0, or -1 when the patterns'
  * arrays cannot be allocated */
 int mech_rope_system(sdae_mbs *sys, mech_rope *p);

@@ -100,7 +100,7 @@ static void cell(double seconds) {
 /* the front-end on the rope given by its patterns (the sparse coordinates); up to dense_max
  * also on the rope given densely and the index-1 baseline (dense algebra) */
 static int row(size_t N, size_t dense_max, int reps, double budget, double *us_sparse) {
-  mech_rope r = {.N = N, .L = 1.0, .m = 1.0, .ga = 9.81, .sparse = 1}, rd = r;
+  mech_rope r = mech_rope_unit(N, 0, 1), rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
   sdae_mbs_stepper *s = NULL, *sd = NULL;
