@@ -9,8 +9,8 @@
 # builds OUTPUT_DIRECTORY/fmi3/NAME.fmu and OUTPUT_DIRECTORY/fmi2/NAME.fmu (default: the current
 # binary directory) with the target NAME_fmu, part of `all`. Each FMU holds modelDescription.xml
 # (written at build time by NAME_describe from the same table as the binary), the binary
-# binaries/<platform>/NAME.so with stabdae, GSL and GSL's CBLAS linked in, and documentation/ (a
-# page on the variables, the licences). The binary exports the FMI functions only and needs
+# binaries/<platform>/NAME.so with stabdae, SuiteSparse's LDL and AMD, GSL and GSL's CBLAS
+# linked in, and documentation/ (a page on the variables, the licences). The binary exports the FMI functions only and needs
 # libc and libm alone: its GSL calls the CBLAS inside it, whatever cblas_* the importer's process
 # loaded before (a shared CBLAS beside it would be bound to the first one loaded). Linux on
 # x86_64 (FMI platforms x86_64-linux and linux64).
@@ -77,7 +77,8 @@ function(stabdae_add_fmu name)
     # symbol found in the archives
     target_link_libraries(${lib} PRIVATE
       "$<LINK_LIBRARY:WHOLE_ARCHIVE,stabdae::stabdae_fmi${version}>" stabdae::stabdae_fmi
-      ${fmu_LIBRARIES} stabdae::stabdae_static ${STABDAE_GSL_STATIC} ${STABDAE_GSLCBLAS_STATIC}
+      ${fmu_LIBRARIES} stabdae::stabdae_static ${SuiteSparse_STATIC_LIBRARIES} ${STABDAE_GSL_STATIC}
+      ${STABDAE_GSLCBLAS_STATIC}
       m)
     target_link_options(${lib} PRIVATE -Wl,--as-needed
                         -Wl,--version-script=${STABDAE_FMU_DATA}/fmi${version}.map)

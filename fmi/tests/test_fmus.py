@@ -212,20 +212,23 @@ def test_cblas_bound_inside(version, name, tmp_path):
 @pytest.mark.parametrize("name", NAMES)
 def test_license_entry_point(version, name, tmp_path):
     """FMI 3.0 section 2.5: documentation/licenses/ has license.txt as its entry point (in the
-    FMI 2.0 FMU too); it names the licences, GPL-3.0-or-later and BSD-2-Clause, and every other
-    file of the folder, each of which holds its licence's text"""
+    FMI 2.0 FMU too); it names the licences, GPL-3.0-or-later, BSD-2-Clause, LGPL-2.1-or-later
+    (SuiteSparse's LDL) and BSD-3-Clause (its AMD), and every other file of the folder, each of
+    which holds its licence's text"""
     with zipfile.ZipFile(fmu_path(version, name)) as z:
         z.extractall(tmp_path)
     licenses = tmp_path / "documentation" / "licenses"
     entry = (licenses / "license.txt").read_text()
-    assert "GPL-3.0-or-later" in entry and "BSD-2-Clause" in entry
+    for name in ("GPL-3.0-or-later", "BSD-2-Clause", "LGPL-2.1-or-later", "BSD-3-Clause"):
+        assert name in entry
     others = {p.name for p in licenses.iterdir()} - {"license.txt"}
-    assert others == {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt"}
+    assert others == {"stabdae-GPL-3.0-or-later.txt", "fmi-headers-BSD-2-Clause.txt",
+                      "suitesparse-amd-BSD-3-Clause.txt"}
     for other in others:
         assert other in entry
     assert "GNU GENERAL PUBLIC LICENSE" in (licenses / "stabdae-GPL-3.0-or-later.txt").read_text()
-    assert "Redistribution and use in source and binary forms" in \
-        (licenses / "fmi-headers-BSD-2-Clause.txt").read_text()
+    for bsd in ("fmi-headers-BSD-2-Clause.txt", "suitesparse-amd-BSD-3-Clause.txt"):
+        assert "Redistribution and use in source and binary forms" in (licenses / bsd).read_text()
 
 
 @pytest.mark.parametrize("version", VERSIONS)

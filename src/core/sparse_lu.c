@@ -16,7 +16,7 @@
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a) {
   size_t cap =
       nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
-  lu->m = m, lu->n = n, lu->cap = cap, lu->diagonal = 0, lu->leaf_first = 0;
+  lu->m = m, lu->n = n, lu->cap = cap, lu->leaf_first = 0;
   lu->order = sdae__take_indices(a, m);
   lu->pivot = sdae__take_indices(a, m);
   lu->row_of = sdae__take_indices(a, n);
@@ -126,14 +126,6 @@ static int pick(const sdae_sparse_lu *lu, size_t r, size_t n_list, double scale,
   for (size_t i = 0; i < n_list; i++)
     if (lu->row_of[lu->list[i]] >= r) big = max_abs(big, lu->x[lu->list[i]]);
   if (!(big > (double)lu->n * DBL_EPSILON * scale)) return SDAE_ERR_RANK;
-  if (lu->diagonal) { /* A's own row order[r]'s diagonal */
-    size_t d = lu->order[r];
-    if (d < lu->n && lu->in_row[d] && lu->row_of[d] >= r &&
-        fabs(lu->x[d]) > (double)lu->n * DBL_EPSILON * scale) {
-      *p = d;
-      return SDAE_OK;
-    }
-  }
   for (size_t i = 0; i < n_list; i++) {
     size_t c = lu->list[i];
     double v = fabs(lu->x[c]);

@@ -35,11 +35,6 @@
 
 typedef struct sdae_sparse_lu {
   size_t m, n, cap;
-  /* a square symmetric quasi-definite matrix (a saddle-point system [M G^T; G 0], M positive
-   * definite, its coordinates first): row r pivots on its diagonal whenever that is not at
-   * rounding, as an LDL^T factorization without pivoting does (stable for such matrices, and
-   * its fill is the symmetric one); the owner sets it after the carve */
-  int diagonal;
   int leaf_first; /* the rows' order chosen (above); the owner sets it after the carve */
   /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
   size_t *order, *pivot, *row_of;

@@ -23,11 +23,13 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
 }
 
 /* the parts' arrays, the step's own, then the normal form's stepper (its bytes counted by its
- * own rule) */
-static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
+ * own rule); handed out, what the parts analyse of the mechanism when built (the sparse
+ * saddle-point system's order and structure) may refuse it */
+static int carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
+  int rc = SDAE_OK;
   sdae__mbs_eval_carve(&s->eval, a);
   if (s->sparse) { /* the dense parts not carved: their arrays grow with n_q^2 */
-    sdae__mbs_sparse_carve(&s->sp, a);
+    rc = sdae__mbs_sparse_carve(&s->sp, a);
     sdae__mbs_sparse_query_carve(&s->sq, &s->sp, a);
   } else {
     sdae__mbs_chart_carve(&s->chart, a);
@@ -39,6 +41,7 @@ static void carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   s->mu = sdae__take(a, 2 * s->n_f, 1);
   s->rollback = sdae__take_array(a, sdae__mbs_parts_bytes(s), 1, 1);
   s->inner = sdae__take_array(a, inner_bytes, 1, alignof(max_align_t));
+  return rc;
 }
 
 /* the stepper's parts wired to each other, arrays not yet handed out */
@@ -69,6 +72,7 @@ static int measure(const sdae_mbs *sys, const sdae_options *o, size_t *bytes, si
   int rc = validate(sys, o);
   if (rc != SDAE_OK) return rc;
   wire(&probe, sys, o);
+  if (probe.sparse && !sdae__mbs_sparse_fits(&probe.sp)) return SDAE_ERR_OVERFLOW;
   if ((rc = sdae__stepper_validate(&probe.nf.model, &probe.opt)) != SDAE_OK) return rc;
   if ((*inner = sdae_stepper_size(&probe.nf.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
   carve(&probe, &a, *inner);
@@ -80,18 +84,20 @@ size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
   return measure(sys, o, &bytes, &inner) == SDAE_OK ? bytes : 0;
 }
 
-static sdae_mbs_stepper *build(void *mem, const sdae_mbs *sys, const sdae_options *o,
-                               size_t inner) {
+static int build(sdae_mbs_stepper **out, void *mem, const sdae_mbs *sys, const sdae_options *o,
+                 size_t inner) {
   sdae_arena a;
   sdae_mbs_stepper *s = sdae__block_start(mem, sizeof(sdae_mbs_stepper), &a);
   void *inner_mem;
+  int rc;
   wire(s, sys, o);
-  carve(s, &a, inner);
+  if ((rc = carve(s, &a, inner)) != SDAE_OK) return rc;
   inner_mem = s->inner;
   /* measured with the same model and options: cannot fail */
   sdae_stepper_init(&s->inner, inner_mem, inner, &s->nf.model, &s->opt);
   sdae__stepper_keep_newton(s->inner); /* each residual a Phi^-1: the matrix is kept */
-  return s;
+  *out = s;
+  return SDAE_OK;
 }
 
 int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sdae_mbs *sys,
@@ -101,8 +107,7 @@ int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sda
   if (!s || !mem) return SDAE_ERR_NULL;
   if ((rc = measure(sys, o, &bytes, &inner)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
-  *s = build(mem, sys, o, inner);
-  return SDAE_OK;
+  return build(s, mem, sys, o, inner);
 }
 
 int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys, const sdae_options *o,
@@ -114,7 +119,10 @@ int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys, const
   if (!s) return SDAE_ERR_NULL;
   if ((rc = measure(sys, o, &bytes, &inner)) != SDAE_OK) return rc;
   if (!(mem = sdae__block_alloc(&block, a, bytes))) return SDAE_ERR_NOMEM;
-  *s = build(mem, sys, o, inner);
+  if ((rc = build(s, mem, sys, o, inner)) != SDAE_OK) {
+    sdae__block_free(&block);
+    return rc;
+  }
   (*s)->block = block;
   return SDAE_OK;
 }

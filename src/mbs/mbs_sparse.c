@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The coordinates of a sparse mechanism at the cost of its nonzeros (mbs_sparse.h): the steps
  * of mbs_coords.c (docs/front-ends.md, the mechanical front-end) with every product through the
- * patterns and every solve through core/sparse_lu.c. */
+ * patterns, the chart's solves through core/sparse_lu.c and the saddle-point system's through
+ * core/sparse_ldl.c. */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "core/callback.h"
@@ -32,6 +34,12 @@ void sdae__mbs_sparse_init(sdae_mbs_sparse *sp, sdae_mbs_eval *eval, unsigned ne
   sp->newton_max_iter = newton_max_iter;
 }
 
+int sdae__mbs_sparse_fits(const sdae_mbs_sparse *sp) {
+  const sdae_mbs *sys = &sp->eval->sys;
+  size_t gnz = sys->jacobian_pattern->nnz, mnz = sys->mass_pattern->nnz;
+  return gnz < SIZE_MAX / 4 && sdae__sparse_ldl_fits(sp->n_k, mnz + 2 * gnz);
+}
+
 /* ---- the saddle-point system's pattern ---- */
 
 /* position of (i, j) in a pattern's row i, (size_t)-1 if none */
@@ -46,7 +54,7 @@ static size_t find(const sdae_pattern *p, size_t i, size_t j) {
  * row counts first. */
 static void build_k(sdae_mbs_sparse *sp, size_t *start, size_t *col) {
   const sdae_pattern *M = sp->Mp, *G = sp->Gp;
-  size_t n_q = sp->n_q, *fill = sp->kkt.count; /* n_k: the elimination's, free here */
+  size_t n_q = sp->n_q, *fill = sp->lu[0].count; /* n_q: the elimination's, free here */
   memset(fill, 0, n_q * sizeof *fill);
   for (size_t e = 0; e < G->nnz; e++) fill[G->col[e]]++;
   start[0] = 0;
@@ -75,7 +83,7 @@ static void build_k(sdae_mbs_sparse *sp, size_t *start, size_t *col) {
       sp->m_mirror[e] = find(M, M->col[e], i);
 }
 
-void sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
+int sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
   size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->n_k, *start, *col;
   const sdae_mbs *sys = &sp->eval->sys;
   size_t gnz = sys->jacobian_pattern->nnz, mnz = sys->mass_pattern->nnz, knz = mnz + 2 * gnz;
@@ -91,8 +99,8 @@ void sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
   sp->k_of_g = sdae__take_indices(a, gnz);
   sp->k_of_gt = sdae__take_indices(a, gnz);
   sp->K = sdae__take(a, knz, 1);
-  sdae__sparse_lu_carve(&sp->kkt, n_k, n_k, knz, a);
-  sp->kkt.diagonal = 1; /* coordinates first: LDL^T's order, M's diagonal the pivots */
+  sdae__sparse_ldl_symbolic_carve(&sp->ksym, n_k, n_q, knz, a);
+  sdae__sparse_ldl_carve(&sp->kkt, &sp->ksym, a);
   sp->q = sdae__take(a, n_q, 1), sp->v = sdae__take(a, n_q, 1);
   sp->c = sdae__take(a, n_c, 1), sp->ct = sdae__take(a, n_c, 1);
   sp->G = sdae__take(a, gnz, 1), sp->M = sdae__take(a, mnz, 1), sp->Gd = sdae__take(a, gnz, 1);
@@ -102,16 +110,20 @@ void sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
   sp->base_c = sdae__take(a, n_c, 1), sp->base_ct = sdae__take(a, n_c, 1);
   sp->Mv = sdae__take(a, n_q, 1), sp->F = sdae__take(a, n_q, 1), sp->Mdv = sdae__take(a, n_q, 1);
   sp->y = sdae__take(a, n_q, 1), sp->rhs = sdae__take(a, n_k, 1), sp->sol = sdae__take(a, n_k, 1);
-  sp->xk = sdae__take(a, n_k, 1), sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1);
+  sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1);
   sp->q_D = sdae__take(a, n_c, 1), sp->res = sdae__take(a, n_c, 1);
   sp->est_x = sdae__take(a, n_q, 1), sp->est_z = sdae__take(a, n_q, 1);
   sdae__newton_carve_hooks(&sp->newton, n_c, NEWTON_SMALL, sp->newton_max_iter, a);
   sp->newton.keep = 1;
   sp->Kp = (sdae_pattern){knz, start, col};
-  if (start) build_k(sp, start, col); /* handed out, not only counted */
+  if (!start) return SDAE_OK; /* counted, not handed out */
+  build_k(sp, start, col);
+  return sdae__sparse_ldl_analyse(&sp->ksym, &sp->Kp);
 }
 
-void sdae__mbs_sparse_forget(sdae_mbs_sparse *sp) { sp->valid = 0; }
+void sdae__mbs_sparse_forget(sdae_mbs_sparse *sp) { sp->valid = sp->fresh = 0; }
+
+void sdae__mbs_sparse_stale(sdae_mbs_sparse *sp) { sp->fresh = 0; }
 
 /* ---- products through the patterns ---- */
 
@@ -192,7 +204,8 @@ int sdae__mbs_sparse_choose(sdae_mbs_sparse *sp, int force_best) {
   double now = HUGE_VAL, best;
   int other = 1 - sp->cur, rc;
   sp->kept = 0;
-  if (sp->have && sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK) {
+  if (sp->have &&
+      (sp->reuse || sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK)) {
     now = estimate(sp, sp->cur);
     sp->kept = 1;
     if (!force_best && now <= SDAE_MBS_CHART_FACTOR * sp->measure) return SDAE_OK;
@@ -234,7 +247,8 @@ int sdae__mbs_sparse_xi(sdae_mbs_sparse *sp, double t, const double *q, const do
                         double *xi) {
   int rc;
   sp->at_start = at_point(sp, t, q, v);
-  sp->valid = 0;
+  sp->reuse = sp->at_start && sp->fresh;
+  sp->valid = sp->fresh = 0;
   if ((rc = sdae__mbs_constraint(sp->eval, t, q, sp->c)) != SDAE_OK) return rc;
   if (!sp->at_start && ((rc = sdae__mbs_jacobian_values(sp->eval, t, q, sp->G)) != SDAE_OK ||
                         (rc = sdae__mbs_constraint_t(sp->eval, t, q, sp->ct)) != SDAE_OK))
@@ -281,14 +295,10 @@ void sdae__mbs_sparse_kkt_values(const sdae_mbs_sparse *sp, const double *M, con
   for (size_t e = 0; e < sp->Gp->nnz; e++) K[sp->k_of_g[e]] = K[sp->k_of_gt[e]] = G[e];
 }
 
-/* K at the point's M and G, factored (the pivots kept while they serve) */
+/* K at the point's M and G, factored */
 static int kkt_factor(sdae_mbs_sparse *sp) {
-  int rc;
   sdae__mbs_sparse_kkt_values(sp, sp->M, sp->G, sp->K);
-  if (sp->kkt_have && sdae__sparse_lu_refactor(&sp->kkt, &sp->Kp, sp->K) == SDAE_OK) return SDAE_OK;
-  rc = sdae__sparse_lu_choose(&sp->kkt, &sp->Kp, sp->K);
-  sp->kkt_have = rc == SDAE_OK;
-  return rc == SDAE_ERR_RANK ? SDAE_ERR_MASS : rc; /* no reduced mass, or no chart's rank */
+  return sdae__sparse_ldl_factor(&sp->kkt, sp->K);
 }
 
 /* v and nu at the point from p (mu's momenta) and xi's velocity part. The saddle-point solve
@@ -300,8 +310,7 @@ static int solve_v(sdae_mbs_sparse *sp, const double *xi, const double *p) {
   memset(sp->rhs, 0, sp->n_q * sizeof *sp->rhs);
   for (size_t f = 0; f < sp->n_f; f++) sp->rhs[sp->ind[f]] = p[f];
   for (size_t j = 0; j < sp->n_c; j++) sp->rhs[sp->n_q + j] = xi[2 * j + 1] - sp->ct[j];
-  sdae__sparse_lu_solve(&sp->kkt, sp->rhs, sp->xk);
-  for (size_t k = 0; k < sp->n_k; k++) sp->sol[sp->kkt.pivot[k]] = sp->xk[k];
+  sdae__sparse_ldl_solve(&sp->kkt, sp->rhs, sp->sol);
   memcpy(sp->v, sp->sol, sp->n_q * sizeof *sp->v);
   memcpy(sp->nu, sp->sol + sp->n_q, sp->n_c * sizeof *sp->nu);
   sdae__mbs_sparse_g_times(sp, sp->G, sp->v, NULL, sp->res);
@@ -318,7 +327,8 @@ int sdae__mbs_sparse_seed(sdae_mbs_sparse *sp, double t, const double *q, const 
   int rc;
   memcpy(sp->q, q, sp->n_q * sizeof *q);
   memset(sp->key, 0, 2 * sp->n_c * sizeof *sp->key);
-  if ((rc = kkt_factor(sp)) != SDAE_OK || (rc = solve_v(sp, sp->key, mu + sp->n_f)) != SDAE_OK)
+  if ((!sp->reuse && (rc = kkt_factor(sp)) != SDAE_OK) ||
+      (rc = solve_v(sp, sp->key, mu + sp->n_f)) != SDAE_OK)
     return rc;
   memcpy(sp->v, v, sp->n_q * sizeof *v); /* the start's v, to rounding the one solved for */
   memcpy(sp->key + 2 * sp->n_c, mu, 2 * sp->n_f * sizeof *mu);
@@ -468,7 +478,9 @@ int sdae__mbs_sparse_phi_inv(sdae_mbs_sparse *sp, double t, const double *xi, co
 int sdae__mbs_sparse_phi_inv_state(sdae_mbs_sparse *sp, double t, const double *xi,
                                    const double *mu) {
   int rc = phi_inv(sp, t, xi, mu, 1);
-  return rc == SDAE_OK ? sdae__mbs_sparse_mass_symmetric(sp, sp->M) : rc;
+  if (rc == SDAE_OK) rc = sdae__mbs_sparse_mass_symmetric(sp, sp->M);
+  sp->fresh = rc == SDAE_OK; /* the next step's start, unless q or v are changed */
+  return rc;
 }
 
 /* (v_I, W^T (F + (dM/dt) v + (dG/dt)^T nu)) at the point */
@@ -500,13 +512,11 @@ void sdae__mbs_sparse_state(sdae_mbs_sparse *sp, sdae_bytes *b) {
   size_t n_q = sp->n_q, n_c = sp->n_c;
   sdae__bytes_flag(b, &sp->have);
   sdae__bytes_flag(b, &sp->cur);
-  sdae__bytes_flag(b, &sp->kkt_have);
   sdae__bytes(b, &sp->switches, sizeof sp->switches);
   sdae__bytes_doubles(b, &sp->measure, 1);
   sdae__bytes(b, sp->ind, sp->n_f * sizeof *sp->ind);
   lu_pivots(&sp->lu[0], b);
   lu_pivots(&sp->lu[1], b);
-  lu_pivots(&sp->kkt, b);
   sdae__bytes_flag(b, &sp->valid);
   sdae__bytes_doubles(b, &sp->key_t, 1);
   sdae__bytes_doubles(b, sp->key, 2 * n_q);
@@ -538,7 +548,6 @@ static int lu_valid(sdae_sparse_lu *lu) {
 
 int sdae__mbs_sparse_valid(sdae_mbs_sparse *sp) {
   sdae_sparse_lu *lu = &sp->lu[sp->cur & 1];
-  if (sp->kkt_have && !lu_valid(&sp->kkt)) return 0;
   if (!sp->have) return 1;
   if (!lu_valid(lu)) return 0;
   for (size_t f = 0; f < sp->n_f; f++)

@@ -2,8 +2,9 @@
 /* The coordinates of a sparse mechanism at the cost of its nonzeros (mbs_sparse.c): the same
  * xi, mu, Phi^-1 and mu-dynamics as mbs_coords.c, with G, M and dG/ds as their nonzeros, the
  * chart by core/sparse_lu.c (G = L U, G_D = L U_D, no G_D^-1 G_I formed) and the velocity from
- * the saddle-point system [M G^T; G 0] [v; nu] = [P^T (0, p); xi_v - dc/dt], factored the same
- * way: W^T y = y_I - G_I^T G_D^-T y_D, and the multipliers give G_D^-T (M v)_D = -nu, so that
+ * the saddle-point system [M G^T; G 0] [v; nu] = [P^T (0, p); xi_v - dc/dt], factored by
+ * core/sparse_ldl.c (SuiteSparse's AMD and LDL): W^T y = y_I - G_I^T G_D^-T y_D, and the
+ * multipliers give G_D^-T (M v)_D = -nu, so that
  *
  *   p' = W^T (F + (dM/dt) v + (dG/dt)^T nu).
  *
@@ -17,6 +18,7 @@
 #include "core/arena.h"
 #include "core/bytes.h"
 #include "core/newton.h"
+#include "core/sparse_ldl.h"
 #include "core/sparse_lu.h"
 #include "mbs_eval.h"
 
@@ -32,22 +34,27 @@ typedef struct sdae_mbs_sparse {
   size_t *ind;            /* n_f: the current chart's q_I, ascending */
   unsigned long switches; /* charts replaced (the first one is not) */
   double measure;         /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
-  /* the saddle-point system: its pattern, where M's and G's values go in it, its factors */
+  /* the saddle-point system: its pattern, where M's and G's values go in it, its order and
+   * structure (analysed when the stepper is built, shared with the query) and its factors */
   sdae_pattern Kp;
   size_t *k_of_m, *k_of_g, *k_of_gt;
   double *K;
-  sdae_sparse_lu kkt;
-  int kkt_have;
+  sdae_sparse_ldl_symbolic ksym;
+  sdae_sparse_ldl kkt;
   /* the point Phi^-1 left (or the step's start), as mbs_coords' */
   double *q, *v, *c, *ct; /* n_q, n_q, n_c, n_c */
   double *G, *M, *Gd;     /* nnz(G), nnz(M), nnz(G) */
   double *nu;             /* n_c: the multipliers of the velocity's system */
   int valid, at_start, base_here;
+  /* the chart's and the saddle-point system's factors are at the point a state's Phi^-1 left
+   * (fresh; not in the state's bytes, so that a rollback or a state set clears it), and the
+   * step's start is that point, where they serve as they are (reuse) */
+  int fresh, reuse;
   double key_t, *key; /* 2 n_q */
   double *base_q, *base_c, *base_ct, base_t;
   /* scratch */
   double *Mv, *F, *Mdv, *y, *rhs, *sol; /* n_q, n_q, n_q, n_q, n_k, n_k */
-  double *xk, *zc, *yd, *q_D, *res;     /* n_k, n_c, n_c, n_c, n_c */
+  double *zc, *yd, *q_D, *res;          /* n_c each */
   double *est_x, *est_z;                /* n_q each: the norm estimate's */
   sdae_newton newton;                   /* Phi^-1's chord, G_D's factors kept from the base */
   unsigned long phi_inv_iters;
@@ -57,8 +64,11 @@ typedef struct sdae_mbs_sparse {
  * mass_dot_v given, an explicit map */
 int sdae__mbs_sparse_applies(const sdae_mbs *sys, const sdae_options *o);
 void sdae__mbs_sparse_init(sdae_mbs_sparse *sp, sdae_mbs_eval *eval, unsigned newton_max_iter);
-/* its arrays, counted or handed out (and, handed out, the saddle-point pattern built) */
-void sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a);
+/* the saddle-point system's sizes fit its factorization's indices */
+int sdae__mbs_sparse_fits(const sdae_mbs_sparse *sp);
+/* its arrays, counted or handed out; handed out, the saddle-point pattern built and analysed:
+ * SDAE_OK, or sdae__sparse_ldl_analyse's refusal */
+int sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a);
 
 /* as mbs_coords' and mbs_chart's functions of the same names */
 int sdae__mbs_sparse_xi(sdae_mbs_sparse *sp, double t, const double *q, const double *v,
@@ -75,6 +85,8 @@ int sdae__mbs_sparse_phi_inv_state(sdae_mbs_sparse *sp, double t, const double *
                                    const double *mu);
 int sdae__mbs_sparse_mu_dot(sdae_mbs_sparse *sp, double t, double *out);
 void sdae__mbs_sparse_forget(sdae_mbs_sparse *sp);
+/* the factors made anew at the next step's start (a state was set) */
+void sdae__mbs_sparse_stale(sdae_mbs_sparse *sp);
 /* the dependent coordinates, ascending, into dep (n_c) */
 void sdae__mbs_sparse_chart(const sdae_mbs_sparse *sp, size_t *dep);
 /* products through the patterns: out (n_c) = G x + add (add may be NULL), out (n_q) = M x; M

@@ -7,17 +7,16 @@
 
 void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse *sp,
                                   sdae_arena *a) {
-  size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->n_k, gnz = sp->Gp->nnz, knz = sp->Kp.nnz;
+  size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->n_k, gnz = sp->Gp->nnz;
   qy->sp = sp;
   qy->c = sdae__take(a, n_c, 1), qy->ct = sdae__take(a, n_c, 1);
   qy->gamma = sdae__take(a, n_c, 1), qy->xi = sdae__take(a, 2 * n_c, 1);
   qy->G = sdae__take(a, gnz, 1), qy->Gd = sdae__take(a, gnz, 1);
   qy->M = sdae__take(a, sp->Mp->nnz, 1);
   qy->F = sdae__take(a, n_q, 1), qy->Mv = sdae__take(a, n_q, 1);
-  qy->K = sdae__take(a, knz, 1);
-  qy->rhs = sdae__take(a, n_k, 1), qy->xk = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
-  sdae__sparse_lu_carve(&qy->kkt, n_k, n_k, knz, a);
-  qy->kkt.diagonal = 1;
+  qy->K = sdae__take(a, sp->Kp.nnz, 1);
+  qy->rhs = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
+  sdae__sparse_ldl_carve(&qy->kkt, &sp->ksym, a);
 }
 
 int sdae__mbs_sparse_query_xi(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v,
@@ -76,12 +75,10 @@ int sdae__mbs_sparse_query_lambda(sdae_mbs_sparse_query *qy, double t, const dou
       (rc = gamma_at(qy, t, q, v)) != SDAE_OK)
     return rc;
   sdae__mbs_sparse_kkt_values(sp, qy->M, qy->G, qy->K);
-  if ((rc = sdae__sparse_lu_choose(&qy->kkt, &sp->Kp, qy->K)) != SDAE_OK)
-    return rc == SDAE_ERR_RANK ? SDAE_ERR_MASS : rc;
+  if ((rc = sdae__sparse_ldl_factor(&qy->kkt, qy->K)) != SDAE_OK) return rc;
   memcpy(qy->rhs, qy->F, n_q * sizeof *qy->rhs);
   for (size_t j = 0; j < n_c; j++) qy->rhs[n_q + j] = -qy->gamma[j];
-  sdae__sparse_lu_solve(&qy->kkt, qy->rhs, qy->xk);
-  for (size_t k = 0; k < sp->n_k; k++) qy->sol[qy->kkt.pivot[k]] = qy->xk[k];
+  sdae__sparse_ldl_solve(&qy->kkt, qy->rhs, qy->sol);
   if (!sdae__all_finite(qy->sol + n_q, n_c)) return SDAE_ERR_NONFINITE;
   memcpy(lambda, qy->sol + n_q, n_c * sizeof *lambda);
   return SDAE_OK;

@@ -16,8 +16,8 @@ typedef struct sdae_mbs_sparse_query {
   double *c, *ct, *gamma, *xi; /* n_c, n_c, n_c, 2 n_c */
   double *G, *Gd, *M;          /* nnz(G), nnz(G), nnz(M) */
   double *F, *Mv;              /* n_q each */
-  double *K, *rhs, *xk, *sol;  /* nnz(K), n_k each */
-  sdae_sparse_lu kkt;
+  double *K, *rhs, *sol;       /* nnz(K), n_k each */
+  sdae_sparse_ldl kkt;         /* on the stepper's analysis of K */
 } sdae_mbs_sparse_query;
 
 void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse *sp,

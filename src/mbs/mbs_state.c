@@ -162,5 +162,6 @@ int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
     sdae__mbs_rollback(s);
     return SDAE_ERR_STATE_DAMAGED;
   }
+  if (s->sparse) sdae__mbs_sparse_stale(&s->sp); /* its factors are not in the bytes */
   return SDAE_OK;
 }

@@ -17,6 +17,7 @@ missing_packages() {
   command -v pkg-config >/dev/null || pkgs+=(pkg-config)
   pkg-config --exists gsl 2>/dev/null || pkgs+=(libgsl-dev)
   pkg-config --exists check 2>/dev/null || pkgs+=(check)
+  [ -e /usr/include/suitesparse/ldl.h ] || pkgs+=(libsuitesparse-dev)
   ls /usr/lib/*/cmake/sundials/SUNDIALSConfig.cmake >/dev/null 2>&1 || pkgs+=(libsundials-dev)
   python3 -c 'import ensurepip, venv' 2>/dev/null || pkgs+=(python3-venv)
   for tool in "$@"; do

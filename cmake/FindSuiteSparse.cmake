@@ -1,0 +1,37 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The parts of SuiteSparse stabdae's sparse mechanisms use (src/core/sparse_ldl.c): LDL, AMD
+# and SuiteSparse_config under them, as imported targets SuiteSparse::LDL, SuiteSparse::AMD
+# and SuiteSparse::SuiteSparseConfig (the names SuiteSparse 7's own CMake packages give them).
+# Debian's SuiteSparse 5 ships no CMake package: its headers are in include/suitesparse.
+# SuiteSparse_STATIC_LIBRARIES lists the static archives, when found (the FMUs link them in).
+include(FindPackageHandleStandardArgs)
+
+find_path(SuiteSparse_INCLUDE_DIR NAMES ldl.h amd.h PATH_SUFFIXES suitesparse)
+set(SuiteSparse_STATIC_LIBRARIES)
+foreach(part LDL AMD SuiteSparseConfig)
+  string(TOLOWER ${part} lib)
+  find_library(SuiteSparse_${part}_LIBRARY NAMES ${lib})
+  find_library(SuiteSparse_${part}_STATIC NAMES lib${lib}.a)
+  if(SuiteSparse_${part}_STATIC)
+    list(APPEND SuiteSparse_STATIC_LIBRARIES ${SuiteSparse_${part}_STATIC})
+  endif()
+  mark_as_advanced(SuiteSparse_${part}_LIBRARY SuiteSparse_${part}_STATIC)
+endforeach()
+mark_as_advanced(SuiteSparse_INCLUDE_DIR)
+
+find_package_handle_standard_args(SuiteSparse
+  REQUIRED_VARS SuiteSparse_INCLUDE_DIR SuiteSparse_LDL_LIBRARY SuiteSparse_AMD_LIBRARY
+                SuiteSparse_SuiteSparseConfig_LIBRARY)
+
+if(SuiteSparse_FOUND)
+  foreach(part SuiteSparseConfig AMD LDL)
+    if(NOT TARGET SuiteSparse::${part})
+      add_library(SuiteSparse::${part} UNKNOWN IMPORTED)
+      set_target_properties(SuiteSparse::${part} PROPERTIES
+        IMPORTED_LOCATION ${SuiteSparse_${part}_LIBRARY}
+        INTERFACE_INCLUDE_DIRECTORIES ${SuiteSparse_INCLUDE_DIR})
+    endif()
+  endforeach()
+  set_property(TARGET SuiteSparse::AMD APPEND PROPERTY
+    INTERFACE_LINK_LIBRARIES SuiteSparse::SuiteSparseConfig)
+endif()

@@ -1,0 +1,66 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* A sparse symmetric quasi-definite matrix, the saddle-point system K = [M G^T; G 0] of a sparse
+ * mechanism (M positive definite, G of full rank), factored K = P^T L D L^T P by SuiteSparse:
+ * the order P by AMD (minimum degree, against fill), its first n_pos rows (the coordinates)
+ * then taken before the others (the multipliers), an order in which LDL^T needs no pivoting
+ * (D > 0 on the coordinates, D < 0 on the multipliers, for every such K), and the
+ * factorization by LDL. Both take every array from their caller, so all of it is carved from
+ * the owner's block:
+ *
+ *   analyse (once, when the owner is built): AMD's ordering (amd_2, its workspace and the
+ *            copy of the pattern it consumes carved here) and LDL's symbolic factorization
+ *            (ldl_symbolic: L's column counts and the elimination tree);
+ *   factor  (each time the values change): ldl_numeric, O(nnz(L)) flops, no allocation;
+ *   solve:  ldl_perm, ldl_lsolve, ldl_dsolve, ldl_ltsolve, ldl_permt.
+ *
+ * The symbolic part is shared by every numeric factorization of the same pattern (a stepper's
+ * and its query's). L's entries are reserved at SDAE_SPARSE_LDL_FILL times K's nonzeros plus one
+ * per row; the analysis knows the exact count and refuses a pattern that needs more. */
+#ifndef STABDAE_SRC_CORE_SPARSE_LDL_H
+#define STABDAE_SRC_CORE_SPARSE_LDL_H
+
+#include <stddef.h>
+
+#include "arena.h"
+#include "pattern.h"
+
+/* the entries L may hold: this many times K's nonzeros (both triangles), plus one per row */
+#define SDAE_SPARSE_LDL_FILL 4
+
+typedef struct sdae_sparse_ldl_symbolic {
+  size_t n, n_pos, cap;
+  int *Ap, *Ai;     /* K's pattern as LDL reads it (symmetric: its rows are its columns) */
+  int *P, *Pinv;    /* the order: P[k] the row taken k-th */
+  int *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
+  int *amd_work;    /* AMD's: the pattern it consumes and its workspace */
+  size_t amd_len;   /* ints in amd_work */
+} sdae_sparse_ldl_symbolic;
+
+typedef struct sdae_sparse_ldl {
+  const sdae_sparse_ldl_symbolic *sym;
+  int *Lnz, *Flag, *Pattern, *Li; /* LDL's workspace (n each) and L's rows (cap) */
+  double *Lx, *D, *Y;             /* L's values (cap), D, LDL's workspace (n) */
+  double *x;                      /* n: a solve's permuted right-hand side */
+} sdae_sparse_ldl;
+
+/* the arrays of the analysis of a pattern of n rows (n_pos of them coordinates) and nnz entries,
+ * counted or handed out */
+void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
+                                     size_t nnz, sdae_arena *a);
+/* the order and L's structure of K's pattern (symmetric): SDAE_OK;
+ * SDAE_ERR_OVERFLOW when the sizes do not fit LDL's int; SDAE_ERR_PATTERN when L needs more
+ * entries than reserved */
+int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K);
+/* whether a pattern of n rows and nnz entries fits LDL's and AMD's int indices */
+int sdae__sparse_ldl_fits(size_t n, size_t nnz);
+
+void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym, sdae_arena *a);
+/* K's values (in the pattern's order) factored: SDAE_OK; SDAE_ERR_MASS when a coordinate's
+ * pivot is not positive beyond n eps ||M||_inf (M not positive definite to rounding),
+ * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, the
+ * least its Schur complement's diagonal can be (G not of full rank to rounding) */
+int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values);
+/* x = K^-1 b (x and b may not overlap) */
+void sdae__sparse_ldl_solve(sdae_sparse_ldl *f, const double *b, double *x);
+
+#endif /* STABDAE_SRC_CORE_SPARSE_LDL_H */

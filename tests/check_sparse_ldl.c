@@ -1,0 +1,189 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* The saddle-point factorization of sparse mechanisms (core/sparse_ldl.c: SuiteSparse's AMD
+ * and LDL) against dense linear algebra and the mathematics: K x = b solved as GSL's dense LU
+ * solves it and backward stable, the coordinates ordered before the multipliers, a mass not
+ * positive definite and dependent constraints refused by the pivots' signs, and L's size that
+ * of the elimination: a coordinate that every constraint holds (a cart under k pendulums)
+ * couples all k multipliers, k (k - 1) / 2 entries of fill, and past the reserve the pattern
+ * is refused. */
+#include <float.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/sparse_ldl.h"
+#include "testmodels.h"
+
+/* K = [M G^T; G 0] in compressed rows, its dense copy, and its factorization's block */
+typedef struct saddle {
+  size_t n_q, n_c, n, nnz;
+  size_t *row_start, *col;
+  double *values, *dense;
+  sdae_sparse_ldl_symbolic sym;
+  sdae_sparse_ldl f;
+  void *mem;
+} saddle;
+
+/* entry (i, j) of K appended to row i (the rows written in order, columns ascending) */
+static void put(saddle *k, size_t i, size_t j, double v) {
+  k->col[k->nnz] = j, k->values[k->nnz++] = v;
+  k->dense[i * k->n + j] = v;
+  k->row_start[i + 1] = k->nnz;
+}
+
+/* K from dense M (n_q x n_q) and G (n_c x n_q), their zeros left out of the pattern */
+static void saddle_init(saddle *k, size_t n_q, size_t n_c, const double *M, const double *G) {
+  size_t n = n_q + n_c;
+  *k = (saddle){.n_q = n_q, .n_c = n_c, .n = n};
+  k->row_start = calloc(n + 1, sizeof *k->row_start);
+  k->col = malloc(n * n * sizeof *k->col);
+  k->values = malloc(n * n * sizeof *k->values);
+  k->dense = calloc(n * n, sizeof *k->dense);
+  for (size_t i = 0; i < n; i++) {
+    k->row_start[i + 1] = k->nnz;
+    for (size_t j = 0; j < n; j++) {
+      double v = i < n_q ? (j < n_q ? M[i * n_q + j] : G[(j - n_q) * n_q + i])
+                         : (j < n_q ? G[(i - n_q) * n_q + j] : 0.0);
+      if (v != 0.0) put(k, i, j, v);
+    }
+  }
+}
+
+/* the analysis of K's pattern in a block of the test's: its status */
+static int saddle_analyse(saddle *k) {
+  sdae_arena a = {0};
+  sdae_pattern p = {k->nnz, k->row_start, k->col};
+  sdae__sparse_ldl_symbolic_carve(&k->sym, k->n, k->n_q, k->nnz, &a);
+  sdae__sparse_ldl_carve(&k->f, &k->sym, &a);
+  ck_assert(!a.overflow);
+  k->mem = calloc(1, a.used + 64);
+  a = (sdae_arena){.base = k->mem};
+  sdae__sparse_ldl_symbolic_carve(&k->sym, k->n, k->n_q, k->nnz, &a);
+  sdae__sparse_ldl_carve(&k->f, &k->sym, &a);
+  return sdae__sparse_ldl_analyse(&k->sym, &p);
+}
+
+static void saddle_free(saddle *k) {
+  free(k->row_start), free(k->col), free(k->values), free(k->dense), free(k->mem);
+}
+
+/* a random sparse mechanism's M (banded, diagonally dominant: positive definite) and G (each
+ * constraint on its own coordinate and two others near it, as joints couple neighbouring
+ * bodies: full rank) */
+static void random_mechanism(gsl_rng *rng, size_t n_q, size_t n_c, double *M, double *G) {
+  memset(M, 0, n_q * n_q * sizeof *M);
+  memset(G, 0, n_c * n_q * sizeof *G);
+  for (size_t i = 0; i < n_q; i++) {
+    M[i * n_q + i] = 3.0 + gsl_rng_uniform(rng);
+    if (i + 1 < n_q) M[i * n_q + i + 1] = M[(i + 1) * n_q + i] = gsl_rng_uniform(rng) - 0.5;
+  }
+  for (size_t j = 0; j < n_c; j++) {
+    G[j * n_q + j] = 2.0 + gsl_rng_uniform(rng);
+    for (int e = 0; e < 2; e++) {
+      size_t near = j + 1 + gsl_rng_uniform_int(rng, 6);
+      G[j * n_q + (near < n_q ? near : j)] += gsl_rng_uniform(rng);
+    }
+  }
+}
+
+START_TEST(random_saddle_points_solve_as_dense_algebra) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  for (int trial = 0; trial < 40; trial++) {
+    size_t n_q = 4 + gsl_rng_uniform_int(rng, 40), n_c = 1 + gsl_rng_uniform_int(rng, n_q - 1);
+    size_t n = n_q + n_c;
+    double *M = malloc(n_q * n_q * sizeof *M), *G = malloc(n_c * n_q * sizeof *G);
+    double *b = malloc(n * sizeof *b), *x = malloc(n * sizeof *x), worst = 0.0, kx = 0.0;
+    saddle k;
+    random_mechanism(rng, n_q, n_c, M, G);
+    saddle_init(&k, n_q, n_c, M, G);
+    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+    for (size_t r = 0; r < n; r++) /* the coordinates first: the order needing no pivoting */
+      ck_assert_int_eq((size_t)k.sym.P[r] < n_q, r < n_q);
+    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), SDAE_OK);
+    for (size_t i = 0; i < n; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
+    sdae__sparse_ldl_solve(&k.f, b, x);
+    /* backward stable: K x - b at the rounding of K x */
+    for (size_t i = 0; i < n; i++) {
+      double r = -b[i], s = 0.0;
+      for (size_t j = 0; j < n; j++)
+        r += k.dense[i * n + j] * x[j], s += fabs(k.dense[i * n + j] * x[j]);
+      worst = fmax(worst, fabs(r)), kx = fmax(kx, s);
+    }
+    ck_assert_double_le(worst, 64.0 * (double)n * DBL_EPSILON * (kx + 1.0));
+    /* and GSL's dense LU of the same K finds the same x */
+    gsl_matrix_view K = gsl_matrix_view_array(k.dense, n, n);
+    gsl_vector_view bv = gsl_vector_view_array(b, n);
+    gsl_vector *xg = gsl_vector_alloc(n);
+    gsl_permutation *perm = gsl_permutation_alloc(n);
+    int sign;
+    ck_assert_int_eq(gsl_linalg_LU_decomp(&K.matrix, perm, &sign), 0);
+    ck_assert_int_eq(gsl_linalg_LU_solve(&K.matrix, perm, &bv.vector, xg), 0);
+    ck_assert_double_le(max_abs_diff(x, xg->data, n), 1e-10 * (1.0 + gsl_blas_dnrm2(xg)));
+    gsl_vector_free(xg), gsl_permutation_free(perm);
+    free(M), free(G), free(b), free(x);
+    saddle_free(&k);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* a mass with a negative eigenvalue, a mass with a massless coordinate, and a constraint
+ * repeated: the first two SDAE_ERR_MASS (a coordinate's pivot not positive), the third
+ * SDAE_ERR_RANK (a multiplier's not negative) */
+START_TEST(the_pivots_signs_refuse_what_has_no_solution) {
+  double M[9] = {2, 0, 0, 0, 2, 0, 0, 0, 2}, G[6] = {1, 1, 0, 0, 1, 1};
+  for (int which = 0; which < 3; which++) {
+    double Mw[9], Gw[6];
+    saddle k;
+    memcpy(Mw, M, sizeof M), memcpy(Gw, G, sizeof G);
+    if (which == 0) Mw[4] = -1.0;
+    if (which == 1) Mw[8] = 1e-30 * DBL_EPSILON; /* at rounding, not zero */
+    if (which == 2) memcpy(Gw + 3, Gw, 3 * sizeof *Gw);
+    saddle_init(&k, 3, 2, Mw, Gw);
+    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values),
+                     (which < 2 ? SDAE_ERR_MASS : SDAE_ERR_RANK));
+    saddle_free(&k);
+  }
+}
+END_TEST
+
+/* a cart (coordinate 0) under k pendulums, constraint j on the cart and pendulum j's two
+ * coordinates, M diagonal: eliminating the coordinates leaves G M^-1 G^T, whose every pair of
+ * constraints shares the cart: L holds G's entries and k (k - 1) / 2 of fill, and no more */
+static void cart(size_t k, saddle *s) {
+  size_t n_q = 1 + 2 * k;
+  double *M = calloc(n_q * n_q, sizeof *M), *G = calloc(k * n_q, sizeof *G);
+  for (size_t i = 0; i < n_q; i++) M[i * n_q + i] = 1.0 + (double)i;
+  for (size_t j = 0; j < k; j++) {
+    G[j * n_q] = 1.0;
+    G[j * n_q + 1 + 2 * j] = 0.5 + (double)j;
+    G[j * n_q + 2 + 2 * j] = -1.0;
+  }
+  saddle_init(s, n_q, k, M, G);
+  free(M), free(G);
+}
+
+START_TEST(a_shared_coordinate_fills_the_constraints_block) {
+  saddle s;
+  cart(10, &s);
+  ck_assert_int_eq(saddle_analyse(&s), SDAE_OK);
+  ck_assert_int_eq(s.sym.Lp[s.n], 3 * 10 + 10 * 9 / 2);
+  ck_assert_int_eq(sdae__sparse_ldl_factor(&s.f, s.values), SDAE_OK);
+  saddle_free(&s);
+  cart(100, &s); /* 4950 of fill against a reserve of 4 nnz(K) + n = 3505 */
+  ck_assert_uint_gt(100 * 99 / 2, SDAE_SPARSE_LDL_FILL * s.nnz + s.n);
+  ck_assert_int_eq(saddle_analyse(&s), SDAE_ERR_PATTERN);
+  saddle_free(&s);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("sparse_ldl");
+  ADD_CASE(s, random_saddle_points_solve_as_dense_algebra);
+  ADD_CASE(s, the_pivots_signs_refuse_what_has_no_solution);
+  ADD_CASE(s, a_shared_coordinate_fills_the_constraints_block);
+  return run_suite(s);
+}
