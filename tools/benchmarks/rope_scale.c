@@ -5,8 +5,17 @@
  * (the sparse coordinates, src/mbs/mbs_sparse.c) and, up to --dense-max, on the rope given
  * densely (the dense coordinates) and the classical RK4 on the index-1 form from the same
  * callbacks (index1_rk4.c, dense algebra); T = 1e-3, median CPU time of the thread over the
- * repetitions, and max abs(c) over the sparse run. A Markdown table on stdout, one row per N, and
- * the sparse step's growth exponent between successive N on stderr.
+ * repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the index-1
+ * form with KLU on the rope's patterns (tools/ida/ida_mbs.h: the iteration matrix by grouped
+ * differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.05 s from the
+ * same start: the median CPU time of the thread of the whole idambs_solve_with call (its
+ * consistent start, the matrix's structure and coloring, about 4 % of it at N = 4096, and the
+ * run) per 1e-3 s simulated, the time a step of the others covers, and max abs(c) at its end
+ * (index 1 lets c drift). Its interval is the same at every N and not cut to the budget, which
+ * sizes the fixed-step runs only: IDA's cost per simulated time depends on the interval (its
+ * first steps are short), and 0.05 s is 30 to 70 of its steps, 0.4 s of CPU at N = 4096. A
+ * Markdown table on stdout, one row per N, and on stderr the sparse step's growth exponent
+ * between successive N and IDA's matrix (order, nonzeros, column groups) and counters.
  *
  *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
  *              [--reps R (1..15, default 5)]
@@ -20,11 +29,14 @@
 
 #include <stabdae/mbs.h>
 
+#include "ida_mbs.h"
 #include "index1_rk4.h"
 #include "measure.h"
 #include "rope.h"
 
 static const double T = 1e-3;
+/* IDA's run: tolerances (rtol = atol) and its interval */
+static const double IDA_TOL = 1e-8, IDA_TF = 0.05;
 
 static double thread_seconds(void) {
   struct timespec ts;
@@ -89,6 +101,69 @@ static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys,
   return rc;
 }
 
+/* the positions of an IDA run's last row */
+typedef struct last_q {
+  size_t n_q;
+  double *q;
+} last_q;
+
+static int keep_q(double t, const double *q, const double *v, const double *lambda, void *ctx) {
+  const last_q *e = ctx;
+  (void)t, (void)v, (void)lambda;
+  memcpy(e->q, q, e->n_q * sizeof *q);
+  return 0;
+}
+
+/* IDA/KLU on the rope from its start over IDA_TF: the thread's CPU seconds of the call, and
+ * max abs(c) at its end and the counters when c_end */
+static int ida_run(const mech_rope *r, const sdae_mbs *sys, double *seconds, double *c_end,
+                   idaref_stats *stats) {
+  size_t n = 2 * r->N;
+  double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), *c = malloc(sys->n_c * sizeof *c);
+  idaref_options o = {IDA_TOL, IDA_TOL, IDA_TF, IDA_TF, 1000000L};
+  idaref_result res;
+  last_q end = {n, q};
+  double t0;
+  int rc = q && v && c ? 0 : -1;
+  if (rc == 0) mech_rope_start(r, 0.3, q, v);
+  t0 = thread_seconds();
+  if (rc == 0)
+    rc = idambs_solve_with(sys, IDAMBS_INDEX1, IDAMBS_KLU, 0.0, q, v, &o, keep_q, &end, &res);
+  *seconds = thread_seconds() - t0;
+  if (rc != 0 && q && v && c)
+    fprintf(stderr, "rope_scale: IDA/KLU at N = %zu: %s failed with %s at t = %g: %s\n", r->N,
+            res.function ? res.function : "?", res.flag_name, res.t_reached, res.message);
+  if (rc == 0 && c_end) {
+    *c_end = 0.0;
+    rc = track_c(sys, q, c, c_end);
+    *stats = res.stats;
+  }
+  free(q), free(v), free(c);
+  return rc;
+}
+
+/* the median seconds of reps IDA runs after a warm-up (which gives max abs(c) and the counters),
+ * per 1e-3 s simulated */
+static int ida_timed(const mech_rope *r, const sdae_mbs *sys, int reps, double *per_ms,
+                     double *c_end) {
+  double t[15], warm;
+  idaref_stats st;
+  size_t order, nnz, groups;
+  int rc = ida_run(r, sys, &warm, c_end, &st);
+  for (int i = 0; i < reps && rc == 0; i++) rc = ida_run(r, sys, &t[i], NULL, NULL);
+  if (rc != 0) return rc;
+  qsort(t, (size_t)reps, sizeof *t, cmp_double);
+  *per_ms = t[reps / 2] / (IDA_TF / 1e-3);
+  if (idambs_klu_structure(sys, &order, &nnz, &groups) == 0)
+    fprintf(stderr,
+            "rope_scale: N = %zu: IDA/KLU matrix of order %zu, %zu nonzeros, %zu groups; %ld "
+            "steps, %ld Newton iterations, %ld matrices (%ld residuals), %ld error test and %ld "
+            "Newton failures\n",
+            r->N, order, nnz, groups, st.steps, st.nonlin_iters, st.jac_evals,
+            st.res_evals + st.lin_res_evals, st.err_test_fails, st.nonlin_conv_fails);
+  return 0;
+}
+
 /* a time as the table's cell: microseconds, or "-" when not measured */
 static void cell(double seconds) {
   if (seconds > 0.0)
@@ -105,7 +180,7 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
   sdae_options o;
   sdae_mbs_stepper *s = NULL, *sd = NULL;
   index1 *w = NULL;
-  double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0;
+  double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
   if (rc == 0) rc = mech_rope_system(&dense, &rd);
@@ -113,6 +188,7 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
   o.map = sdae_map_rk4, o.delta = 2.0, o.epsilon = 1.0;
   if (rc == 0) rc = sdae_mbs_stepper_alloc(&s, &sys, &o);
   if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_sparse, &c_sparse);
+  if (rc == 0) rc = ida_timed(&r, &sys, reps, &ida_ms, &c_ida);
   if (rc == 0 && N <= dense_max) {
     if ((rc = sdae_mbs_stepper_alloc(&sd, &dense, &o)) == 0)
       rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other);
@@ -122,7 +198,9 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
   if (rc == 0) {
     printf("| %zu | %zu | %zu |", N, 2 * N, sdae_mbs_stepper_size(&sys, &o));
     cell(*us_sparse), cell(us_dense), cell(us_rk4);
-    printf(" %.1e |\n", c_sparse);
+    printf(" %.1e |", c_sparse);
+    cell(ida_ms);
+    printf(" %.1e |\n", c_ida);
   }
   sdae_mbs_stepper_free(s);
   sdae_mbs_stepper_free(sd);
@@ -152,8 +230,9 @@ int main(int argc, char **argv) {
   }
   if (max_n < 8) return wp_bad("rope_scale", "--max-n below 8: ", "the smallest rope");
   printf("| N | coordinates | stepper bytes (sparse) | rk4 sparse, us/step | rk4 dense, us/step | "
-         "index-1 RK4, us/step | max abs(c), sparse |\n"
-         "|---:|---:|---:|---:|---:|---:|---:|\n");
+         "index-1 RK4, us/step | max abs(c), sparse | IDA/KLU index-1, us per 1e-3 s simulated | "
+         "max abs(c), IDA end |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t N = 8; N <= (size_t)max_n; N *= 2) {
     double front;
     if (row(N, (size_t)dense_max, (int)reps, budget, &front) != 0) {

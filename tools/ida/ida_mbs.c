@@ -1,21 +1,25 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The mechanism's residuals for IDA (ida_mbs.h), the consistent start by GSL's Cholesky, and the
- * run: context, vectors, dense solver with IDA's difference-quotient matrix, then one IDASolve
- * per output time with tstop set to it. Scratch is allocated once per run (a tool, not the
- * library). */
+/* The mechanism's residuals for IDA (ida_mbs.h), the consistent start (GSL's Cholesky, or KLU on
+ * the saddle-point matrix), the KLU path's iteration matrix (its structure, the column groups, the
+ * grouped differences), and the run: context, vectors, dense solver with IDA's difference-quotient
+ * matrix or KLU with the grouped one, then one IDASolve per output time with tstop set to it.
+ * Scratch is allocated once per run (a tool, not the library). */
 #include "ida_mbs.h"
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,12 +30,15 @@ typedef struct mech {
   const sdae_mbs *sys;
   idambs_form form;
   size_t n_q, n_c;
-  double *block;          /* every array below, one allocation */
-  double *M, *F, *G;      /* the residual's evaluations */
-  double *Gv;             /* G where G v + dc/dt is evaluated (a point along (1, v)) */
-  double *qa, *fa;        /* a point along (1, v) and the values there */
-  double *qj, *cj;        /* a point of G's or dc/dt's differences and c there */
-  double *MiGT, *MiF, *A; /* the consistent start: M^-1 G^T, M^-1 F, G M^-1 G^T */
+  const sdae_pattern *mp, *gp; /* M's and G's patterns (NULL: dense, row-major) */
+  size_t m_len, g_len;         /* the values mass() and jacobian() write */
+  double *block;               /* every array below, one allocation */
+  double *M, *F, *G;           /* the residual's evaluations */
+  double *Gv;                  /* G where G v + dc/dt is evaluated (a point along (1, v)) */
+  double *qa, *fa;             /* a point along (1, v) and the values there */
+  double *qj, *cj;             /* a point of G's or dc/dt's differences and c there */
+  double *Md, *Gd;             /* the dense start's M and G: M and G themselves without patterns */
+  double *MiGT, *MiF, *A;      /* the dense start: M^-1 G^T, M^-1 F, G M^-1 G^T */
 } mech;
 
 /* The fourth-order central stencils over 12 h (first derivative) and 12 h^2 (second):
@@ -45,13 +52,19 @@ static const double weight2[5] = {16.0, 16.0, -1.0, -1.0, -30.0};
 #define FD_STEP1 7.4e-4
 #define FD_STEP2 2.5e-3
 
-static int mech_init(mech *m, const sdae_mbs *sys, idambs_form form) {
-  size_t nq = sys->n_q, nc = sys->n_c;
-  size_t len[] = {nq * nq, nq, nc * nq, nc * nq, nq, nc, nq, nc, nq * nc, nq, nc * nc};
-  double **dst[] = {&m->M,  &m->F,  &m->G,    &m->Gv,  &m->qa, &m->fa,
-                    &m->qj, &m->cj, &m->MiGT, &m->MiF, &m->A};
+/* The arrays of the residual, and with dense_start those of the dense consistent start (the KLU
+ * path has its own: no array of n_q^2 then). */
+static int mech_init(mech *m, const sdae_mbs *sys, idambs_form form, int dense_start) {
+  size_t nq = sys->n_q, nc = sys->n_c, d = dense_start ? 1 : 0;
+  const sdae_pattern *mp = sys->mass_pattern, *gp = sys->jacobian_pattern;
+  size_t m_len = mp ? mp->nnz : nq * nq, g_len = gp ? gp->nnz : nc * nq;
+  size_t md = mp ? d * nq * nq : 0, gd = gp ? d * nc * nq : 0; /* Md, Gd of their own */
+  size_t len[] = {m_len, nq, g_len, g_len, nq, nc, nq, nc, md, gd, d * nq * nc, nq, d * nc * nc};
+  double **dst[] = {&m->M,  &m->F,  &m->G,  &m->Gv,   &m->qa,  &m->fa, &m->qj,
+                    &m->cj, &m->Md, &m->Gd, &m->MiGT, &m->MiF, &m->A};
   size_t total = 0;
-  *m = (mech){.sys = sys, .form = form, .n_q = nq, .n_c = nc};
+  *m = (mech){.sys = sys, .form = form, .n_q = nq, .n_c = nc, .mp = mp, .gp = gp};
+  m->m_len = m_len, m->g_len = g_len;
   for (size_t i = 0; i < sizeof len / sizeof len[0]; i++) total += len[i];
   if (!(m->block = calloc(total, sizeof *m->block))) return -1;
   total = 0;
@@ -59,7 +72,64 @@ static int mech_init(mech *m, const sdae_mbs *sys, idambs_form form) {
     *dst[i] = m->block + total;
     total += len[i];
   }
+  if (!mp) m->Md = m->M;
+  if (!gp) m->Gd = m->G;
   return 0;
+}
+
+/* a pattern of rows x cols (pattern.h): row_start from 0 to nnz, columns ascending, below cols */
+static int pattern_ok(const sdae_pattern *p, size_t rows, size_t cols) {
+  if (!p->row_start || (p->nnz > 0 && !p->col) || p->row_start[0] != 0 ||
+      p->row_start[rows] != p->nnz)
+    return 0;
+  for (size_t i = 0; i < rows; i++) {
+    if (p->row_start[i + 1] < p->row_start[i]) return 0;
+    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++)
+      if (p->col[k] >= cols || (k > p->row_start[i] && p->col[k] <= p->col[k - 1])) return 0;
+  }
+  return 1;
+}
+
+/* What the patterns ask of the mechanism, before any run: NULL, or why not. */
+static const char *patterns_refused(const sdae_mbs *sys) {
+  if (sys->mass_pattern && !pattern_ok(sys->mass_pattern, sys->n_q, sys->n_q))
+    return "mass_pattern is not a pattern of n_q rows and columns (pattern.h)";
+  if (sys->jacobian_pattern && !pattern_ok(sys->jacobian_pattern, sys->n_c, sys->n_q))
+    return "jacobian_pattern is not a pattern of n_c rows and n_q columns (pattern.h)";
+  if (sys->jacobian_pattern && !sys->jacobian)
+    return "jacobian_pattern without jacobian: G's differences are dense";
+  return NULL;
+}
+
+/* y += A x (rows x cols): A row-major (p NULL) or its nonzeros in p's order */
+static void mul_add(const sdae_pattern *p, const double *a, size_t rows, size_t cols,
+                    const double *x, double *y) {
+  if (!p) {
+    for (size_t i = 0; i < rows; i++)
+      for (size_t j = 0; j < cols; j++) y[i] += a[i * cols + j] * x[j];
+    return;
+  }
+  for (size_t i = 0; i < rows; i++)
+    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) y[i] += a[k] * x[p->col[k]];
+}
+
+/* y += A^T x, A as in mul_add */
+static void mul_t_add(const sdae_pattern *p, const double *a, size_t rows, size_t cols,
+                      const double *x, double *y) {
+  if (!p) {
+    for (size_t i = 0; i < rows; i++)
+      for (size_t j = 0; j < cols; j++) y[j] += a[i * cols + j] * x[i];
+    return;
+  }
+  for (size_t i = 0; i < rows; i++)
+    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) y[p->col[k]] += a[k] * x[i];
+}
+
+/* the dense rows x cols matrix of A's nonzeros in p's order */
+static void expand(const sdae_pattern *p, const double *a, size_t rows, size_t cols, double *d) {
+  memset(d, 0, rows * cols * sizeof *d);
+  for (size_t i = 0; i < rows; i++)
+    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) d[i * cols + p->col[k]] = a[k];
 }
 
 static void mech_free(mech *m) { free(m->block); }
@@ -99,7 +169,7 @@ static int jacobian_fd(mech *m, double t, const double *q, double *G) {
 
 static int jacobian(mech *m, double t, const double *q, double *G) {
   if (!m->sys->jacobian) return jacobian_fd(m, t, q, G);
-  return checked(m->sys->jacobian(t, q, G, m->sys->params), G, m->n_c * m->n_q);
+  return checked(m->sys->jacobian(t, q, G, m->sys->params), G, m->g_len);
 }
 
 /* dc/dt: the callback, or d/dh c(t + h, q) (exactly 0 when c does not depend on t) */
@@ -155,8 +225,7 @@ static int velocity_constraint(mech *m, double t, const double *q, const double 
   int rc;
   if (!m->sys->jacobian) return derivative_along(m, c_along, 1, t, q, v, g);
   if ((rc = jacobian(m, t, q, m->Gv)) != 0 || (rc = constraint_t(m, t, q, g)) != 0) return rc;
-  for (size_t i = 0; i < m->n_c; i++)
-    for (size_t j = 0; j < m->n_q; j++) g[i] += m->Gv[i * m->n_q + j] * v[j];
+  mul_add(m->gp, m->Gv, m->n_c, m->n_q, v, g);
   return 0;
 }
 
@@ -170,24 +239,21 @@ static int gamma_at(mech *m, double t, const double *q, const double *v, double 
 static int dynamics(mech *m, double t, const double *q, const double *v) {
   const sdae_mbs *s = m->sys;
   size_t nq = m->n_q;
-  int rc = checked(s->mass(t, q, m->M, s->params), m->M, nq * nq);
+  int rc = checked(s->mass(t, q, m->M, s->params), m->M, m->m_len);
   if (rc == 0) rc = checked(s->force(t, q, v, m->F, s->params), m->F, nq);
   return rc != 0 ? rc : jacobian(m, t, q, m->G);
 }
 
 /* r += G^T x */
 static void add_GT(const mech *m, const double *x, double *r) {
-  for (size_t i = 0; i < m->n_c; i++)
-    for (size_t j = 0; j < m->n_q; j++) r[j] += m->G[i * m->n_q + j] * x[i];
+  mul_t_add(m->gp, m->G, m->n_c, m->n_q, x, r);
 }
 
 /* r = M v' - F + G^T lambda */
 static void momentum_rows(const mech *m, const double *vp, const double *lambda, double *r) {
   size_t nq = m->n_q;
-  for (size_t i = 0; i < nq; i++) {
-    r[i] = -m->F[i];
-    for (size_t j = 0; j < nq; j++) r[i] += m->M[i * nq + j] * vp[j];
-  }
+  for (size_t i = 0; i < nq; i++) r[i] = -m->F[i];
+  mul_add(m->mp, m->M, nq, nq, vp, r);
   add_GT(m, lambda, r);
 }
 
@@ -202,8 +268,7 @@ static int residual(mech *m, double t, const double *y, const double *yp, double
   momentum_rows(m, vp, lambda, r + nq);
   if (m->form == IDAMBS_INDEX1) {
     if ((rc = gamma_at(m, t, q, v, rl)) != 0) return rc;
-    for (size_t i = 0; i < nc; i++)
-      for (size_t j = 0; j < nq; j++) rl[i] += m->G[i * nq + j] * vp[j]; /* G v' + gamma = 0 */
+    mul_add(m->gp, m->G, nc, nq, vp, rl); /* G v' + gamma = 0 */
     return 0;
   }
   add_GT(m, y + 2 * nq + nc, r); /* q' = v - G^T nu */
@@ -232,23 +297,27 @@ static void spd_solve(double *L, size_t n, double *B, size_t k) {
   }
 }
 
-/* lambda and v' from (G M^-1 G^T) lambda = G M^-1 F + gamma, v' = M^-1 (F - G^T lambda) */
+/* lambda and v' from (G M^-1 G^T) lambda = G M^-1 F + gamma, v' = M^-1 (F - G^T lambda), the
+ * mechanism's patterns expanded into Md and Gd */
 static int start_lambda(mech *m, double t, const double *q, const double *v, double *lambda,
                         double *vdot) {
   size_t nq = m->n_q, nc = m->n_c;
+  const double *G = m->Gd;
   if (dynamics(m, t, q, v) != 0 || gamma_at(m, t, q, v, lambda) != 0) return -1;
+  if (m->mp) expand(m->mp, m->M, nq, nq, m->Md);
+  if (m->gp) expand(m->gp, m->G, nc, nq, m->Gd);
   for (size_t j = 0; j < nq; j++) {
     m->MiF[j] = m->F[j];
-    for (size_t i = 0; i < nc; i++) m->MiGT[j * nc + i] = m->G[i * nq + j];
+    for (size_t i = 0; i < nc; i++) m->MiGT[j * nc + i] = G[i * nq + j];
   }
-  if (spd_factor(m->M, nq) != 0) return -1;
-  spd_solve(m->M, nq, m->MiGT, nc);
-  spd_solve(m->M, nq, m->MiF, 1);
+  if (spd_factor(m->Md, nq) != 0) return -1;
+  spd_solve(m->Md, nq, m->MiGT, nc);
+  spd_solve(m->Md, nq, m->MiF, 1);
   for (size_t i = 0; i < nc; i++) {
-    for (size_t j = 0; j < nq; j++) lambda[i] += m->G[i * nq + j] * m->MiF[j];
+    for (size_t j = 0; j < nq; j++) lambda[i] += G[i * nq + j] * m->MiF[j];
     for (size_t l = 0; l < nc; l++) {
       m->A[i * nc + l] = 0.0;
-      for (size_t j = 0; j < nq; j++) m->A[i * nc + l] += m->G[i * nq + j] * m->MiGT[j * nc + l];
+      for (size_t j = 0; j < nq; j++) m->A[i * nc + l] += G[i * nq + j] * m->MiGT[j * nc + l];
     }
   }
   if (spd_factor(m->A, nc) != 0) return -1;
@@ -268,10 +337,247 @@ int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *
                   double *vdot) {
   mech m;
   int rc;
-  if (mech_init(&m, sys, IDAMBS_INDEX1) != 0) return -1;
+  if (patterns_refused(sys) || mech_init(&m, sys, IDAMBS_INDEX1, 1) != 0) return -1;
   rc = start_lambda(&m, t, q, v, lambda, vdot);
   mech_free(&m);
   return rc;
+}
+
+/* ---- the KLU path: the iteration matrix's structure, groups and values ---------------------- */
+
+/* A matrix's structure in compressed columns: column j's rows are rowind[colptr[j] ..
+ * colptr[j + 1]), ascending. */
+typedef struct csc {
+  size_t rows, cols, nnz;
+  sunindextype *colptr, *rowind;
+} csc;
+
+static void csc_free(csc *a) {
+  free(a->colptr);
+  free(a->rowind);
+  a->colptr = a->rowind = NULL;
+}
+
+/* The structure of the entries (ti[k], tj[k]), k < count, duplicates merged, by two stable
+ * counting sorts (by row, then by column); slot[k] (when slot) the place of entry k. 0, or -1
+ * without memory. */
+static int csc_build(size_t rows, size_t cols, size_t count, const size_t *ti, const size_t *tj,
+                     csc *a, size_t *slot) {
+  size_t big = rows > cols ? rows : cols, room = count > 0 ? count : 1;
+  size_t *cnt = calloc(big + 1, sizeof *cnt), *by_row = malloc(room * sizeof *by_row);
+  size_t *ord = malloc(room * sizeof *ord);
+  int rc = -1;
+  *a = (csc){.rows = rows, .cols = cols};
+  a->colptr = calloc(cols + 1, sizeof *a->colptr);
+  a->rowind = malloc(room * sizeof *a->rowind);
+  if (cnt && by_row && ord && a->colptr && a->rowind) {
+    for (size_t k = 0; k < count; k++) cnt[ti[k] + 1]++;
+    for (size_t i = 0; i < rows; i++) cnt[i + 1] += cnt[i];
+    for (size_t k = 0; k < count; k++) by_row[cnt[ti[k]]++] = k;
+    memset(cnt, 0, (big + 1) * sizeof *cnt);
+    for (size_t k = 0; k < count; k++) cnt[tj[k] + 1]++;
+    for (size_t j = 0; j < cols; j++) cnt[j + 1] += cnt[j];
+    for (size_t x = 0; x < count; x++) ord[cnt[tj[by_row[x]]]++] = by_row[x];
+    for (size_t x = 0; x < count; x++) {
+      size_t k = ord[x], prev = x > 0 ? ord[x - 1] : 0;
+      if (x == 0 || ti[k] != ti[prev] || tj[k] != tj[prev]) {
+        a->rowind[a->nnz++] = (sunindextype)ti[k];
+        a->colptr[tj[k] + 1]++;
+      }
+      if (slot) slot[k] = a->nnz - 1;
+    }
+    for (size_t j = 0; j < cols; j++) a->colptr[j + 1] += a->colptr[j];
+    rc = 0;
+  }
+  free(cnt), free(by_row), free(ord);
+  if (rc != 0) csc_free(a);
+  return rc;
+}
+
+/* a list of entries, its room counted beforehand */
+typedef struct entries {
+  size_t n, *i, *j;
+} entries;
+
+static void put(entries *e, size_t i, size_t j) { e->i[e->n] = i, e->j[e->n++] = j; }
+
+/* The index1 iteration matrix's structure (ida_mbs.h), of order 2 n_q + n_c: the residual's rows
+ * q' - v (q), M v' - F + G^T lambda (v), G v' + gamma (lambda) against the columns of y. */
+static int iteration_structure(const sdae_mbs *sys, csc *a) {
+  const sdae_pattern *mp = sys->mass_pattern, *gp = sys->jacobian_pattern;
+  size_t nq = sys->n_q, nc = sys->n_c, n = 2 * nq + nc, count = 4 * nq + 2 * mp->nnz + 3 * gp->nnz;
+  entries e = {0};
+  int rc = -1;
+  for (size_t c = 0; c < nc; c++) {
+    size_t len = gp->row_start[c + 1] - gp->row_start[c];
+    count += 2 * len * len;
+  }
+  e.i = malloc(count * sizeof *e.i), e.j = malloc(count * sizeof *e.j);
+  if (e.i && e.j) {
+    for (size_t k = 0; k < nq; k++) {
+      put(&e, k, k), put(&e, k, nq + k);           /* q' - v */
+      put(&e, nq + k, k), put(&e, nq + k, nq + k); /* S's diagonal */
+    }
+    for (size_t i = 0; i < nq; i++) /* M v' and, by assumption, F: S's pattern(M) */
+      for (size_t k = mp->row_start[i]; k < mp->row_start[i + 1]; k++)
+        put(&e, nq + i, mp->col[k]), put(&e, nq + i, nq + mp->col[k]);
+    for (size_t c = 0; c < nc; c++)
+      for (size_t k = gp->row_start[c]; k < gp->row_start[c + 1]; k++) {
+        size_t at = gp->col[k];
+        put(&e, nq + at, 2 * nq + c);                          /* G^T lambda: lambda's columns */
+        put(&e, 2 * nq + c, at), put(&e, 2 * nq + c, nq + at); /* G v' + gamma */
+        for (size_t l = gp->row_start[c]; l < gp->row_start[c + 1]; l++) /* G^T lambda in q */
+          put(&e, nq + at, gp->col[l]), put(&e, nq + at, nq + gp->col[l]);
+      }
+    rc = csc_build(n, n, e.n, e.i, e.j, a, NULL);
+  }
+  free(e.i), free(e.j);
+  return rc;
+}
+
+/* The column groups of a: a greedy coloring in column order (a column joins the first group
+ * with no column sharing a row with it), group g's columns group_col[group_start[g] ..
+ * group_start[g + 1]). 0, or -1 without memory. */
+static int color_columns(const csc *a, size_t *groups, size_t **group_start, size_t **group_col) {
+  size_t n = a->cols, m = a->rows, ng = 0;
+  size_t *row_start = calloc(m + 1, sizeof *row_start), *next = malloc((m + 1) * sizeof *next);
+  size_t *cols = malloc((a->nnz > 0 ? a->nnz : 1) * sizeof *cols);
+  size_t *color = malloc(n * sizeof *color), *mark = malloc((n + 1) * sizeof *mark);
+  int rc = -1;
+  *group_start = *group_col = NULL;
+  if (row_start && next && cols && color && mark) {
+    for (size_t p = 0; p < a->nnz; p++) row_start[a->rowind[p] + 1]++;
+    for (size_t i = 0; i < m; i++) row_start[i + 1] += row_start[i];
+    memcpy(next, row_start, (m + 1) * sizeof *next);
+    for (size_t j = 0; j < n; j++) /* the rows' columns, ascending */
+      for (sunindextype p = a->colptr[j]; p < a->colptr[j + 1]; p++) cols[next[a->rowind[p]]++] = j;
+    for (size_t j = 0; j <= n; j++) mark[j] = SIZE_MAX;
+    for (size_t j = 0; j < n; j++) {
+      size_t c = 0;
+      for (sunindextype p = a->colptr[j]; p < a->colptr[j + 1]; p++) {
+        size_t i = (size_t)a->rowind[p];
+        for (size_t x = row_start[i]; x < row_start[i + 1] && cols[x] < j; x++)
+          mark[color[cols[x]]] = j;
+      }
+      while (mark[c] == j) c++;
+      color[j] = c;
+      if (c + 1 > ng) ng = c + 1;
+    }
+    *group_start = calloc(ng + 1, sizeof **group_start);
+    *group_col = malloc((n > 0 ? n : 1) * sizeof **group_col);
+  }
+  if (*group_start && *group_col) {
+    for (size_t j = 0; j < n; j++) (*group_start)[color[j] + 1]++;
+    for (size_t g = 0; g < ng; g++) (*group_start)[g + 1] += (*group_start)[g];
+    memcpy(next, *group_start, (ng + 1) * sizeof *next);
+    for (size_t j = 0; j < n; j++) (*group_col)[next[color[j]]++] = j;
+    *groups = ng;
+    rc = 0;
+  }
+  free(row_start), free(next), free(cols), free(color), free(mark);
+  return rc;
+}
+
+/* The iteration matrix of the KLU path: its structure and groups, and the differences' scratch. */
+typedef struct klu_jac {
+  csc a;
+  size_t groups, *group_start, *group_col;
+  double *inc;      /* per column: its increment */
+  double *dir;      /* per column: the check's direction */
+  double *jd, *mag; /* per row: (J d)_i and sum_j |J_ij d_j| */
+  double worst;     /* the check's largest ratio over the v rows, */
+  size_t worst_row; /* its row among them */
+  int refused;      /* the run failed on it */
+  long res_evals;   /* residuals spent on the differences and the check */
+  uint64_t calls;   /* matrices computed: each check's direction its own */
+  N_Vector ewt;     /* IDA's error weights */
+} klu_jac;
+
+static void klu_jac_free(klu_jac *k) {
+  csc_free(&k->a);
+  free(k->group_start), free(k->group_col), free(k->inc);
+  if (k->ewt) N_VDestroy(k->ewt);
+  *k = (klu_jac){0};
+}
+
+static int klu_jac_init(klu_jac *k, const sdae_mbs *sys) {
+  size_t n;
+  *k = (klu_jac){0};
+  if (iteration_structure(sys, &k->a) != 0 ||
+      color_columns(&k->a, &k->groups, &k->group_start, &k->group_col) != 0)
+    return -1;
+  n = k->a.cols;
+  if (!(k->inc = malloc(4 * n * sizeof *k->inc))) return -1;
+  k->dir = k->inc + n, k->jd = k->inc + 2 * n, k->mag = k->inc + 3 * n;
+  return 0;
+}
+
+/* A factor in [0.5, 1) with a random sign, the next of a fixed sequence (64-bit LCG, Knuth's
+ * MMIX constants): the check's direction, the same in every run. */
+static double check_factor(uint64_t *state) {
+  double u;
+  *state = *state * 6364136223846793005u + 1442695040888963407u;
+  u = (double)(*state >> 11) * 0x1p-53;
+  return u < 0.5 ? -(0.5 + u) : u;
+}
+
+/* The iteration matrix dF/dy + cj dF/dy' at (t, y, yp), r0 its residual there, into val (the
+ * structure's order): per group, y_j += inc_j and y'_j += cj inc_j for its columns, one residual,
+ * each changed row's value to the one column of the group it holds. Then the check of the
+ * structure (ida_mbs.h), one residual more: in the direction d_j = s_j inc_j (s_j from
+ * check_factor), a v row whose difference r(y + d, y' + cj d) - r0 departs from (J d)_i by more
+ * than IDAMBS_KLU_OUTSIDE of sum_j |J_ij d_j| has an entry outside the structure (or one that a
+ * column of its group took for its own); the largest such ratio into k->worst. Differences that
+ * the structure holds agree to rounding and to second order, about 1e-8 of the row. yk, ypk, rk:
+ * scratch of n values. 0, or the residual's status. */
+static int grouped_differences(mech *m, klu_jac *k, double t, double cj, const double *y,
+                               const double *yp, const double *r0, double *yk, double *ypk,
+                               double *rk, double *val) {
+  size_t n = k->a.cols, nq = m->n_q;
+  const sunindextype *cp = k->a.colptr, *ri = k->a.rowind;
+  uint64_t state = 0x9E3779B97F4A7C15u ^ ++k->calls;
+  int rc;
+  memcpy(yk, y, n * sizeof *y);
+  memcpy(ypk, yp, n * sizeof *yp);
+  for (size_t g = 0; g < k->groups; g++) {
+    size_t first = k->group_start[g], last = k->group_start[g + 1];
+    for (size_t x = first; x < last; x++) {
+      size_t j = k->group_col[x];
+      yk[j] += k->inc[j], ypk[j] += cj * k->inc[j];
+    }
+    rc = residual(m, t, yk, ypk, rk);
+    k->res_evals++;
+    for (size_t x = first; x < last; x++) {
+      size_t j = k->group_col[x];
+      yk[j] = y[j], ypk[j] = yp[j];
+    }
+    if (rc != 0) return rc;
+    for (size_t x = first; x < last; x++) {
+      size_t j = k->group_col[x];
+      for (sunindextype p = cp[j]; p < cp[j + 1]; p++) val[p] = (rk[ri[p]] - r0[ri[p]]) / k->inc[j];
+    }
+  }
+  for (size_t j = 0; j < n; j++) {
+    yk[j] = y[j] + check_factor(&state) * k->inc[j];
+    k->dir[j] = yk[j] - y[j];
+    ypk[j] = yp[j] + cj * k->dir[j];
+    k->jd[j] = k->mag[j] = 0.0;
+  }
+  rc = residual(m, t, yk, ypk, rk);
+  k->res_evals++;
+  if (rc != 0) return rc;
+  for (size_t j = 0; j < n; j++)
+    for (sunindextype p = cp[j]; p < cp[j + 1]; p++) {
+      k->jd[ri[p]] += val[p] * k->dir[j];
+      k->mag[ri[p]] += fabs(val[p] * k->dir[j]);
+    }
+  k->worst = 0.0;
+  for (size_t i = nq; i < 2 * nq; i++) {
+    double miss = fabs(rk[i] - r0[i] - k->jd[i]);
+    if (miss > 0.0 && !(miss / k->mag[i] <= k->worst))
+      k->worst = miss / k->mag[i], k->worst_row = i - nq;
+  }
+  return 0;
 }
 
 /* ---- the run -------------------------------------------------------------------------------- */
@@ -279,12 +585,112 @@ int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *
 typedef struct run {
   mech m;
   idaref_ida ida;
+  klu_jac *jac;   /* the KLU path's matrix; NULL: dense */
   int configured; /* the linear solver attached: the counters can be read */
 } run;
 
 static int residual_cb(realtype t, N_Vector yy, N_Vector yp, N_Vector rr, void *user_data) {
-  return residual(user_data, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp),
-                  N_VGetArrayPointer(rr));
+  run *r = user_data;
+  return residual(&r->m, t, N_VGetArrayPointer(yy), N_VGetArrayPointer(yp), N_VGetArrayPointer(rr));
+}
+
+/* IDA's Jacobian function of the KLU path: increments as IDA's own dense difference quotient
+ * takes them, sqrt(eps) max(|y_j|, |h y'_j|) but at least the tolerance 1 / ewt_j, signed as
+ * h y'_j; then the grouped differences, and the structure's check (ida_mbs.h). */
+static int klu_jacobian_cb(realtype t, realtype cj, N_Vector yy, N_Vector yp, N_Vector rr,
+                           SUNMatrix J, void *user_data, N_Vector t1, N_Vector t2, N_Vector t3) {
+  run *r = user_data;
+  klu_jac *k = r->jac;
+  const double *y = N_VGetArrayPointer(yy), *ypd = N_VGetArrayPointer(yp), *ewt;
+  double h = 0.0;
+  int rc;
+  if (IDAGetCurrentStep(r->ida.mem, &h) != IDA_SUCCESS ||
+      IDAGetErrWeights(r->ida.mem, k->ewt) != IDA_SUCCESS)
+    return -1;
+  ewt = N_VGetArrayPointer(k->ewt);
+  for (size_t j = 0; j < k->a.cols; j++) {
+    double inc = fmax(sqrt(DBL_EPSILON) * fmax(fabs(y[j]), fabs(h * ypd[j])), 1.0 / ewt[j]);
+    if (h * ypd[j] < 0.0) inc = -inc;
+    k->inc[j] = (y[j] + inc) - y[j];
+  }
+  memcpy(SM_INDEXPTRS_S(J), k->a.colptr, (k->a.cols + 1) * sizeof *k->a.colptr);
+  memcpy(SM_INDEXVALS_S(J), k->a.rowind, k->a.nnz * sizeof *k->a.rowind);
+  rc = grouped_differences(&r->m, k, t, cj, y, ypd, N_VGetArrayPointer(rr), N_VGetArrayPointer(t1),
+                           N_VGetArrayPointer(t2), N_VGetArrayPointer(t3), SM_DATA_S(J));
+  if (rc != 0) return rc;
+  if (k->worst > IDAMBS_KLU_OUTSIDE) {
+    k->refused = 1;
+    return -1;
+  }
+  return 0;
+}
+
+/* v' and lambda at the start from [M G^T; G 0] [v'; lambda] = [F; -gamma] by KLU (lambda first
+ * holds gamma). 0, or -1: a callback failed, the matrix is singular, no memory. */
+static int klu_start(run *r, double t, const double *q, const double *v, double *lambda,
+                     double *vdot) {
+  mech *m = &r->m;
+  size_t nq = m->n_q, nc = m->n_c, nm = m->m_len, ng = m->g_len, count = nm + 2 * ng, k = 0;
+  size_t *ti = malloc(count * sizeof *ti), *tj = malloc(count * sizeof *tj);
+  size_t *slot = malloc(count * sizeof *slot);
+  sunindextype n = (sunindextype)(nq + nc);
+  SUNMatrix A = NULL;
+  SUNLinearSolver ls = NULL;
+  N_Vector x = NULL, b = NULL;
+  csc a = {0};
+  int rc = -1;
+  if (!ti || !tj || !slot || dynamics(m, t, q, v) != 0 || gamma_at(m, t, q, v, lambda) != 0)
+    goto done;
+  for (size_t i = 0; i < nq; i++)
+    for (size_t p = m->mp->row_start[i]; p < m->mp->row_start[i + 1]; p++)
+      ti[k] = i, tj[k++] = m->mp->col[p];
+  for (size_t c = 0; c < nc; c++)
+    for (size_t p = m->gp->row_start[c]; p < m->gp->row_start[c + 1]; p++) {
+      ti[k] = nq + c, tj[k++] = m->gp->col[p]; /* G */
+      ti[k] = m->gp->col[p], tj[k++] = nq + c; /* G^T */
+    }
+  if (csc_build(nq + nc, nq + nc, count, ti, tj, &a, slot) != 0) goto done;
+  A = SUNSparseMatrix(n, n, (sunindextype)a.nnz, CSC_MAT, r->ida.ctx);
+  x = N_VNew_Serial(n, r->ida.ctx), b = N_VNew_Serial(n, r->ida.ctx);
+  if (!A || !x || !b || !(ls = SUNLinSol_KLU(x, A, r->ida.ctx))) goto done;
+  memcpy(SM_INDEXPTRS_S(A), a.colptr, (nq + nc + 1) * sizeof *a.colptr);
+  memcpy(SM_INDEXVALS_S(A), a.rowind, a.nnz * sizeof *a.rowind);
+  memset(SM_DATA_S(A), 0, a.nnz * sizeof(double));
+  for (k = 0; k < count; k++) SM_DATA_S(A)[slot[k]] += k < nm ? m->M[k] : m->G[(k - nm) / 2];
+  for (size_t i = 0; i < nq; i++) N_VGetArrayPointer(b)[i] = m->F[i];
+  for (size_t c = 0; c < nc; c++) N_VGetArrayPointer(b)[nq + c] = -lambda[c];
+  if (SUNLinSolInitialize(ls) == SUNLS_SUCCESS && SUNLinSolSetup(ls, A) == SUNLS_SUCCESS &&
+      SUNLinSolSolve(ls, A, x, b, 0.0) == SUNLS_SUCCESS &&
+      checked(0, N_VGetArrayPointer(x), nq + nc) == 0) {
+    memcpy(vdot, N_VGetArrayPointer(x), nq * sizeof *vdot);
+    memcpy(lambda, N_VGetArrayPointer(x) + nq, nc * sizeof *lambda);
+    rc = 0;
+  }
+done:
+  SUNLinSolFree(ls);
+  SUNMatDestroy(A);
+  if (x) N_VDestroy(x);
+  if (b) N_VDestroy(b);
+  csc_free(&a);
+  free(ti), free(tj), free(slot);
+  return rc;
+}
+
+/* IDA's objects of the KLU path: as idaref_ida_create's, with the sparse matrix and KLU. */
+static int klu_ida_create(run *r, size_t n, idaref_result *res) {
+  idaref_ida *d = &r->ida;
+  sunindextype len = (sunindextype)n;
+  if (idaref_failed(res, SUNContext_Create(NULL, &d->ctx), "SUNContext_Create")) return -1;
+  d->mem = IDACreate(d->ctx);
+  d->yy = N_VNew_Serial(len, d->ctx);
+  d->yp = N_VNew_Serial(len, d->ctx);
+  d->id = N_VNew_Serial(len, d->ctx);
+  d->A = SUNSparseMatrix(len, len, (sunindextype)r->jac->a.nnz, CSC_MAT, d->ctx);
+  r->jac->ewt = N_VNew_Serial(len, d->ctx);
+  if (!d->mem || !d->yy || !d->yp || !d->id || !d->A || !r->jac->ewt)
+    return idaref_failed(res, IDA_MEM_FAIL, "IDACreate");
+  d->ls = SUNLinSol_KLU(d->yy, d->A, d->ctx);
+  return d->ls ? 0 : idaref_failed(res, IDA_MEM_FAIL, "SUNLinSol_KLU");
 }
 
 /* y = (q0, v0, lambda[, nu = 0]), y' = (v0, v'[, 0, 0]) and the id vector (1 for q and v). */
@@ -300,14 +706,17 @@ static int consistent_start(run *r, double t0, const double *q0, const double *v
   memcpy(y, q0, nq * sizeof *q0);
   memcpy(y + nq, v0, nq * sizeof *v0);
   memcpy(yp, v0, nq * sizeof *v0);
-  if (start_lambda(&r->m, t0, q0, v0, y + 2 * nq, yp + nq) == 0) return 0;
-  res->function = "idambs_lambda";
+  if (r->jac ? klu_start(r, t0, q0, v0, y + 2 * nq, yp + nq) == 0
+             : start_lambda(&r->m, t0, q0, v0, y + 2 * nq, yp + nq) == 0)
+    return 0;
+  res->function = r->jac ? "klu_start" : "idambs_lambda";
   snprintf(res->flag_name, sizeof res->flag_name, "no consistent start");
-  snprintf(res->message, sizeof res->message,
-           "a callback failed or M or G M^-1 G^T is not positive definite at t = %.17g", t0);
+  snprintf(res->message, sizeof res->message, "%s at t = %.17g",
+           r->jac ? "a callback failed or [M G^T; G 0] is singular"
+                  : "a callback failed or M or G M^-1 G^T is not positive definite",
+           t0);
   return -1;
 }
-
 /* Absolute tolerances: atol for q, v and lambda; 1 for GGL's nu, which vanishes on every
  * solution and which IDA computes as rounding noise of size eps |q| cj (as ida_solve.c says). */
 static int set_tolerances(run *r, const idaref_options *o) {
@@ -341,9 +750,10 @@ static int configure(run *r, double t0, const idaref_options *o, idaref_result *
   if (idaref_failed(res, IDASetErrHandlerFn(mem, idaref_error_handler, res),
                     "IDASetErrHandlerFn") ||
       idaref_failed(res, IDAInit(mem, residual_cb, t0, r->ida.yy, r->ida.yp), "IDAInit") ||
-      idaref_failed(res, IDASetUserData(mem, &r->m), "IDASetUserData") ||
+      idaref_failed(res, IDASetUserData(mem, r), "IDASetUserData") ||
       idaref_failed(res, set_tolerances(r, o), "IDASVtolerances") ||
       idaref_failed(res, IDASetLinearSolver(mem, r->ida.ls, r->ida.A), "IDASetLinearSolver") ||
+      (r->jac && idaref_failed(res, IDASetJacFn(mem, klu_jacobian_cb), "IDASetJacFn")) ||
       idaref_failed(res, IDASetId(mem, r->ida.id), "IDASetId") ||
       idaref_failed(res, IDASetMaxNumSteps(mem, o->max_steps), "IDASetMaxNumSteps"))
     return -1;
@@ -370,26 +780,105 @@ static int emit(double t, const double *y, void *data) {
   return e->row(t, y, y + nq, y + 2 * nq, e->ctx);
 }
 
+/* Why the request is not served, or NULL. */
+static const char *refusal(const sdae_mbs *sys, idambs_form form, idambs_solver solver) {
+  const char *why = patterns_refused(sys);
+  if (why || solver == IDAMBS_DENSE) return why;
+  if (solver != IDAMBS_KLU) return "unknown linear solver";
+  if (form != IDAMBS_INDEX1) return "KLU serves the index1 form only (no GGL iteration matrix)";
+  if (!sys->mass_pattern || !sys->jacobian_pattern)
+    return "KLU needs mass_pattern and jacobian_pattern (the dense solver takes the rest)";
+  return NULL;
+}
+
 int idambs_solve(const sdae_mbs *sys, idambs_form form, double t0, const double *q0,
                  const double *v0, const idaref_options *o, idambs_row_fn row, void *ctx,
                  idaref_result *res) {
+  return idambs_solve_with(sys, form, IDAMBS_DENSE, t0, q0, v0, o, row, ctx, res);
+}
+
+int idambs_solve_with(const sdae_mbs *sys, idambs_form form, idambs_solver solver, double t0,
+                      const double *q0, const double *v0, const idaref_options *o,
+                      idambs_row_fn row, void *ctx, idaref_result *res) {
   run r = {0};
-  int status = IDAREF_IDA_FAILED;
+  klu_jac jac = {0};
+  int status = IDAREF_IDA_FAILED, created;
+  const char *why = refusal(sys, form, solver);
   memset(res, 0, sizeof *res);
   res->t_reached = t0;
   emit_ctx e = {&r, row, ctx};
-  if (mech_init(&r.m, sys, form) != 0) {
+  if (why) {
+    res->function = "idambs_solve_with";
+    snprintf(res->flag_name, sizeof res->flag_name, "unsupported");
+    snprintf(res->message, sizeof res->message, "%s", why);
+    return IDAMBS_UNSUPPORTED;
+  }
+  if (mech_init(&r.m, sys, form, solver == IDAMBS_DENSE) != 0 ||
+      (solver == IDAMBS_KLU && klu_jac_init(r.jac = &jac, sys) != 0)) {
     idaref_failed(res, IDA_MEM_FAIL, "calloc");
+    klu_jac_free(&jac);
+    mech_free(&r.m);
     return status;
   }
-  if (idaref_ida_create(&r.ida, idambs_dim(sys, form), res) == 0) {
+  created = r.jac ? klu_ida_create(&r, idambs_dim(sys, form), res)
+                  : idaref_ida_create(&r.ida, idambs_dim(sys, form), res);
+  if (created == 0) {
     if (consistent_start(&r, t0, q0, v0, res) != 0)
       status = IDAMBS_START_FAILED;
     else if (configure(&r, t0, o, res) == 0)
       status = idaref_march(&r.ida, t0, o, emit, &e, res);
   }
-  if (r.configured) idaref_collect_stats(r.ida.mem, &res->stats);
+  if (status == IDAREF_IDA_FAILED && jac.refused)
+    snprintf(res->message, sizeof res->message,
+             "KLU matrix: M or F of coordinate %zu depends on a coordinate outside its structure "
+             "(the check's row off by %.2g; ida_mbs.h): use the dense solver",
+             jac.worst_row, jac.worst);
+  if (r.configured) {
+    idaref_collect_stats(r.ida.mem, &res->stats);
+    res->stats.lin_res_evals += jac.res_evals;
+  }
+  klu_jac_free(&jac); /* its vector before the context */
   idaref_ida_destroy(&r.ida);
   mech_free(&r.m);
   return status;
+}
+
+static const char *klu_refused(const sdae_mbs *sys) {
+  return refusal(sys, IDAMBS_INDEX1, IDAMBS_KLU);
+}
+
+int idambs_klu_structure(const sdae_mbs *sys, size_t *n, size_t *nnz, size_t *groups) {
+  klu_jac k = {0};
+  int rc = klu_refused(sys) || klu_jac_init(&k, sys) != 0 ? -1 : 0;
+  if (rc == 0) *n = k.a.cols, *nnz = k.a.nnz, *groups = k.groups;
+  klu_jac_free(&k);
+  return rc;
+}
+
+int idambs_klu_matrix(const sdae_mbs *sys, double t, const double *y, const double *yp, double cj,
+                      double *J, double *outside) {
+  size_t n = idambs_dim(sys, IDAMBS_INDEX1);
+  klu_jac k = {0};
+  double *work = NULL;
+  mech m;
+  int rc = -1;
+  if (klu_refused(sys) || mech_init(&m, sys, IDAMBS_INDEX1, 0) != 0) return -1;
+  if (klu_jac_init(&k, sys) == 0 && (work = malloc((4 * n + k.a.nnz) * sizeof *work))) {
+    double *r0 = work, *yk = r0 + n, *ypk = yk + n, *rk = ypk + n, *val = rk + n;
+    for (size_t j = 0; j < n; j++)
+      k.inc[j] = (y[j] + sqrt(DBL_EPSILON) * fmax(fabs(y[j]), 1.0)) - y[j];
+    if (residual(&m, t, y, yp, r0) == 0 &&
+        grouped_differences(&m, &k, t, cj, y, yp, r0, yk, ypk, rk, val) == 0) {
+      memset(J, 0, n * n * sizeof *J);
+      for (size_t j = 0; j < n; j++)
+        for (sunindextype p = k.a.colptr[j]; p < k.a.colptr[j + 1]; p++)
+          J[(size_t)k.a.rowind[p] * n + j] = val[p];
+      *outside = k.worst;
+      rc = 0;
+    }
+  }
+  free(work);
+  klu_jac_free(&k);
+  mech_free(&m);
+  return rc;
 }

@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Check suite of IDA for mechanisms (ida_mbs.h): the pendulum against its elliptic solution,
  * the double pendulum and a pendulum with a moving pivot against GSL's rk8pd on their angle
- * equations, the four-bar's energy, the rod tension, and the work at two tolerances. Every
- * bound comes from the mathematics or the requested tolerance. */
+ * equations, the four-bar's energy, the rod tension, and the work at two tolerances; the KLU path
+ * on the rope of examples/models/rope.h against the dense one, its iteration matrix against the
+ * exact one, and what it refuses. Every bound comes from the mathematics or the requested
+ * tolerance. */
 #include "ida_mbs.h"
 
 #include <check.h>
@@ -18,6 +20,7 @@
 
 #include "benchmarks.h"
 #include "mechanisms.h"
+#include "rope.h"
 
 static const char *form_name(idambs_form form) { return form == IDAMBS_GGL ? "ggl" : "index1"; }
 
@@ -510,6 +513,255 @@ START_TEST(slider_crank_stabdae_meets_ida) {
 }
 END_TEST
 
+/* ---- the KLU path: the rope given by its patterns ---------------------------------------- */
+
+/* every row of a run: (q, v, lambda) at the output times */
+typedef struct rope_rows {
+  size_t n_q, n_c, rows, room;
+  double *y; /* rows x (2 n_q + n_c) */
+} rope_rows;
+
+static int keep_rows(double t, const double *q, const double *v, const double *lambda, void *ctx) {
+  rope_rows *r = ctx;
+  double *y = r->y + r->rows * (2 * r->n_q + r->n_c);
+  (void)t;
+  ck_assert_uint_lt(r->rows, r->room);
+  memcpy(y, q, r->n_q * sizeof *q);
+  memcpy(y + r->n_q, v, r->n_q * sizeof *v);
+  memcpy(y + 2 * r->n_q, lambda, r->n_c * sizeof *lambda);
+  r->rows++;
+  return 0;
+}
+
+/* the largest difference of rows a and b over the components [from, from + n) */
+static double rows_diff(const rope_rows *a, const rope_rows *b, size_t from, size_t n) {
+  size_t len = 2 * a->n_q + a->n_c;
+  double d = 0.0;
+  for (size_t k = 0; k < a->rows; k++)
+    for (size_t i = from; i < from + n; i++)
+      d = fmax(d, fabs(a->y[k * len + i] - b->y[k * len + i]));
+  return d;
+}
+
+/* The rope of 15 masses, open or closed (_i bit 0), given by its patterns, by KLU (bit 1 clear)
+ * or by the dense solver reading the patterns (bit 1 set), against the dense solver on the same
+ * rope given densely, every 0.1 s for 1 s. Each run is within its global bound of the motion
+ * (steps times rtol times the quantity's scale, as above), so the two within the sum: for q the
+ * rope's length N L, for v the speed of a fall through it, sqrt(2 ga N L), for lambda (the
+ * tensions over L, G^T lambda = lambda (p_j - p_{j-1})) three times the rope's weight over L, as
+ * the pendulum's. */
+START_TEST(rope_klu_meets_dense) {
+  int closed = _i & 1, klu = !(_i & 2);
+  const size_t N = 15;
+  mech_rope sp = mech_rope_unit(N, closed, 1), de = mech_rope_unit(N, closed, 0);
+  sdae_mbs sparse, dense;
+  size_t nq = 2 * N, nc = mech_rope_constraints(&sp), len = 2 * nq + nc;
+  double q0[30], v0[30];
+  idaref_options o = options(1e-8, 1.0, 0.1);
+  idaref_result ra, rb;
+  rope_rows a = {nq, nc, 0, 11, calloc(11 * len, sizeof(double))};
+  rope_rows b = {nq, nc, 0, 11, calloc(11 * len, sizeof(double))};
+  ck_assert_ptr_nonnull(a.y);
+  ck_assert_ptr_nonnull(b.y);
+  ck_assert_int_eq(mech_rope_system(&sparse, &sp), 0);
+  ck_assert_int_eq(mech_rope_system(&dense, &de), 0);
+  ck_assert_int_eq(mech_rope_start(&sp, 0.3, q0, v0), 0);
+  ck_assert_int_eq(idambs_solve_with(&sparse, IDAMBS_INDEX1, klu ? IDAMBS_KLU : IDAMBS_DENSE, 0.0,
+                                     q0, v0, &o, keep_rows, &a, &ra),
+                   IDAREF_OK);
+  solve_ok(&dense, IDAMBS_INDEX1, q0, v0, &o, keep_rows, &b, &rb);
+  ck_assert_uint_eq(a.rows, 11);
+  ck_assert_uint_eq(b.rows, 11);
+  double L = (double)N * sp.L, vs = sqrt(2.0 * sp.ga * L),
+         ls = 3.0 * sp.m * sp.ga * (double)N / sp.L;
+  double dq = rows_diff(&a, &b, 0, nq), dv = rows_diff(&a, &b, nq, nq);
+  double dl = rows_diff(&a, &b, 2 * nq, nc);
+  printf("rope N = %zu %s, %s on the patterns vs dense: |dq| %.2e, |dv| %.2e, |dlambda| %.2e "
+         "(bounds %.1e, %.1e, %.1e)\n",
+         N, closed ? "closed" : "open", klu ? "KLU" : "dense solver", dq, dv, dl,
+         global_bound(&o, &ra, L) + global_bound(&o, &rb, L),
+         global_bound(&o, &ra, vs) + global_bound(&o, &rb, vs),
+         global_bound(&o, &ra, ls) + global_bound(&o, &rb, ls));
+  print_stats(klu ? "rope, KLU" : "rope, dense on patterns", IDAMBS_INDEX1, &ra);
+  print_stats("rope, dense", IDAMBS_INDEX1, &rb);
+  ck_assert_double_le(dq, global_bound(&o, &ra, L) + global_bound(&o, &rb, L));
+  ck_assert_double_le(dv, global_bound(&o, &ra, vs) + global_bound(&o, &rb, vs));
+  ck_assert_double_le(dl, global_bound(&o, &ra, ls) + global_bound(&o, &rb, ls));
+  if (klu) /* the grouped differences are counted with IDA's own */
+    ck_assert_int_gt(ra.stats.lin_res_evals, 0);
+  free(a.y), free(b.y);
+  mech_rope_free(&sp);
+  mech_rope_free(&de);
+}
+END_TEST
+
+/* The KLU path's iteration matrix at an arbitrary state of the rope (open or closed) against the
+ * exact one. The rope's residual, y = (q, v, lambda): q' - v; m v' - F + G(q)^T lambda, F
+ * constant; G(q) v' + gamma, gamma_c = v^T H_c v, H_c = d^2 c_c / dq^2 constant, and H_c x is
+ * the rope's jacobian_dot at x (rows of x's differences). So dF/dy + cj dF/dy' is
+ *   q rows:      cj I in q, -I in v;
+ *   v rows:      column k of q: sum_c lambda_c H_c e_k = Gdot(e_k)^T lambda; cj m I in v; G^T;
+ *   lambda rows: Gdot(v') in q, 2 Gdot(v) + cj G in v.
+ * The forward differences (increments inc = sqrt(eps) max(|y_j|, 1)) are exact for the bilinear
+ * terms, off by inc for gamma's quadratic one, and carry the rounding of gamma's own stencil
+ * (step h about 7e-4 along (1, v)) over the increment, about eps / (h inc) = 2e-5 of the terms
+ * G v; 1e-4 of the row's largest entry holds both, and an entry missing from the structure would
+ * be of that row's size. */
+START_TEST(rope_klu_matrix_is_exact) {
+  int closed = _i;
+  const size_t N = 7;
+  mech_rope sp = mech_rope_unit(N, closed, 1), de = mech_rope_unit(N, closed, 0);
+  sdae_mbs sparse, dense;
+  size_t nq = 2 * N, nc = mech_rope_constraints(&sp), n = 2 * nq + nc;
+  double y[40], yp[40], G[8 * 14], H[8 * 14], e[14], *J = calloc(n * n, sizeof *J);
+  double *X = calloc(n * n, sizeof *X), cj = 10.0, outside = -1.0, worst = 0.0;
+  ck_assert_ptr_nonnull(J);
+  ck_assert_ptr_nonnull(X);
+  ck_assert_int_eq(mech_rope_system(&sparse, &sp), 0);
+  ck_assert_int_eq(mech_rope_system(&dense, &de), 0);
+  ck_assert_int_eq(mech_rope_start(&sp, 0.3, y, y + nq), 0);
+  for (size_t i = 0; i < n; i++) {
+    if (i >= nq) y[i] = i < 2 * nq ? 0.3 * sin(1.0 + (double)i) : 4.0 + 0.5 * cos((double)i);
+    yp[i] = 0.7 * cos(2.0 * (double)i);
+  }
+  ck_assert_int_eq(idambs_klu_matrix(&sparse, 0.0, y, yp, cj, J, &outside), 0);
+  /* the exact matrix X */
+  ck_assert_int_eq(dense.jacobian(0.0, y, G, dense.params), 0);
+  for (size_t k = 0; k < nq; k++) {
+    X[k * n + k] = cj, X[k * n + nq + k] = -1.0;
+    X[(nq + k) * n + nq + k] = cj * sp.m;
+    memset(e, 0, sizeof e);
+    e[k] = 1.0;
+    ck_assert_int_eq(dense.jacobian_dot(0.0, y, e, H, dense.params), 0);
+    for (size_t c = 0; c < nc; c++)
+      for (size_t i = 0; i < nq; i++) X[(nq + i) * n + k] += H[c * nq + i] * y[2 * nq + c];
+  }
+  for (size_t c = 0; c < nc; c++)
+    for (size_t i = 0; i < nq; i++) X[(nq + i) * n + 2 * nq + c] = G[c * nq + i];
+  ck_assert_int_eq(dense.jacobian_dot(0.0, y, yp + nq, H, dense.params), 0);
+  for (size_t c = 0; c < nc; c++)
+    for (size_t k = 0; k < nq; k++) X[(2 * nq + c) * n + k] = H[c * nq + k];
+  ck_assert_int_eq(dense.jacobian_dot(0.0, y, y + nq, H, dense.params), 0);
+  for (size_t c = 0; c < nc; c++)
+    for (size_t k = 0; k < nq; k++)
+      X[(2 * nq + c) * n + nq + k] = 2.0 * H[c * nq + k] + cj * G[c * nq + k];
+  for (size_t i = 0; i < n; i++) {
+    double row = 0.0;
+    for (size_t j = 0; j < n; j++) row = fmax(row, fabs(X[i * n + j]));
+    for (size_t j = 0; j < n; j++) {
+      double d = fabs(J[i * n + j] - X[i * n + j]);
+      worst = fmax(worst, d / row);
+      ck_assert_msg(d <= 1e-4 * row, "%s rope: entry (%zu, %zu) %.17g, exact %.17g",
+                    closed ? "closed" : "open", i, j, J[i * n + j], X[i * n + j]);
+    }
+  }
+  printf("rope N = %zu %s: KLU matrix vs exact, largest difference %.1e of its row; the "
+         "structure's check %.1e\n",
+         N, closed ? "closed" : "open", worst, outside);
+  /* the check's direction d (increments with factors in [0.5, 1)) against the matrix: the rope's
+   * v rows are bilinear in (q, lambda), so they differ by the second-order term, the increment
+   * (1.5e-8) relative, and by the rounding of their terms, eps |r| over |J d| ~ cj inc: 1e-6
+   * is far above both and far below IDAMBS_KLU_OUTSIDE */
+  ck_assert_double_le(outside, 1e-6);
+  free(J), free(X);
+  mech_rope_free(&sp);
+  mech_rope_free(&de);
+}
+END_TEST
+
+/* ---- the KLU path: what it refuses ----------------------------------------------------------- */
+
+/* Two pendula of unit mass and length on pivots (0, 0) and (D, 0), their masses joined by a
+ * spring of stiffness K and rest length D: q = (x1, y1, x2, y2), c_i = (|p_i - P_i|^2 - 1) / 2,
+ * given by patterns (M diagonal, G's rows {0, 1} and {2, 3}). The spring couples coordinates
+ * that share neither M nor a constraint: outside the KLU matrix's structure. */
+enum { SPRING_D = 2, SPRING_K = 1000 };
+static const size_t spring_m_start[] = {0, 1, 2, 3, 4}, spring_m_col[] = {0, 1, 2, 3};
+static const size_t spring_g_start[] = {0, 2, 4}, spring_g_col[] = {0, 1, 2, 3};
+static const sdae_pattern spring_m = {4, spring_m_start, spring_m_col};
+static const sdae_pattern spring_g = {4, spring_g_start, spring_g_col};
+
+static int spring_mass(double t, const double *q, double *M, void *params) {
+  (void)t, (void)q, (void)params;
+  M[0] = M[1] = M[2] = M[3] = 1.0;
+  return 0;
+}
+
+static int spring_force(double t, const double *q, const double *v, double *F, void *params) {
+  double fx = SPRING_K * (q[2] - q[0] - SPRING_D), fy = SPRING_K * (q[3] - q[1]);
+  (void)t, (void)v, (void)params;
+  F[0] = fx, F[1] = fy - 9.81, F[2] = -fx, F[3] = -fy - 9.81;
+  return 0;
+}
+
+static int spring_constraint(double t, const double *q, double *c, void *params) {
+  (void)t, (void)params;
+  c[0] = (q[0] * q[0] + q[1] * q[1] - 1.0) / 2.0;
+  c[1] = ((q[2] - SPRING_D) * (q[2] - SPRING_D) + q[3] * q[3] - 1.0) / 2.0;
+  return 0;
+}
+
+static int spring_jacobian(double t, const double *q, double *G, void *params) {
+  (void)t, (void)params;
+  G[0] = q[0], G[1] = q[1], G[2] = q[2] - SPRING_D, G[3] = q[3];
+  return 0;
+}
+
+START_TEST(klu_refusals) {
+  sdae_mbs spring = {.n_q = 4,
+                     .n_c = 2,
+                     .mass = spring_mass,
+                     .force = spring_force,
+                     .constraint = spring_constraint,
+                     .jacobian = spring_jacobian,
+                     .mass_pattern = &spring_m,
+                     .jacobian_pattern = &spring_g};
+  const double q0[4] = {sin(0.3), -cos(0.3), SPRING_D, -1.0}, v0[4] = {0};
+  const size_t bad_col[] = {0, 4, 2, 3}; /* a column past n_q */
+  const sdae_pattern bad = {4, spring_g_start, bad_col};
+  idaref_options o = options(1e-6, 1.0, 0.5);
+  mech_pendulum p = {.L = 1.0, .m = 1.0, .ga = 9.81};
+  last_row r = {.n_q = 4, .n_c = 2};
+  idaref_result res;
+  sdae_mbs pendulum;
+  mech_pendulum_system(&pendulum, &p);
+  /* the GGL form, a mechanism without patterns, a pattern that is not one */
+  ck_assert_int_eq(
+      idambs_solve_with(&spring, IDAMBS_GGL, IDAMBS_KLU, 0.0, q0, v0, &o, keep_last, &r, &res),
+      IDAMBS_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(res.message, "index1 form only"));
+  ck_assert_int_eq(
+      idambs_solve_with(&pendulum, IDAMBS_INDEX1, IDAMBS_KLU, 0.0, q0, v0, &o, keep_last, &r, &res),
+      IDAMBS_UNSUPPORTED);
+  ck_assert_ptr_nonnull(strstr(res.message, "KLU needs mass_pattern and jacobian_pattern"));
+  spring.jacobian_pattern = &bad;
+  for (int solver = IDAMBS_DENSE; solver <= IDAMBS_KLU; solver++) {
+    ck_assert_int_eq(idambs_solve_with(&spring, IDAMBS_INDEX1, (idambs_solver)solver, 0.0, q0, v0,
+                                       &o, keep_last, &r, &res),
+                     IDAMBS_UNSUPPORTED);
+    ck_assert_ptr_nonnull(strstr(res.message, "jacobian_pattern is not a pattern"));
+  }
+  spring.jacobian_pattern = &spring_g;
+  /* the spring, outside the structure: at cj = 10 its entries K dwarf the row's m cj, and the
+   * check sees them; in the run KLU fails at its first matrix naming the row (cj = 1/h is a few
+   * thousands on the first steps, K / (m cj) still above the check's 1e-2), while the dense
+   * solver, whose matrix has every entry, runs */
+  {
+    double y[10] = {q0[0], q0[1], q0[2], q0[3], 0, 0, 0, 0, 1, 1}, yp[10] = {0}, J[100], outside;
+    ck_assert_int_eq(idambs_klu_matrix(&spring, 0.0, y, yp, 10.0, J, &outside), 0);
+    ck_assert_double_gt(outside, IDAMBS_KLU_OUTSIDE);
+  }
+  ck_assert_int_eq(
+      idambs_solve_with(&spring, IDAMBS_INDEX1, IDAMBS_KLU, 0.0, q0, v0, &o, keep_last, &r, &res),
+      IDAREF_IDA_FAILED);
+  printf("spring: KLU refused: %s\n", res.message);
+  ck_assert_str_eq(res.flag_name, "IDA_LSETUP_FAIL");
+  ck_assert_ptr_nonnull(strstr(res.message, "outside its structure"));
+  solve_ok(&spring, IDAMBS_INDEX1, q0, v0, &o, keep_last, &r, &res);
+  ck_assert_double_eq(r.t, 1.0);
+}
+END_TEST
+
 static Suite *ida_mbs_suite(void) {
   Suite *s = suite_create("ida_mbs");
   TCase *exact = tcase_create("exact");
@@ -522,6 +774,9 @@ static Suite *ida_mbs_suite(void) {
   tcase_add_loop_test(exact, fourbar_work_follows_tolerance, 0, 2);
   tcase_add_loop_test(exact, moving_pivot_matches_angle_equation, 0, 4);
   tcase_add_test(exact, slider_crank_stabdae_meets_ida);
+  tcase_add_loop_test(exact, rope_klu_meets_dense, 0, 4);
+  tcase_add_loop_test(exact, rope_klu_matrix_is_exact, 0, 2);
+  tcase_add_test(driver, klu_refusals);
   tcase_add_test(driver, rows_hit_output_times_from_t0);
   tcase_add_test(driver, failures_are_reported);
   suite_add_tcase(s, exact);
