@@ -286,6 +286,148 @@ END_TEST
 
 /* a pendulum (the rope of one mass) at its pivot, G = 0: no chart, SDAE_ERR_RANK, at the first
  * step and after steps in a chart (its refactoring fails, and so does a new choice) */
+/* a cart on a line (coordinate 0) carrying k pendulums of unit length (pendulum i at
+ * coordinates 1 + 2i, 2 + 2i), unit masses, gravity: every constraint holds the cart's
+ * coordinate, so the saddle-point factor's constraints block fills, k (k - 1) / 2 entries
+ * (check_sparse_ldl.c); given densely (patterns NULL) or by its patterns */
+typedef struct cart {
+  size_t k;
+  sdae_pattern mp, jp;
+  size_t *m_start, *m_col, *j_start, *j_col;
+} cart;
+
+static int cart_mass(double t, const double *q, double *M, void *p) {
+  const cart *c = p;
+  size_t n = 1 + 2 * c->k;
+  (void)t, (void)q;
+  if (c->mp.row_start) {
+    for (size_t i = 0; i < n; i++) M[i] = 1.0;
+  } else {
+    memset(M, 0, n * n * sizeof *M);
+    for (size_t i = 0; i < n; i++) M[i * n + i] = 1.0;
+  }
+  return 0;
+}
+
+static int cart_force(double t, const double *q, const double *v, double *F, void *p) {
+  const cart *c = p;
+  (void)t, (void)q, (void)v;
+  F[0] = 0.0;
+  for (size_t i = 0; i < c->k; i++) F[1 + 2 * i] = 0.0, F[2 + 2 * i] = -9.81;
+  return 0;
+}
+
+static int cart_constraint(double t, const double *q, double *out, void *p) {
+  const cart *c = p;
+  (void)t;
+  for (size_t i = 0; i < c->k; i++) {
+    double dx = q[1 + 2 * i] - q[0], y = q[2 + 2 * i];
+    out[i] = 0.5 * (dx * dx + y * y - 1.0);
+  }
+  return 0;
+}
+
+/* row i of G at x (q for G, v for Gdot: the rows are linear in q) */
+static void cart_rows(const cart *c, const double *x, double *out) {
+  size_t n = 1 + 2 * c->k;
+  if (!c->jp.row_start) memset(out, 0, c->k * n * sizeof *out);
+  for (size_t i = 0; i < c->k; i++) {
+    double dx = x[1 + 2 * i] - x[0], y = x[2 + 2 * i];
+    if (c->jp.row_start) {
+      out[3 * i] = -dx, out[3 * i + 1] = dx, out[3 * i + 2] = y;
+    } else {
+      out[i * n] = -dx, out[i * n + 1 + 2 * i] = dx, out[i * n + 2 + 2 * i] = y;
+    }
+  }
+}
+
+static int cart_jacobian(double t, const double *q, double *G, void *p) {
+  (void)t;
+  cart_rows(p, q, G);
+  return 0;
+}
+
+static int cart_jacobian_dot(double t, const double *q, const double *v, double *G, void *p) {
+  (void)t, (void)q;
+  cart_rows(p, v, G);
+  return 0;
+}
+
+static int cart_mass_dot_v(double t, const double *q, const double *v, double *out, void *p) {
+  const cart *c = p;
+  (void)t, (void)q, (void)v;
+  memset(out, 0, (1 + 2 * c->k) * sizeof *out);
+  return 0;
+}
+
+static void cart_init(cart *c, size_t k, int sparse, sdae_mbs *sys) {
+  size_t n = 1 + 2 * k;
+  *c = (cart){.k = k};
+  *sys = (sdae_mbs){.n_q = n,
+                    .n_c = k,
+                    .mass = cart_mass,
+                    .force = cart_force,
+                    .constraint = cart_constraint,
+                    .jacobian = cart_jacobian,
+                    .jacobian_dot = cart_jacobian_dot,
+                    .mass_dot_v = cart_mass_dot_v,
+                    .params = c};
+  if (!sparse) return;
+  c->m_start = malloc((n + 1) * sizeof(size_t)), c->m_col = malloc(n * sizeof(size_t));
+  c->j_start = malloc((k + 1) * sizeof(size_t)), c->j_col = malloc(3 * k * sizeof(size_t));
+  for (size_t i = 0; i <= n; i++) c->m_start[i] = i;
+  for (size_t i = 0; i < n; i++) c->m_col[i] = i;
+  for (size_t i = 0; i <= k; i++) c->j_start[i] = 3 * i;
+  for (size_t i = 0; i < k; i++)
+    c->j_col[3 * i] = 0, c->j_col[3 * i + 1] = 1 + 2 * i, c->j_col[3 * i + 2] = 2 + 2 * i;
+  c->mp = (sdae_pattern){n, c->m_start, c->m_col};
+  c->jp = (sdae_pattern){3 * k, c->j_start, c->j_col};
+  sys->mass_pattern = &c->mp, sys->jacobian_pattern = &c->jp;
+}
+
+static void cart_free(cart *c) {
+  free(c->m_start), free(c->m_col), free(c->j_start), free(c->j_col);
+}
+
+/* ten pendulums fit the reserve and step as the dense cart does, to truncation; a hundred need
+ * 4950 entries of fill, past the reserve: refused when the stepper is built, nothing built */
+START_TEST(a_shared_coordinate_is_refused_at_the_build) {
+  sdae_options o = options(sdae_map_rk4);
+  double q[2][21], v[2][21];
+  for (int sparse = 0; sparse < 2; sparse++) {
+    cart c;
+    sdae_mbs sys;
+    sdae_mbs_stepper *s;
+    cart_init(&c, 10, sparse, &sys);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    ck_assert_int_eq(s->sparse, sparse);
+    q[sparse][0] = v[sparse][0] = 0.0;
+    for (size_t i = 0; i < 10; i++) { /* pendulum i at angle 0.1 i from the vertical, at rest */
+      q[sparse][1 + 2 * i] = sin(0.1 * (double)i), q[sparse][2 + 2 * i] = -cos(0.1 * (double)i);
+      v[sparse][1 + 2 * i] = v[sparse][2 + 2 * i] = 0.0;
+    }
+    for (int k = 0; k < 200; k++)
+      ck_assert_int_eq(sdae_mbs_step(s, k * 1e-3, 1e-3, q[sparse], v[sparse]), SDAE_OK);
+    sdae_mbs_stepper_free(s);
+    cart_free(&c);
+  }
+  ck_assert_double_le(max_abs_diff(q[0], q[1], 21), 1e-9);
+  cart c;
+  sdae_mbs sys;
+  sdae_mbs_stepper *s = (sdae_mbs_stepper *)&c;
+  cart_init(&c, 100, 1, &sys);
+  size_t bytes = sdae_mbs_stepper_size(&sys, &o);
+  ck_assert_uint_gt(bytes, 0); /* its size is known; only the analysis finds the fill */
+  void *mem = malloc(bytes);
+  ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, bytes, &sys, &o), SDAE_ERR_PATTERN);
+  ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&c);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_ERR_PATTERN);
+  ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&c);
+  free(mem);
+  cart_free(&c);
+}
+END_TEST
+
 START_TEST(a_zero_jacobian_is_rank) {
   roped w;
   double q0[2] = {0.0, 0.0}, v0[2] = {0.0, 0.0};
@@ -540,6 +682,7 @@ int main(void) {
   ADD_CASE(s, a_failure_inside_a_query_is_reported);
   ADD_CASE(s, a_state_with_no_chart_is_damaged);
   ADD_CASE(s, a_constraint_in_time_in_sparse_coordinates);
+  ADD_CASE(s, a_shared_coordinate_is_refused_at_the_build);
   ADD_CASE(s, a_zero_jacobian_is_rank);
   ADD_CASE(s, a_failing_callback_in_a_query_is_reported);
   ADD_CASE(s, the_sparse_coordinates_serve_explicit_maps);

@@ -59,6 +59,11 @@ static const double origin[2] = {0.0, 0.0};
  * front-end need not difference a constant) */
 static void constant_mass_dot_v(size_t n, double *out) { memset(out, 0, n * sizeof *out); }
 
+/* dc/dt = 0 and d/ds (dc/dt) = 0: no constraint depends on t (written, so that the front-end
+ * need not difference c in t, four evaluations of c at every configuration; the index-1 RK4 of
+ * the benchmarks takes a missing constraint_t as zero, and both then see the same callbacks) */
+static void scleronomic(size_t n_c, double *out) { memset(out, 0, n_c * sizeof *out); }
+
 /* d/ds of half_sq_row's row along (q + s v): q_p - R changes at v_p - v_R, with v_R = 0 for a
  * fixed pivot; the row of the same form in the velocities, every pivot at the origin */
 static void half_sq_row_dot(const double *v, size_t n, size_t p, long r, double *row) {
@@ -127,6 +132,19 @@ int mech_pendulum_damping(double t, const double *q, double *D, void *params) {
   return 0;
 }
 
+static int pendulum_constraint_t(double t, const double *q, double *ct, void *params) {
+  (void)t, (void)q, (void)params;
+  scleronomic(1, ct);
+  return 0;
+}
+
+static int pendulum_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                     void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  scleronomic(1, out);
+  return 0;
+}
+
 void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p) {
   *sys = (sdae_mbs){.n_q = 2,
                     .n_c = 1,
@@ -138,7 +156,9 @@ void mech_pendulum_system(sdae_mbs *sys, mech_pendulum *p) {
                     .damping = p->d != 0.0 ? mech_pendulum_damping : NULL,
                     .params = p,
                     .mass_dot_v = mech_pendulum_mass_dot_v,
-                    .jacobian_dot = mech_pendulum_jacobian_dot};
+                    .jacobian_dot = mech_pendulum_jacobian_dot,
+                    .constraint_t = pendulum_constraint_t,
+                    .constraint_t_dot = pendulum_constraint_t_dot};
 }
 
 void mech_pendulum_state(const mech_pendulum *p, double theta, double omega, double *q, double *v) {
@@ -218,6 +238,19 @@ static int dpend_potential(double t, const double *q, double *V, void *params) {
   return 0;
 }
 
+static int dpend_constraint_t(double t, const double *q, double *ct, void *params) {
+  (void)t, (void)q, (void)params;
+  scleronomic(2, ct);
+  return 0;
+}
+
+static int dpend_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                  void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  scleronomic(2, out);
+  return 0;
+}
+
 void mech_double_pendulum_system(sdae_mbs *sys, mech_double_pendulum *p) {
   *sys = (sdae_mbs){.n_q = 4,
                     .n_c = 2,
@@ -228,7 +261,9 @@ void mech_double_pendulum_system(sdae_mbs *sys, mech_double_pendulum *p) {
                     .potential = dpend_potential,
                     .params = p,
                     .mass_dot_v = dpend_mass_dot_v,
-                    .jacobian_dot = dpend_jacobian_dot};
+                    .jacobian_dot = dpend_jacobian_dot,
+                    .constraint_t = dpend_constraint_t,
+                    .constraint_t_dot = dpend_constraint_t_dot};
 }
 
 void mech_double_pendulum_state(const mech_double_pendulum *p, const double *a, const double *w,
@@ -307,6 +342,19 @@ static int fourbar_potential(double t, const double *q, double *V, void *params)
   return 0;
 }
 
+static int fourbar_constraint_t(double t, const double *q, double *ct, void *params) {
+  (void)t, (void)q, (void)params;
+  scleronomic(3, ct);
+  return 0;
+}
+
+static int fourbar_constraint_t_dot(double t, const double *q, const double *v, double *out,
+                                    void *params) {
+  (void)t, (void)q, (void)v, (void)params;
+  scleronomic(3, out);
+  return 0;
+}
+
 void mech_fourbar_system(sdae_mbs *sys, mech_fourbar *p) {
   *sys = (sdae_mbs){.n_q = 4,
                     .n_c = 3,
@@ -317,7 +365,9 @@ void mech_fourbar_system(sdae_mbs *sys, mech_fourbar *p) {
                     .potential = fourbar_potential,
                     .params = p,
                     .mass_dot_v = fourbar_mass_dot_v,
-                    .jacobian_dot = fourbar_jacobian_dot};
+                    .jacobian_dot = fourbar_jacobian_dot,
+                    .constraint_t = fourbar_constraint_t,
+                    .constraint_t_dot = fourbar_constraint_t_dot};
 }
 
 int mech_fourbar_state(const mech_fourbar *p, double theta, double omega, double *q, double *v) {

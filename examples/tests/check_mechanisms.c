@@ -147,8 +147,9 @@ END_TEST
 
 /* what every one of these mechanisms gives: G, (d/ds M) v, d/ds G, and a potential (so the
  * force is checked against -dV/dq, the Lagrangian's velocity terms, 0 here, and -D v) */
-static const unsigned point_masses_given = 1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V |
-                                           1u << SDAE_MBS_JACOBIAN_DOT | 1u << SDAE_MBS_FORCE;
+static const unsigned point_masses_given =
+    1u << SDAE_MBS_JACOBIAN | 1u << SDAE_MBS_MASS_DOT_V | 1u << SDAE_MBS_JACOBIAN_DOT |
+    1u << SDAE_MBS_FORCE | 1u << SDAE_MBS_CONSTRAINT_T | 1u << SDAE_MBS_CONSTRAINT_T_DOT;
 
 /* states away from symmetries: no angle a multiple of pi/4, every velocity non-zero, the
  * pendulum's also off its circle (the check needs no consistent state) */

@@ -67,7 +67,8 @@ typedef struct sdae_mbs {
    * rk4, rk8) steps the mechanism at the cost of its nonzeros (the block and a step grow with
    * them, not with n_q^2; M must then be positive definite, not only the reduced mass; a
    * coordinate that many constraints share, as a cart carrying many pendulums, fills the
-   * factors past their reserve, SDAE_ERR_CHART: give such a mechanism without patterns); an
+   * saddle-point factor past its reserve, refused when the stepper is built with
+   * SDAE_ERR_PATTERN: give such a mechanism without patterns); an
    * implicit map, or a mechanism without them, steps it as a dense one (docs/front-ends.md).
    * NULL: dense. n_q rows, both triangles, symmetric; with it mass() and damping() write nnz
    * values in pattern order */

@@ -69,7 +69,8 @@ typedef enum sdae_status {
   SDAE_ERR_STATE_DAMAGED = -21, /* the bytes are cut short or damaged (checksum) */
   SDAE_ERR_STATE_FOREIGN = -22, /* the bytes are of another mechanism, map, options or build */
   /* a sparsity pattern (<stabdae/pattern.h>) unsorted, out of range, duplicated, inconsistent
-   * with its nnz, or (a mass's) not symmetric */
+   * with its nnz, or (a mass's) not symmetric; or the patterns' saddle-point factor (a sparse
+   * mechanism's, docs/front-ends.md) needs more entries than the stepper reserves */
   SDAE_ERR_PATTERN = -23
 } sdae_status;
 

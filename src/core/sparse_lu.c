@@ -22,7 +22,9 @@ void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, s
   lu->row_of = sdae__take_indices(a, n);
   lu->u_start = sdae__take_indices(a, m + 1);
   lu->u_diag = sdae__take_indices(a, m);
+  lu->u_dend = sdae__take_indices(a, m);
   lu->u_col = sdae__take_indices(a, cap);
+  lu->u_step = sdae__take_indices(a, cap);
   lu->u_val = sdae__take(a, cap, 1);
   lu->l_start = sdae__take_indices(a, m + 1);
   lu->l_col = sdae__take_indices(a, cap);
@@ -231,36 +233,58 @@ static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *value
   return rc;
 }
 
+/* U's rows laid out for the solves (sdae_sparse_lu's u_dend): each copied out to the
+ * elimination's workspace, free once factored, and written back by group */
+static void split(sdae_sparse_lu *lu) {
+  size_t *col = lu->list;
+  double *val = lu->x;
+  for (size_t k = 0; k < lu->m; k++) {
+    size_t a = lu->u_start[k], len = lu->u_start[k + 1] - a, d = a + 1;
+    for (size_t i = 0; i < len; i++) col[i] = lu->u_col[a + i], val[i] = lu->u_val[a + i];
+    lu->u_col[a] = lu->pivot[k], lu->u_val[a] = val[lu->u_diag[k] - a];
+    lu->u_diag[k] = a;
+    for (size_t i = 0; i < len; i++) { /* later pivots' columns (none is an earlier one's) */
+      size_t j = lu->row_of[col[i]];
+      if (j != k && j < lu->m) lu->u_col[d] = col[i], lu->u_val[d] = val[i], lu->u_step[d++] = j;
+    }
+    lu->u_dend[k] = d;
+    for (size_t i = 0; i < len; i++) /* q_I's */
+      if (lu->row_of[col[i]] == lu->m) lu->u_col[d] = col[i], lu->u_val[d++] = val[i];
+  }
+}
+
 int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values) {
-  return factor(lu, A, values, 1);
+  int rc = factor(lu, A, values, 1);
+  if (rc == SDAE_OK) split(lu);
+  return rc;
 }
 
 int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values) {
-  return factor(lu, A, values, 0);
+  int rc = factor(lu, A, values, 0);
+  if (rc == SDAE_OK) split(lu);
+  return rc;
 }
 
 /* ---- solves ---- */
 
 /* x = U_D^-1 y (both by pivot), row by row from the last */
 static void back(const sdae_sparse_lu *lu, const double *y, double *x) {
+  const size_t *step = lu->u_step;
+  const double *u = lu->u_val;
   for (size_t k = lu->m; k-- > 0;) {
     double s = y[k];
-    for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++) {
-      size_t j = lu->row_of[lu->u_col[e]];
-      if (j > k && j < lu->m) s -= lu->u_val[e] * x[j];
-    }
-    x[k] = s / lu->u_val[lu->u_diag[k]];
+    for (size_t e = lu->u_start[k] + 1; e < lu->u_dend[k]; e++) s -= u[e] * x[step[e]];
+    x[k] = s / u[lu->u_start[k]];
   }
 }
 
 /* w = U_D^-T w in place (by pivot), each row's part pushed to the later rows */
 static void forward_t(const sdae_sparse_lu *lu, double *w) {
+  const size_t *step = lu->u_step;
+  const double *u = lu->u_val;
   for (size_t k = 0; k < lu->m; k++) {
-    w[k] /= lu->u_val[lu->u_diag[k]];
-    for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++) {
-      size_t j = lu->row_of[lu->u_col[e]];
-      if (j > k && j < lu->m) w[j] -= lu->u_val[e] * w[k];
-    }
+    w[k] /= u[lu->u_start[k]];
+    for (size_t e = lu->u_start[k] + 1; e < lu->u_dend[k]; e++) w[step[e]] -= u[e] * w[k];
   }
 }
 
@@ -289,8 +313,7 @@ void sdae__sparse_lu_times_b(sdae_sparse_lu *lu, const double *x, double *out) {
   double *t = lu->w;
   for (size_t k = 0; k < lu->m; k++) { /* t = U_I x */
     double s = 0.0;
-    for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++)
-      if (lu->row_of[lu->u_col[e]] == lu->m) s += lu->u_val[e] * x[lu->u_col[e]];
+    for (size_t e = lu->u_dend[k]; e < lu->u_start[k + 1]; e++) s += lu->u_val[e] * x[lu->u_col[e]];
     t[k] = s;
   }
   back(lu, t, out);
@@ -302,8 +325,8 @@ void sdae__sparse_lu_times_bt(sdae_sparse_lu *lu, const double *y, double *out) 
   forward_t(lu, w);
   memset(out, 0, lu->n * sizeof *out);
   for (size_t k = 0; k < lu->m; k++) /* out = U_I^T w */
-    for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++)
-      if (lu->row_of[lu->u_col[e]] == lu->m) out[lu->u_col[e]] += lu->u_val[e] * w[k];
+    for (size_t e = lu->u_dend[k]; e < lu->u_start[k + 1]; e++)
+      out[lu->u_col[e]] += lu->u_val[e] * w[k];
 }
 
 /* ---- ||B||_1 ---- */

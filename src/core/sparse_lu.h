@@ -39,8 +39,11 @@ typedef struct sdae_sparse_lu {
   /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
   size_t *order, *pivot, *row_of;
   /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's
-   * strictly lower rows (the multipliers l_rk, by k) */
-  size_t *u_start, *u_col, *u_diag;
+   * strictly lower rows (the multipliers l_rk, by k). Once factored, each row of U is its pivot,
+   * then its entries in later pivots' columns (up to u_dend[k], u_step their steps), then those
+   * in the other columns, each group in its order: the solves run over one group, no test per
+   * entry */
+  size_t *u_start, *u_col, *u_diag, *u_dend, *u_step;
   double *u_val;
   size_t *l_start, *l_col;
   double *l_val;

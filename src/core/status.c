@@ -48,8 +48,9 @@ const char *sdae_strerror(int status) {
   case SDAE_ERR_STATE_FOREIGN:
     return "the saved state is of another mechanism, map, options or build of the library";
   case SDAE_ERR_PATTERN:
-    return "a sparsity pattern is not one: its columns unsorted, duplicated or out of range, "
-           "row_start inconsistent with nnz, or a mass pattern not symmetric";
+    return "a sparsity pattern is not one (its columns unsorted, duplicated or out of range, "
+           "row_start inconsistent with nnz, a mass pattern not symmetric), or the patterns' "
+           "saddle-point factor needs more entries than the stepper reserves";
   }
   return "unknown status";
 }

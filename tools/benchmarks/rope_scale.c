@@ -3,19 +3,21 @@
  * (N point masses on unit rods hung from the origin, 2N Cartesian coordinates, N constraints,
  * exact derivatives), from N = 8 up: the front-end's rk4 step on the rope given by its patterns
  * (the sparse coordinates, src/mbs/mbs_sparse.c) and, up to --dense-max, on the rope given
- * densely (the dense coordinates) and the classical RK4 on the index-1 form from the same
- * callbacks (index1_rk4.c, dense algebra); T = 1e-3, median CPU time of the thread over the
+ * densely (the dense coordinates), the implicit midpoint map on the rope's patterns (implicit
+ * maps keep the dense coordinates: their Newton matrix on mu is dense anyway), and the classical
+ * RK4 on the index-1 form from the same callbacks (index1_rk4.c, dense algebra); T = 1e-3,
+ * median CPU time of the thread over the
  * repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the index-1
  * form with KLU on the rope's patterns (tools/ida/ida_mbs.h: the iteration matrix by grouped
- * differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.05 s from the
- * same start: the median CPU time of the thread of the whole idambs_solve_with call (its
- * consistent start, the matrix's structure and coloring, about 4 % of it at N = 4096, and the
- * run) per 1e-3 s simulated, the time a step of the others covers, and max abs(c) at its end
- * (index 1 lets c drift). Its interval is the same at every N and not cut to the budget, which
- * sizes the fixed-step runs only: IDA's cost per simulated time depends on the interval (its
- * first steps are short), and 0.05 s is 30 to 70 of its steps, 0.4 s of CPU at N = 4096. A
- * Markdown table on stdout, one row per N, and on stderr the sparse step's growth exponent
- * between successive N and IDA's matrix (order, nonzeros, column groups) and counters.
+ * differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.25 s from the
+ * same start (the rope falling from rest, and its first swing): the median CPU time of the thread
+ * of the whole idambs_solve_with call (its consistent start, the matrix's structure and coloring,
+ * about 4 % of it at N = 4096, and the run) per 1e-3 s simulated, the time a step of the others
+ * covers, and max abs(c) at its end (index 1 lets c drift). Its interval is the same at every N and
+ * not cut to the budget, which sizes the fixed-step runs only: IDA's cost per simulated time
+ * depends on the interval (its first steps are short). A Markdown table on stdout, one row per N,
+ * and on stderr the sparse step's growth exponent between successive N and IDA's matrix (order,
+ * nonzeros, column groups) and counters.
  *
  *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
  *              [--reps R (1..15, default 5)]
@@ -36,7 +38,7 @@
 
 static const double T = 1e-3;
 /* IDA's run: tolerances (rtol = atol) and its interval */
-static const double IDA_TOL = 1e-8, IDA_TF = 0.05;
+static const double IDA_TOL = 1e-8, IDA_TF = 0.25;
 
 static double thread_seconds(void) {
   struct timespec ts;
@@ -178,9 +180,9 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
   mech_rope r = mech_rope_unit(N, 0, 1), rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
-  sdae_mbs_stepper *s = NULL, *sd = NULL;
+  sdae_mbs_stepper *s = NULL, *sd = NULL, *sm = NULL;
   index1 *w = NULL;
-  double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
+  double c_sparse, c_other, us_dense = 0.0, us_mid = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
   if (rc == 0) rc = mech_rope_system(&dense, &rd);
@@ -192,18 +194,23 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
   if (rc == 0 && N <= dense_max) {
     if ((rc = sdae_mbs_stepper_alloc(&sd, &dense, &o)) == 0)
       rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other);
+    sdae_options om = o;
+    om.map = sdae_map_midpoint;
+    if (rc == 0 && (rc = sdae_mbs_stepper_alloc(&sm, &sys, &om)) == 0)
+      rc = timed(frontend, sm, &r, &sys, reps, budget, &us_mid, &c_other);
     if (rc == 0 && !(w = index1_alloc(&dense))) rc = -1;
     if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other);
   }
   if (rc == 0) {
     printf("| %zu | %zu | %zu |", N, 2 * N, sdae_mbs_stepper_size(&sys, &o));
-    cell(*us_sparse), cell(us_dense), cell(us_rk4);
+    cell(*us_sparse), cell(us_dense), cell(us_mid), cell(us_rk4);
     printf(" %.1e |", c_sparse);
     cell(ida_ms);
     printf(" %.1e |\n", c_ida);
   }
   sdae_mbs_stepper_free(s);
   sdae_mbs_stepper_free(sd);
+  sdae_mbs_stepper_free(sm);
   index1_free(w);
   mech_rope_free(&r);
   mech_rope_free(&rd);
@@ -230,9 +237,9 @@ int main(int argc, char **argv) {
   }
   if (max_n < 8) return wp_bad("rope_scale", "--max-n below 8: ", "the smallest rope");
   printf("| N | coordinates | stepper bytes (sparse) | rk4 sparse, us/step | rk4 dense, us/step | "
-         "index-1 RK4, us/step | max abs(c), sparse | IDA/KLU index-1, us per 1e-3 s simulated | "
-         "max abs(c), IDA end |\n"
-         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+         "midpoint (dense coordinates), us/step | index-1 RK4, us/step | max abs(c), sparse | "
+         "IDA/KLU index-1, us per 1e-3 s simulated | max abs(c), IDA end |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t N = 8; N <= (size_t)max_n; N *= 2) {
     double front;
     if (row(N, (size_t)dense_max, (int)reps, budget, &front) != 0) {
