@@ -262,6 +262,31 @@ END_TEST
 
 /* one row [2, 1, -3]: its pivot the largest (a tie of Markowitz's counts, 0 each), column 2;
  * B = A_D^-1 A_I = (2, 1) / -3, ||B||_1 = 2/3, which Hager's estimate finds exactly */
+/* The closed rope of 4095 links at its start, two straight runs (a V): no column is held by one
+ * row, and along a straight run the coordinate a leaf would pivot on cancels, so taking the
+ * loop's rows in turn grew a row longer at each link, past the reserve. The first row set
+ * aside opens the loop: every other row a leaf, no fill, L's entries all in the last row (the
+ * one set aside, eliminating through the loop) */
+START_TEST(a_closed_rope_in_straight_runs_opens_its_loop) {
+  mech_rope r = mech_rope_unit(4095, 1, 1);
+  sdae_mbs sys;
+  factored f;
+  ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
+  const sdae_pattern *p = &r.jacobian_pattern;
+  size_t m = sys.n_c, n = sys.n_q;
+  double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), *G = malloc(p->nnz * sizeof *G);
+  ck_assert_int_eq(mech_rope_start(&r, 0.3, q, v), 0);
+  ck_assert_int_eq(sys.jacobian(0.0, q, G, sys.params), 0);
+  factored_init(&f, m, n, p->nnz);
+  ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, p, G), SDAE_OK);
+  ck_assert_uint_eq(f.lu.l_start[m - 1], 0);
+  ck_assert_uint_le(f.lu.l_start[m], m - 1);
+  ck_assert_uint_le(f.lu.u_start[m - 1], p->nnz - (p->row_start[1] - p->row_start[0]));
+  free(q), free(v), free(G), free(f.mem);
+  mech_rope_free(&r);
+}
+END_TEST
+
 START_TEST(a_single_row_and_its_norm) {
   static const size_t start[] = {0, 3}, col[] = {0, 1, 2};
   static const double values[] = {2.0, 1.0, -3.0};
@@ -278,6 +303,7 @@ END_TEST
 
 int main(void) {
   Suite *s = suite_create("sparse_lu");
+  ADD_CASE(s, a_closed_rope_in_straight_runs_opens_its_loop);
   ADD_CASE(s, a_single_row_and_its_norm);
   ADD_CASE(s, rope_charts_solve_as_dense_algebra);
   ADD_CASE(s, random_wide_matrices_solve_as_dense_algebra);

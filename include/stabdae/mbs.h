@@ -37,7 +37,8 @@ typedef struct sdae_mbs {
    * implicit map's Newton then stops at SDAE_MBS_FD_NEWTON_TOL if newton_tol is smaller */
   int (*jacobian)(double t, const double *q, double *G, void *params);
   /* optional: dc/dt, n_c; NULL: a fourth-order central difference in t (exactly 0 when c does
-   * not depend on t) */
+   * not depend on t, but four evaluations of c at every configuration a step solves for: a
+   * mechanism whose c does not depend on t saves them by writing zeros, as the generator does) */
   int (*constraint_t)(double t, const double *q, double *ct, void *params);
   /* optional: F is the force of the Lagrangian v^T M v / 2 - V(q) (minus damping(q) v when
    * given); enables sdae_map_dgrad/dg4/dg6, which then conserve (dissipate) v^T M v / 2 + V.

@@ -177,46 +177,79 @@ static void leaves_init(sdae_sparse_lu *lu, const sdae_pattern *A, size_t *n_que
     if (lu->count[c] == 1) lu->queue[(*n_queue)++] = lu->t_row[at[c]];
 }
 
-/* the next row: a queued leaf not taken yet, else the first row not taken */
-static size_t next_row(sdae_sparse_lu *lu, size_t *n_queue, size_t *first) {
+/* a queued leaf not taken yet into *r: 1, or 0 when none is queued */
+static int next_leaf(sdae_sparse_lu *lu, size_t *n_queue, size_t *r) {
   while (*n_queue > 0) {
-    size_t r = lu->queue[--*n_queue];
-    if (!lu->done[r]) return r;
+    *r = lu->queue[--*n_queue];
+    if (!lu->done[*r]) return 1;
   }
-  while (lu->done[*first]) ++*first;
-  return *first;
+  return 0;
 }
 
-/* A's row ar taken: its columns' counts of rows to come, and a column left to one row queues
- * that row */
+/* each column's count of the rows holding it */
+static void column_counts(sdae_sparse_lu *lu, const sdae_pattern *A) {
+  for (size_t c = 0; c < lu->n; c++) lu->count[c] = 0;
+  for (size_t e = 0; e < A->nnz; e++) lu->count[A->col[e]]++;
+}
+
+/* A's row ar taken: its columns' counts of rows to come */
+static void count_out(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar) {
+  for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) lu->count[A->col[e]]--;
+}
+
+/* A's row ar placed: counted out, and a column it leaves to one row queues that row */
 static void taken(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar, size_t *n_queue) {
   lu->done[ar] = 1;
+  count_out(lu, A, ar);
   for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) {
     size_t c = A->col[e];
-    if (--lu->count[c] != 1 || !lu->leaf_first) continue;
+    if (lu->count[c] != 1) continue;
     for (size_t k = lu->t_start[c]; k < lu->t_start[c + 1]; k++)
       if (!lu->done[lu->t_row[k]]) lu->queue[(*n_queue)++] = lu->t_row[k];
   }
 }
 
+/* The rows' order (leaf_first), found before the elimination: a queued leaf whenever there is
+ * one. When none is (every column left is held by two rows or more: a closed loop), the first
+ * row not yet placed is set aside for the end, counted out as if taken, which opens the loop
+ * into a chain with leaves; the rows set aside come last (the first of them last), each
+ * eliminating through its loop: one row of fill per loop, where taking the loop's rows in turn
+ * grows the fill along it (the rows of a straight run cancel the coordinate a leaf would
+ * pivot on, and the next one's is taken, a row longer each time). */
+static void order_rows(sdae_sparse_lu *lu, const sdae_pattern *A) {
+  size_t n_queue, first = 0, placed = 0, aside = lu->m;
+  column_counts(lu, A);
+  leaves_init(lu, A, &n_queue);
+  while (placed < aside) {
+    size_t r;
+    if (next_leaf(lu, &n_queue, &r)) {
+      lu->order[placed++] = r;
+    } else {
+      while (lu->done[first]) first++;
+      r = first, lu->order[--aside] = r;
+    }
+    taken(lu, A, r, &n_queue);
+  }
+}
+
 /* the factorization, the order and the pivots chosen (choose) or kept */
 static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, int choose) {
-  size_t m = lu->m, l_used = 0, u_used = 0, n_queue = 0, first = 0;
+  size_t m = lu->m, l_used = 0, u_used = 0;
   int rc = SDAE_OK;
   lu->l_start[0] = lu->u_start[0] = 0;
   if (choose) {
-    for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = m, lu->count[c] = 0;
-    for (size_t e = 0; e < A->nnz; e++) lu->count[A->col[e]]++;
-    leaves_init(lu, A, &n_queue);
-    if (!lu->leaf_first) n_queue = 0;
+    for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = m;
+    if (lu->leaf_first) {
+      order_rows(lu, A);
+    } else {
+      for (size_t r = 0; r < m; r++) lu->order[r] = r;
+    }
+    column_counts(lu, A); /* the elimination's Markowitz counts, from all rows again */
   }
   for (size_t r = 0; r < m && rc == SDAE_OK; r++) {
     size_t n_list, p = lu->pivot[r];
     double scale;
-    if (choose) {
-      lu->order[r] = next_row(lu, &n_queue, &first);
-      taken(lu, A, lu->order[r], &n_queue); /* the counts: the rows to come */
-    }
+    if (choose) count_out(lu, A, lu->order[r]); /* the counts: the rows to come */
     rc = eliminate(lu, A, values, r, &n_list, &l_used, &scale);
     if (rc == SDAE_OK && choose && (rc = pick(lu, r, n_list, scale, &p)) == SDAE_OK)
       lu->pivot[r] = p, lu->row_of[p] = r;

@@ -11,7 +11,8 @@
  * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order of
  * their own (leaf_first: a row holding a column no row still to come holds, whenever there is
  * one, as a chain's outer link before the link inside it, so that a pivot there is never taken
- * out again; A's own order otherwise). The pivot of row r is, among its
+ * out again; when there is none, as around a closed loop, a row is set aside for the end,
+ * which opens the loop; A's own order without leaf_first). The pivot of row r is, among its
  * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
  * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
  * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its

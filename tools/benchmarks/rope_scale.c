@@ -19,8 +19,12 @@
  * and on stderr the sparse step's growth exponent between successive N and IDA's matrix (order,
  * nonzeros, column groups) and counters.
  *
+ * With --rope closed, the rope fixed at both ends (its last mass on one more rod to an anchor
+ * half its length from the origin: a closed loop, N + 1 constraints), N = 7, 15, ..., 2^k - 1
+ * (its start needs N odd).
+ *
  *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
- *              [--reps R (1..15, default 5)]
+ *              [--reps R (1..15, default 5)] [--rope open|closed (default open)]
  *              [--budget S (seconds of CPU per stepper and N, default 0.5)] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
@@ -176,8 +180,8 @@ static void cell(double seconds) {
 
 /* the front-end on the rope given by its patterns (the sparse coordinates); up to dense_max
  * also on the rope given densely and the index-1 baseline (dense algebra) */
-static int row(size_t N, size_t dense_max, int reps, double budget, double *us_sparse) {
-  mech_rope r = mech_rope_unit(N, 0, 1), rd = r;
+static int row(size_t N, int closed, size_t dense_max, int reps, double budget, double *us_sparse) {
+  mech_rope r = mech_rope_unit(N, closed, 1), rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
   sdae_mbs_stepper *s = NULL, *sd = NULL, *sm = NULL;
@@ -219,6 +223,7 @@ static int row(size_t N, size_t dense_max, int reps, double budget, double *us_s
 
 int main(int argc, char **argv) {
   double max_n = 4096, dense_max = 256, reps = 5, budget = 0.5, prev = 0.0;
+  int closed = 0;
   for (int i = 1; i < argc; i += 2) {
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
     int rc;
@@ -231,6 +236,10 @@ int main(int argc, char **argv) {
       rc = wp_parse_positive("rope_scale", "--reps", v, WP_MAX_REPS, &reps);
     else if (strcmp(argv[i], "--budget") == 0)
       rc = wp_parse_positive("rope_scale", "--budget", v, 600, &budget);
+    else if (strcmp(argv[i], "--rope") == 0 && (!strcmp(v, "open") || !strcmp(v, "closed")))
+      rc = 0, closed = strcmp(v, "closed") == 0;
+    else if (strcmp(argv[i], "--rope") == 0)
+      return wp_bad("rope_scale", "--rope is open or closed, not ", v);
     else
       return wp_bad("rope_scale", "unknown flag: ", argv[i]);
     if (rc != 0) return rc;
@@ -240,9 +249,9 @@ int main(int argc, char **argv) {
          "midpoint (dense coordinates), us/step | index-1 RK4, us/step | max abs(c), sparse | "
          "IDA/KLU index-1, us per 1e-3 s simulated | max abs(c), IDA end |\n"
          "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-  for (size_t N = 8; N <= (size_t)max_n; N *= 2) {
+  for (size_t N = closed ? 7 : 8; N <= (size_t)max_n; N = closed ? 2 * N + 1 : 2 * N) {
     double front;
-    if (row(N, (size_t)dense_max, (int)reps, budget, &front) != 0) {
+    if (row(N, closed, (size_t)dense_max, (int)reps, budget, &front) != 0) {
       fprintf(stderr, "rope_scale: N = %zu failed\n", N);
       return 1;
     }
