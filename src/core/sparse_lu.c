@@ -232,20 +232,24 @@ static void order_rows(sdae_sparse_lu *lu, const sdae_pattern *A) {
   }
 }
 
+/* a choice's start: no column a pivot, the rows' order, and the elimination's Markowitz counts
+ * (from all rows again) */
+static void choice_start(sdae_sparse_lu *lu, const sdae_pattern *A) {
+  for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = lu->m;
+  if (lu->leaf_first) {
+    order_rows(lu, A);
+  } else {
+    for (size_t r = 0; r < lu->m; r++) lu->order[r] = r;
+  }
+  column_counts(lu, A);
+}
+
 /* the factorization, the order and the pivots chosen (choose) or kept */
 static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, int choose) {
   size_t m = lu->m, l_used = 0, u_used = 0;
   int rc = SDAE_OK;
   lu->l_start[0] = lu->u_start[0] = 0;
-  if (choose) {
-    for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = m;
-    if (lu->leaf_first) {
-      order_rows(lu, A);
-    } else {
-      for (size_t r = 0; r < m; r++) lu->order[r] = r;
-    }
-    column_counts(lu, A); /* the elimination's Markowitz counts, from all rows again */
-  }
+  if (choose) choice_start(lu, A);
   for (size_t r = 0; r < m && rc == SDAE_OK; r++) {
     size_t n_list, p = lu->pivot[r];
     double scale;
