@@ -99,8 +99,10 @@ START_TEST(random_saddle_points_solve_as_dense_algebra) {
     random_mechanism(rng, n_q, n_c, M, G);
     saddle_init(&k, n_q, n_c, M, G);
     ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
-    for (size_t r = 0; r < n; r++) /* the coordinates first: the order needing no pivoting */
+    for (size_t r = 0; r < n; r++) { /* the coordinates first: the order needing no pivoting */
       ck_assert_int_eq((size_t)k.sym.P[r] < n_q, r < n_q);
+      ck_assert_int_eq(k.sym.Pinv[k.sym.P[r]], (int)r); /* and its inverse */
+    }
     ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), SDAE_OK);
     for (size_t i = 0; i < n; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
     sdae__sparse_ldl_solve(&k.f, b, x);
@@ -150,6 +152,22 @@ START_TEST(the_pivots_signs_refuse_what_has_no_solution) {
 }
 END_TEST
 
+/* the least pivot is n eps ||M||_inf, M's scale, not the entry's own nor G's: with M = diag(m0,
+ * 1, 100) and one constraint on the first two coordinates, its coefficients 1e4 and 1 (n = 4:
+ * 8.9e-14), m0 = 1e-14 is a mass at the rounding of M (SDAE_ERR_MASS) and m0 = 1e-12 is one
+ * (SDAE_OK) */
+START_TEST(the_least_pivot_is_at_the_rounding_of_the_mass) {
+  for (int heavy = 0; heavy < 2; heavy++) {
+    double M[9] = {heavy ? 1e-12 : 1e-14, 0, 0, 0, 1, 0, 0, 0, 100}, G[3] = {1e4, 1, 0};
+    saddle k;
+    saddle_init(&k, 3, 1, M, G);
+    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), heavy ? SDAE_OK : SDAE_ERR_MASS);
+    saddle_free(&k);
+  }
+}
+END_TEST
+
 /* a cart (coordinate 0) under k pendulums, constraint j on the cart and pendulum j's two
  * coordinates, M diagonal: eliminating the coordinates leaves G M^-1 G^T, whose every pair of
  * constraints shares the cart: L holds G's entries and k (k - 1) / 2 of fill, and no more */
@@ -184,6 +202,7 @@ int main(void) {
   Suite *s = suite_create("sparse_ldl");
   ADD_CASE(s, random_saddle_points_solve_as_dense_algebra);
   ADD_CASE(s, the_pivots_signs_refuse_what_has_no_solution);
+  ADD_CASE(s, the_least_pivot_is_at_the_rounding_of_the_mass);
   ADD_CASE(s, a_shared_coordinate_fills_the_constraints_block);
   return run_suite(s);
 }

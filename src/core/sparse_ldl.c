@@ -68,7 +68,6 @@ static void order(sdae_sparse_ldl_symbolic *s) {
 
 int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K) {
   int *Lnz = s->amd_work, *Flag = Lnz + s->n; /* AMD's workspace, done with */
-  if (!sdae__sparse_ldl_fits(s->n, K->nnz)) return SDAE_ERR_OVERFLOW;
   for (size_t i = 0; i <= s->n; i++) s->Ap[i] = (int)K->row_start[i];
   for (size_t e = 0; e < K->nnz; e++) s->Ai[e] = (int)K->col[e];
   order(s);

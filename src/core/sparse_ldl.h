@@ -47,8 +47,8 @@ typedef struct sdae_sparse_ldl {
  * counted or handed out */
 void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
                                      size_t nnz, sdae_arena *a);
-/* the order and L's structure of K's pattern (symmetric): SDAE_OK;
- * SDAE_ERR_OVERFLOW when the sizes do not fit LDL's int; SDAE_ERR_PATTERN when L needs more
+/* the order and L's structure of K's pattern (symmetric; its sizes fit, sdae__sparse_ldl_fits,
+ * which the owner asks before it carves): SDAE_OK, or SDAE_ERR_PATTERN when L needs more
  * entries than reserved */
 int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K);
 /* whether a pattern of n rows and nnz entries fits LDL's and AMD's int indices */
