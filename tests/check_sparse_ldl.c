@@ -168,6 +168,31 @@ START_TEST(the_least_pivot_is_at_the_rounding_of_the_mass) {
 }
 END_TEST
 
+/* the same at a small scale, ||M||_inf = 1e-3: m0 = 1e-19 under n eps ||M|| = 8.9e-19
+ * (SDAE_ERR_MASS), 1e-17 above it; and two constraints [1, 1, 0], [1, 1, delta] with M = 1e-3 I,
+ * whose Schur complement's second pivot is 1e3 delta^2, against n eps ||G_2||^2 / ||M|| =
+ * 2.2e-12: delta = 1e-6 (1e-9) independent, delta = 1e-8 (1e-13) dependent to rounding
+ * (SDAE_ERR_RANK) */
+START_TEST(the_least_pivots_scale_with_m_and_g) {
+  for (int heavy = 0; heavy < 2; heavy++) {
+    double M[9] = {heavy ? 1e-17 : 1e-19, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, G[3] = {1e-3, 1e-3, 0};
+    saddle k;
+    saddle_init(&k, 3, 1, M, G);
+    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), heavy ? SDAE_OK : SDAE_ERR_MASS);
+    saddle_free(&k);
+  }
+  for (int apart = 0; apart < 2; apart++) {
+    double M[9] = {1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, G[6] = {1, 1, 0, 1, 1, apart ? 1e-6 : 1e-8};
+    saddle k;
+    saddle_init(&k, 3, 2, M, G);
+    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), apart ? SDAE_OK : SDAE_ERR_RANK);
+    saddle_free(&k);
+  }
+}
+END_TEST
+
 /* a cart (coordinate 0) under k pendulums, constraint j on the cart and pendulum j's two
  * coordinates, M diagonal: eliminating the coordinates leaves G M^-1 G^T, whose every pair of
  * constraints shares the cart: L holds G's entries and k (k - 1) / 2 of fill, and no more */
@@ -203,6 +228,7 @@ int main(void) {
   ADD_CASE(s, random_saddle_points_solve_as_dense_algebra);
   ADD_CASE(s, the_pivots_signs_refuse_what_has_no_solution);
   ADD_CASE(s, the_least_pivot_is_at_the_rounding_of_the_mass);
+  ADD_CASE(s, the_least_pivots_scale_with_m_and_g);
   ADD_CASE(s, a_shared_coordinate_fills_the_constraints_block);
   return run_suite(s);
 }
