@@ -46,6 +46,10 @@ function(stabdae_add_fmu name)
     message(FATAL_ERROR "stabdae_add_fmu: libgsl.a and libgslcblas.a are needed "
                         "(Debian: libgsl-dev)")
   endif()
+  if(NOT StabdaeSuiteSparse_STATIC_LIBRARIES)
+    message(FATAL_ERROR "stabdae_add_fmu: libldl.a, libamd.a and libsuitesparseconfig.a are "
+                        "needed (Debian: libsuitesparse-dev)")
+  endif()
   if(NOT fmu_OUTPUT_DIRECTORY)
     set(fmu_OUTPUT_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   endif()
@@ -77,8 +81,8 @@ function(stabdae_add_fmu name)
     # symbol found in the archives
     target_link_libraries(${lib} PRIVATE
       "$<LINK_LIBRARY:WHOLE_ARCHIVE,stabdae::stabdae_fmi${version}>" stabdae::stabdae_fmi
-      ${fmu_LIBRARIES} stabdae::stabdae_static ${SuiteSparse_STATIC_LIBRARIES} ${STABDAE_GSL_STATIC}
-      ${STABDAE_GSLCBLAS_STATIC}
+      ${fmu_LIBRARIES} stabdae::stabdae_static ${StabdaeSuiteSparse_STATIC_LIBRARIES}
+      ${STABDAE_GSL_STATIC} ${STABDAE_GSLCBLAS_STATIC}
       m)
     target_link_options(${lib} PRIVATE -Wl,--as-needed
                         -Wl,--version-script=${STABDAE_FMU_DATA}/fmi${version}.map)

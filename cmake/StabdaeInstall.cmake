@@ -20,7 +20,7 @@ set(STABDAE_GEN_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/stabdae/python)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/stabdae_gen
   DESTINATION ${STABDAE_GEN_INSTALL_DIR}
   FILES_MATCHING PATTERN "*.py" PATTERN "tests" EXCLUDE PATTERN "__pycache__" EXCLUDE)
-install(FILES ${PROJECT_SOURCE_DIR}/cmake/StabdaeGenerate.cmake ${PROJECT_SOURCE_DIR}/cmake/FindSuiteSparse.cmake
+install(FILES ${PROJECT_SOURCE_DIR}/cmake/StabdaeGenerate.cmake ${PROJECT_SOURCE_DIR}/cmake/FindStabdaeSuiteSparse.cmake
   DESTINATION ${STABDAE_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/stabdaeConfig.cmake.in
   ${PROJECT_BINARY_DIR}/stabdaeConfig.cmake

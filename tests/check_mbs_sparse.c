@@ -284,8 +284,6 @@ START_TEST(a_constraint_in_time_in_sparse_coordinates) {
 }
 END_TEST
 
-/* a pendulum (the rope of one mass) at its pivot, G = 0: no chart, SDAE_ERR_RANK, at the first
- * step and after steps in a chart (its refactoring fails, and so does a new choice) */
 /* a cart on a line (coordinate 0) carrying k pendulums of unit length (pendulum i at
  * coordinates 1 + 2i, 2 + 2i), unit masses, gravity: every constraint holds the cart's
  * coordinate, so the saddle-point factor's constraints block fills, k (k - 1) / 2 entries
@@ -428,6 +426,8 @@ START_TEST(a_shared_coordinate_is_refused_at_the_build) {
 }
 END_TEST
 
+/* a pendulum (the rope of one mass) at its pivot, G = 0: no chart, SDAE_ERR_RANK, at the first
+ * step and after steps in a chart (its refactoring fails, and so does a new choice) */
 START_TEST(a_zero_jacobian_is_rank) {
   roped w;
   double q0[2] = {0.0, 0.0}, v0[2] = {0.0, 0.0};

@@ -260,8 +260,6 @@ START_TEST(a_rope_of_4096_links_factors_in_its_nonzeros) {
 }
 END_TEST
 
-/* one row [2, 1, -3]: its pivot the largest (a tie of Markowitz's counts, 0 each), column 2;
- * B = A_D^-1 A_I = (2, 1) / -3, ||B||_1 = 2/3, which Hager's estimate finds exactly */
 /* The closed rope of 4095 links at its start, two straight runs (a V): no column is held by one
  * row, and along a straight run the coordinate a leaf would pivot on cancels, so taking the
  * loop's rows in turn grew a row longer at each link, past the reserve. The first row set
@@ -287,6 +285,8 @@ START_TEST(a_closed_rope_in_straight_runs_opens_its_loop) {
 }
 END_TEST
 
+/* one row [2, 1, -3]: its pivot the largest (a tie of Markowitz's counts, 0 each), column 2;
+ * B = A_D^-1 A_I = (2, 1) / -3, ||B||_1 = 2/3, which Hager's estimate finds exactly */
 START_TEST(a_single_row_and_its_norm) {
   static const size_t start[] = {0, 3}, col[] = {0, 1, 2};
   static const double values[] = {2.0, 1.0, -3.0};

@@ -21,26 +21,29 @@
 
 #include <stddef.h>
 
+#include <SuiteSparse_config.h>
+
 #include "arena.h"
 #include "pattern.h"
 
 /* the entries L may hold: this many times K's nonzeros (both triangles), plus one per row */
 #define SDAE_SPARSE_LDL_FILL 4
 
+/* indices as SuiteSparse's long versions take them (amd_l2, ldl_l_*): 64 bits */
 typedef struct sdae_sparse_ldl_symbolic {
-  size_t n, n_pos, cap;
-  int *Ap, *Ai;     /* K's pattern as LDL reads it (symmetric: its rows are its columns) */
-  int *P, *Pinv;    /* the order: P[k] the row taken k-th */
-  int *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
-  int *amd_work;    /* AMD's: the pattern it consumes and its workspace */
-  size_t amd_len;   /* ints in amd_work */
+  size_t n, n_pos, nnz, cap;
+  SuiteSparse_long *Ap, *Ai;     /* K's pattern as LDL reads it (symmetric: rows are columns) */
+  SuiteSparse_long *P, *Pinv;    /* the order: P[k] the row taken k-th */
+  SuiteSparse_long *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
+  SuiteSparse_long *amd_work;    /* AMD's: the pattern it consumes, its workspace, its order */
+  size_t amd_len;                /* entries of amd_work */
 } sdae_sparse_ldl_symbolic;
 
 typedef struct sdae_sparse_ldl {
   const sdae_sparse_ldl_symbolic *sym;
-  int *Lnz, *Flag, *Pattern, *Li; /* LDL's workspace (n each) and L's rows (cap) */
-  double *Lx, *D, *Y;             /* L's values (cap), D, LDL's workspace (n) */
-  double *x;                      /* n: a solve's permuted right-hand side */
+  SuiteSparse_long *Lnz, *Flag, *Pattern, *Li; /* LDL's workspace (n each), L's rows (cap) */
+  double *Lx, *D, *Y;                          /* L's values (cap), D, LDL's workspace (n) */
+  double *x;                                   /* n: a solve's permuted right-hand side */
 } sdae_sparse_ldl;
 
 /* the arrays of the analysis of a pattern of n rows (n_pos of them coordinates) and nnz entries,
@@ -51,14 +54,14 @@ void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size
  * which the owner asks before it carves): SDAE_OK, or SDAE_ERR_PATTERN when L needs more
  * entries than reserved */
 int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K);
-/* whether a pattern of n rows and nnz entries fits LDL's and AMD's int indices */
+/* whether a pattern of n rows and nnz entries keeps every count of AMD's and LDL's in range */
 int sdae__sparse_ldl_fits(size_t n, size_t nnz);
 
 void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym, sdae_arena *a);
 /* K's values (in the pattern's order) factored: SDAE_OK; SDAE_ERR_MASS when a coordinate's
- * pivot is not positive beyond n eps ||M||_inf (M not positive definite to rounding),
- * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, the
- * least its Schur complement's diagonal can be (G not of full rank to rounding) */
+ * pivot is not positive beyond n eps ||M||_inf (M not positive definite to its rounding),
+ * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, that
+ * rounding carried to the diagonal of G M^-1 G^T (G not of full rank to rounding) */
 int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values);
 /* x = K^-1 b (x and b may not overlap) */
 void sdae__sparse_ldl_solve(sdae_sparse_ldl *f, const double *b, double *x);

@@ -18,7 +18,7 @@
 
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
-#define STATE_FORMAT 1u
+#define STATE_FORMAT 2u /* 2: the sparse saddle-point system factored anew, no pivots kept */
 
 typedef struct header {
   char magic[8];

@@ -10,11 +10,13 @@
  *     xi_n = s^n xi_0,   mu_n = r^n mu_0 + T c xi_0 (r^n - s^n) / (r - s),
  *     s = 1 / (1 - T k),  r = 1 + T a;
  *
- * the program checks both, and that a bad step size is refused with the state untouched.
- * Exit status 0 when everything holds. */
+ * the program checks both, and that a bad step size is refused with the state untouched; and it
+ * sizes a mechanism with no callbacks (0), which links the mechanical front-end, and with it,
+ * in a static link, SuiteSparse's LDL and AMD. Exit status 0 when everything holds. */
 #include <math.h>
 #include <stdio.h>
 
+#include <stabdae/mbs.h>
 #include <stabdae/stabdae.h>
 
 #ifndef STABDAE_VIA
@@ -77,6 +79,8 @@ int main(void) {
   rc = sdae_step(s, n * T, -T, &xi, &mu);
   ok = ok && rc == SDAE_ERR_STEP && xi == xi_before && mu == mu_before;
   printf("consumer (%s): T = %g refused: %s\n", STABDAE_VIA, -T, sdae_strerror(rc));
+  const sdae_mbs empty = {0};
+  ok = ok && sdae_mbs_stepper_size(&empty, &opt) == 0;
   sdae_stepper_free(s);
   if (!ok) fprintf(stderr, "consumer (%s): FAILED\n", STABDAE_VIA);
   return ok ? 0 : 1;

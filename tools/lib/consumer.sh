@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Installs the built tree into BUILD/prefix and builds tests/consumer against it three ways:
+# Installs the built tree into BUILD/prefix and builds tests/consumer against it four ways:
 # find_package(stabdae) with the shared library, find_package with stabdae::stabdae_static,
-# and pkg-config; runs each and checks which library it loads. With the FMI layer built, an FMU
+# pkg-config, and pkg-config --static with libstabdae.a; runs each and checks which library it
+# loads. With the FMI layer built, an FMU
 # of a mechanism of its own too (tests/consumer_fmu, stabdae_add_fmu after find_package).
 # Usage: tools/lib/consumer.sh [BUILD_DIR]   (default build/)
 set -euo pipefail
@@ -15,7 +16,7 @@ rm -rf "$prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
 pcdir=$(dirname "$(find "$prefix" -name stabdae.pc | head -n 1)")
 
-for via in cmake cmake-static pkg-config; do
+for via in cmake cmake-static pkg-config pkg-config-static; do
   dir=$build/consumer/$via
   say "consumer via $via"
   rm -rf "$dir"
@@ -25,7 +26,7 @@ for via in cmake cmake-static pkg-config; do
   # the shared builds must load the installed libstabdae.so.0, the static one none
   needed=$(readelf -d "$dir/consumer" | sed -n 's/.*Shared library: \[\(libstabdae[^]]*\)\].*/\1/p')
   loaded=$(ldd "$dir/consumer" | awk '/libstabdae/ {print $3}')
-  if [ "$via" = cmake-static ]; then
+  if [[ "$via" == *-static ]]; then
     [ -z "$needed" ] || { echo "static consumer needs $needed" >&2; exit 1; }
   else
     [ "$needed" = libstabdae.so.0 ] || { echo "consumer needs '$needed'" >&2; exit 1; }
