@@ -88,6 +88,37 @@ static void random_mechanism(gsl_rng *rng, size_t n_q, size_t n_c, double *M, do
   }
 }
 
+/* K factored and solved for a random b, against GSL's dense LU of the same K: x the same to
+ * tol (1 + |x|) (K's dense copy is overwritten) */
+static void solves_as_gsl(saddle *k, gsl_rng *rng, double tol) {
+  size_t n = k->n;
+  double *b = malloc(n * sizeof *b), *x = malloc(n * sizeof *x);
+  ck_assert_int_eq(sdae__sparse_ldl_factor(&k->f, k->values), SDAE_OK);
+  for (size_t i = 0; i < n; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
+  sdae__sparse_ldl_solve(&k->f, b, x);
+  gsl_matrix_view K = gsl_matrix_view_array(k->dense, n, n);
+  gsl_vector_view bv = gsl_vector_view_array(b, n);
+  gsl_vector *xg = gsl_vector_alloc(n);
+  gsl_permutation *perm = gsl_permutation_alloc(n);
+  int sign;
+  ck_assert_int_eq(gsl_linalg_LU_decomp(&K.matrix, perm, &sign), 0);
+  ck_assert_int_eq(gsl_linalg_LU_solve(&K.matrix, perm, &bv.vector, xg), 0);
+  ck_assert_double_le(max_abs_diff(x, xg->data, n), tol * (1.0 + gsl_blas_dnrm2(xg)));
+  gsl_vector_free(xg), gsl_permutation_free(perm);
+  free(b), free(x);
+}
+
+/* the status of K's factorization for dense M (n_q x n_q) and G (n_c x n_q), analysed first */
+static int factor_status(size_t n_q, size_t n_c, const double *M, const double *G) {
+  saddle k;
+  int rc;
+  saddle_init(&k, n_q, n_c, M, G);
+  ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
+  rc = sdae__sparse_ldl_factor(&k.f, k.values);
+  saddle_free(&k);
+  return rc;
+}
+
 START_TEST(random_saddle_points_solve_as_dense_algebra) {
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   for (int trial = 0; trial < 40; trial++) {
@@ -115,15 +146,7 @@ START_TEST(random_saddle_points_solve_as_dense_algebra) {
     }
     ck_assert_double_le(worst, 64.0 * (double)n * DBL_EPSILON * (kx + 1.0));
     /* and GSL's dense LU of the same K finds the same x */
-    gsl_matrix_view K = gsl_matrix_view_array(k.dense, n, n);
-    gsl_vector_view bv = gsl_vector_view_array(b, n);
-    gsl_vector *xg = gsl_vector_alloc(n);
-    gsl_permutation *perm = gsl_permutation_alloc(n);
-    int sign;
-    ck_assert_int_eq(gsl_linalg_LU_decomp(&K.matrix, perm, &sign), 0);
-    ck_assert_int_eq(gsl_linalg_LU_solve(&K.matrix, perm, &bv.vector, xg), 0);
-    ck_assert_double_le(max_abs_diff(x, xg->data, n), 1e-10 * (1.0 + gsl_blas_dnrm2(xg)));
-    gsl_vector_free(xg), gsl_permutation_free(perm);
+    solves_as_gsl(&k, rng, 1e-10);
     free(M), free(G), free(b), free(x);
     saddle_free(&k);
   }
@@ -158,20 +181,7 @@ START_TEST(coupled_anywhere_the_order_is_a_permutation) {
       ck_assert_int_eq(k.sym.Pinv[k.sym.P[r]], (long)r);
     }
     if (rc == SDAE_OK) {
-      double *b = malloc(n * sizeof *b), *x = malloc(n * sizeof *x);
-      ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), SDAE_OK);
-      for (size_t i = 0; i < n; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
-      sdae__sparse_ldl_solve(&k.f, b, x);
-      gsl_matrix_view K = gsl_matrix_view_array(k.dense, n, n);
-      gsl_vector_view bv = gsl_vector_view_array(b, n);
-      gsl_vector *xg = gsl_vector_alloc(n);
-      gsl_permutation *perm = gsl_permutation_alloc(n);
-      int sign;
-      ck_assert_int_eq(gsl_linalg_LU_decomp(&K.matrix, perm, &sign), 0);
-      ck_assert_int_eq(gsl_linalg_LU_solve(&K.matrix, perm, &bv.vector, xg), 0);
-      ck_assert_double_le(max_abs_diff(x, xg->data, n), 1e-8 * (1.0 + gsl_blas_dnrm2(xg)));
-      gsl_vector_free(xg), gsl_permutation_free(perm);
-      free(b), free(x);
+      solves_as_gsl(&k, rng, 1e-8);
       fits++;
     }
     free(M), free(G);
@@ -210,11 +220,7 @@ END_TEST
 START_TEST(the_least_pivot_is_at_the_rounding_of_the_mass) {
   for (int heavy = 0; heavy < 2; heavy++) {
     double M[9] = {heavy ? 1e-12 : 1e-14, 0, 0, 0, 1, 0, 0, 0, 100}, G[3] = {1e4, 1, 0};
-    saddle k;
-    saddle_init(&k, 3, 1, M, G);
-    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
-    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), heavy ? SDAE_OK : SDAE_ERR_MASS);
-    saddle_free(&k);
+    ck_assert_int_eq(factor_status(3, 1, M, G), heavy ? SDAE_OK : SDAE_ERR_MASS);
   }
 }
 END_TEST
@@ -227,19 +233,11 @@ END_TEST
 START_TEST(the_least_pivots_scale_with_m_and_g) {
   for (int heavy = 0; heavy < 2; heavy++) {
     double M[9] = {heavy ? 1e-17 : 1e-19, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, G[3] = {1e-3, 1e-3, 0};
-    saddle k;
-    saddle_init(&k, 3, 1, M, G);
-    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
-    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), heavy ? SDAE_OK : SDAE_ERR_MASS);
-    saddle_free(&k);
+    ck_assert_int_eq(factor_status(3, 1, M, G), heavy ? SDAE_OK : SDAE_ERR_MASS);
   }
   for (int apart = 0; apart < 2; apart++) {
     double M[9] = {1e-3, 0, 0, 0, 1e-3, 0, 0, 0, 1e-3}, G[6] = {1, 1, 0, 1, 1, apart ? 1e-6 : 1e-8};
-    saddle k;
-    saddle_init(&k, 3, 2, M, G);
-    ck_assert_int_eq(saddle_analyse(&k), SDAE_OK);
-    ck_assert_int_eq(sdae__sparse_ldl_factor(&k.f, k.values), apart ? SDAE_OK : SDAE_ERR_RANK);
-    saddle_free(&k);
+    ck_assert_int_eq(factor_status(3, 2, M, G), apart ? SDAE_OK : SDAE_ERR_RANK);
   }
 }
 END_TEST
