@@ -29,7 +29,6 @@ static void factored_init(factored *f, size_t m, size_t n, size_t nnz) {
   ck_assert_ptr_nonnull(f->mem);
   a = (sdae_arena){.base = f->mem};
   sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
-  f->lu.leaf_first = 1; /* as a chart's */
 }
 
 /* a rope of N links (closed: N + 1) at a random configuration, its G's values */

@@ -7,11 +7,11 @@
  * factorization by LDL. Both take every array from their caller, so all of it is carved from
  * the owner's block:
  *
- *   analyse (once, when the owner is built): AMD's ordering (amd_2, its workspace and the
+ *   analyse (once, when the owner is built): AMD's ordering (amd_l2, its workspace and the
  *            copy of the pattern it consumes carved here) and LDL's symbolic factorization
- *            (ldl_symbolic: L's column counts and the elimination tree);
- *   factor  (each time the values change): ldl_numeric, O(nnz(L)) flops, no allocation;
- *   solve:  ldl_perm, ldl_lsolve, ldl_dsolve, ldl_ltsolve, ldl_permt.
+ *            (ldl_l_symbolic: L's column counts and the elimination tree);
+ *   factor  (each time the values change): ldl_l_numeric, O(nnz(L)) flops, no allocation;
+ *   solve:  ldl_l_perm, ldl_l_lsolve, ldl_l_dsolve, ldl_l_ltsolve, ldl_l_permt.
  *
  * The symbolic part is shared by every numeric factorization of the same pattern (a stepper's
  * and its query's). L's entries are reserved at SDAE_SPARSE_LDL_FILL times K's nonzeros plus one

@@ -16,7 +16,7 @@
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a) {
   size_t cap =
       nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
-  lu->m = m, lu->n = n, lu->cap = cap, lu->leaf_first = 0;
+  lu->m = m, lu->n = n, lu->cap = cap;
   lu->order = sdae__take_indices(a, m);
   lu->pivot = sdae__take_indices(a, m);
   lu->row_of = sdae__take_indices(a, n);
@@ -209,7 +209,7 @@ static void taken(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar, size_t *
   }
 }
 
-/* The rows' order (leaf_first), found before the elimination: a queued leaf whenever there is
+/* The rows' order, found before the elimination: a queued leaf whenever there is
  * one. When none is (every column left is held by two rows or more: a closed loop), the first
  * row not yet placed is set aside for the end, counted out as if taken, which opens the loop
  * into a chain with leaves; the rows set aside come last (the first of them last), each
@@ -236,11 +236,7 @@ static void order_rows(sdae_sparse_lu *lu, const sdae_pattern *A) {
  * (from all rows again) */
 static void choice_start(sdae_sparse_lu *lu, const sdae_pattern *A) {
   for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = lu->m;
-  if (lu->leaf_first) {
-    order_rows(lu, A);
-  } else {
-    for (size_t r = 0; r < lu->m; r++) lu->order[r] = r;
-  }
+  order_rows(lu, A);
   column_counts(lu, A);
 }
 

@@ -9,10 +9,10 @@
  *   A = L U,   A_D = L U_D,   B = A_D^-1 A_I = U_D^-1 U_I,
  *
  * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order of
- * their own (leaf_first: a row holding a column no row still to come holds, whenever there is
+ * their own (a row holding a column no row still to come holds, whenever there is
  * one, as a chain's outer link before the link inside it, so that a pivot there is never taken
  * out again; when there is none, as around a closed loop, a row is set aside for the end,
- * which opens the loop; A's own order without leaf_first). The pivot of row r is, among its
+ * which opens the loop). The pivot of row r is, among its
  * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
  * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
  * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its
@@ -36,7 +36,6 @@
 
 typedef struct sdae_sparse_lu {
   size_t m, n, cap;
-  int leaf_first; /* the rows' order chosen (above); the owner sets it after the carve */
   /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
   size_t *order, *pivot, *row_of;
   /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's

@@ -91,7 +91,6 @@ int sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
   sp->m_mirror = sdae__take_indices(a, mnz);
   sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, a);
   sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, a);
-  sp->lu[0].leaf_first = sp->lu[1].leaf_first = 1; /* a chain solved from its free end in */
   sp->ind = sdae__take_indices(a, sp->n_f);
   start = sdae__take_indices(a, n_k + 1);
   col = sdae__take_indices(a, knz);
