@@ -173,14 +173,14 @@ static int best_chart(sdae_mbs_atlas *ch, const double *G, double *measure) {
 static void adopt(sdae_mbs_atlas *ch) {
   memcpy(ch->dep, ch->cand_dep, ch->n_c * sizeof *ch->dep);
   memcpy(ch->ind, ch->cand_ind, ch->n_f * sizeof *ch->ind);
-  if (ch->have) ch->switches++;
+  ch->switched = ch->have;
   ch->have = 1;
 }
 
 int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best) {
   double now = HUGE_VAL, best; /* a current chart gone singular keeps HUGE_VAL: replaced */
   int rc = best_chart(ch, G, &best);
-  ch->kept = 0;
+  ch->kept = ch->switched = 0;
   if (rc != SDAE_OK) return rc;
   if (!ch->have) {
     adopt(ch);
@@ -202,7 +202,6 @@ void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b) {
   sdae__bytes_flag(b, &ch->have);
   sdae__bytes_sizes(b, ch->dep, ch->n_c);
   sdae__bytes_sizes(b, ch->ind, ch->n_f);
-  sdae__bytes(b, &ch->switches, sizeof ch->switches);
   sdae__bytes_doubles(b, &ch->measure, 1);
 }
 

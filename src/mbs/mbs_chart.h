@@ -28,9 +28,8 @@ typedef struct sdae_mbs_atlas {
   double *A;         /* n_c x n_f: G_D^-1 G_I */
   double *W;         /* n_q x n_f: dq/dq_I, spans ker G */
   double *col, *sol; /* n_c each: a column of G_I and G_D^-1 of it */
-  /* counters */
-  unsigned long switches; /* charts replaced (the first one is not) */
-  double measure;         /* max |A| of the current chart where it was chosen */
+  int switched;      /* the last choice replaced the chart (the first choice does not) */
+  double measure;    /* max |A| of the current chart where it was chosen */
 } sdae_mbs_atlas;
 
 /* the sizes; the arrays come from sdae__mbs_chart_carve */
@@ -41,8 +40,8 @@ void sdae__mbs_chart_carve(sdae_mbs_atlas *ch, sdae_arena *a);
  * SDAE_ERR_RANK when last <= n_q eps first, SDAE_ERR_CHART when below SDAE_MBS_CHART_MIN first */
 int sdae__mbs_chart_verdict(double last, double first, size_t n_q);
 /* the best chart for G (n_c x n_q) by column-pivoted QR, kept unless it beats the current one by
- * SDAE_MBS_CHART_FACTOR (force_best: whatever the hysteresis); leaves ch->kept, the chart
- * factored at G; SDAE_ERR_RANK, SDAE_ERR_CHART */
+ * SDAE_MBS_CHART_FACTOR (force_best: whatever the hysteresis); leaves ch->kept and
+ * ch->switched, the chart factored at G; SDAE_ERR_RANK, SDAE_ERR_CHART */
 int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best);
 /* G_D's LU, A and W at G in the current chart; SDAE_ERR_RANK when G_D is singular;
  * *measure = max |A| (may be NULL) */
@@ -54,7 +53,7 @@ void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x);
 /* out (n_f) = W^T u for u (n_q) */
 void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out);
 
-/* the chart and its counters (what the next step depends on), counted, written or read
+/* the chart and its measure (what the next step depends on), counted, written or read
  * (core/bytes.h) */
 void sdae__mbs_chart_state(sdae_mbs_atlas *ch, sdae_bytes *b);
 /* the chart is a split of the coordinates (or there is none): what bytes read may not hold */

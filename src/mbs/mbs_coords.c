@@ -66,8 +66,6 @@ void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->newton.keep = 1;
 }
 
-void sdae__mbs_coords_forget(sdae_mbs_coords *co) { co->valid = 0; }
-
 /* (t, q, v) is the point Phi^-1 left (the last step's end): t within rounding of its time
  * (t0 + (i + 1) T and t0 + i T + T differ by an ulp), q and v the same doubles */
 static int at_point(const sdae_mbs_coords *co, double t, const double *q, const double *v) {
@@ -81,6 +79,7 @@ int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const do
   int rc;
   co->at_start = at_point(co, t, q, v);
   co->valid = 0; /* the point becomes the step's start */
+  co->phi_inv_iters = 0;
   if (!co->at_start) return sdae__mbs_xi_of(co->eval, t, q, v, co->c, co->G, co->ct, xi);
   /* docs/front-ends.md, the cost of a step: the last step's end, G, dc/dt and M there kept; c is
    * evaluated where Phi^-1 converged (its iteration evaluated it one correction before) */
@@ -414,5 +413,4 @@ void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b) {
   sdae__bytes_doubles(b, co->G, n_c * n_q);
   sdae__bytes_doubles(b, co->ct, n_c);
   sdae__bytes_doubles(b, co->M, n_q * n_q);
-  sdae__bytes(b, &co->phi_inv_iters, sizeof co->phi_inv_iters);
 }

@@ -47,8 +47,9 @@ typedef struct sdae_mbs_coords {
   double *GdW, *X;        /* n_c each: a column of (dG/dt) W, G_D^-1 of it */
   double *dW;             /* n_f: X^T (M v)_D, minus (dW/dt)^T M v */
   sdae_newton newton;     /* Phi^-1's: a chord with G_D's factors kept from the base */
-  /* counter */
-  unsigned long phi_inv_iters; /* Newton iterations of Phi^-1 */
+  /* Newton iterations of Phi^-1 since the step's start, reported to the stepper, which
+   * commits them when the step succeeds */
+  unsigned long phi_inv_iters;
 } sdae_mbs_coords;
 
 /* wired to the callbacks and the chart; the arrays come from sdae__mbs_coords_carve */
@@ -56,7 +57,8 @@ void sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, sdae_mbs_at
                            unsigned newton_max_iter);
 void sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a);
 
-/* xi (2 n_c) of (t, q, v), the same in every chart; leaves c, G and dc/dt at q in the point.
+/* xi (2 n_c) of (t, q, v) at a step's start, the same in every chart; leaves c, G and dc/dt
+ * at q in the point, and the iterations' count at zero.
  * At the point Phi^-1 left (the last step's end, t within rounding) G and dc/dt are kept: c
  * alone is evaluated, and _begin keeps M. */
 int sdae__mbs_coords_xi(sdae_mbs_coords *co, double t, const double *q, const double *v,
@@ -83,10 +85,8 @@ int sdae__mbs_phi_inv(sdae_mbs_coords *co, double t, const double *xi, const dou
 int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, const double *mu);
 /* the mu-dynamics (q_I', d/dt W^T M v) at the point Phi^-1 left, n_mu values */
 int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out);
-/* the point Phi^-1 left (the last step's end, what the next step's start keeps of it) and the
- * counter, counted, written or read (core/bytes.h) */
+/* the point Phi^-1 left (the last step's end, what the next step's start keeps of it), counted,
+ * written or read (core/bytes.h) */
 void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b);
-/* forgets the configuration kept: another start of Phi^-1, another chart */
-void sdae__mbs_coords_forget(sdae_mbs_coords *co);
 
 #endif /* STABDAE_SRC_MBS_MBS_COORDS_H */

@@ -1,38 +1,33 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanical front-end's stepper (<stabdae/mbs.h>): one block holding its parts, each with
- * its own arrays, scratch and counters. Data flows one way: the mechanism's callbacks
- * (mbs_eval) -> the chart (mbs_chart) -> the coordinates Phi, Phi^-1 and the mu-dynamics
- * (mbs_coords) -> the normal form handed to the stepper (mbs_model); the step in (q, v) and the
- * statistics (mbs.c) and the quantities at a state (mbs_query) sit on top. */
+ * its own arrays, scratch and state. Data flows one way: the mechanism's callbacks (mbs_eval)
+ * -> the coordinates, dense or sparse behind one interface (mbs_type.h: the chart, the point,
+ * Phi^-1, the mu-dynamics) -> the normal form handed to the stepper (mbs_model) -> the step in
+ * (q, v), which starts with one call of the coordinates, commits the statistics when it
+ * succeeds and rolls back in one place when it fails (mbs.c, mbs_state.c). */
 #ifndef STABDAE_SRC_MBS_MBS_IMPL_H
 #define STABDAE_SRC_MBS_MBS_IMPL_H
 
 #include <stabdae/mbs.h>
 
 #include "core/alloc.h"
-#include "mbs_chart.h"
-#include "mbs_coords.h"
+#include "mbs_dense_type.h"
 #include "mbs_eval.h"
 #include "mbs_model.h"
-#include "mbs_query.h"
-#include "mbs_sparse.h"
-#include "mbs_sparse_query.h"
+#include "mbs_sparse_type.h"
 
 struct sdae_mbs_stepper {
   sdae_options opt;
   size_t n_q, n_c, n_f;
   sdae_mbs_eval eval;
-  sdae_mbs_atlas chart;
-  sdae_mbs_coords coords;
-  int sparse;               /* a sparse mechanism stepped by an explicit map: the coordinates */
-  sdae_mbs_sparse sp;       /* are sp's (mbs_sparse.h), not chart's and coords' */
-  sdae_mbs_sparse_query sq; /* and the quantities at a state sq's, not query's */
-  sdae_mbs_model nf;        /* the normal form in the current chart */
-  sdae_mbs_query query;
+  const sdae_mbs_type *type;  /* the coordinates' functions: dense, or a sparse mechanism's */
+  void *co;                   /* and their parts: &dense or &sparse */
+  sdae_mbs_dense_parts dense; /* (the other one is never carved) */
+  sdae_mbs_sparse_parts sparse;
+  sdae_mbs_model nf;       /* the normal form in the current chart */
   sdae_stepper *inner;     /* the normal form's stepper, in this block */
   sdae_block block;        /* what sdae_mbs_stepper_alloc_with allocated */
-  sdae_mbs_stats stats;    /* the parts' counters, gathered after every step */
-  int energy_map;          /* the map conserves H: the constraints must not depend on t */
+  sdae_mbs_stats stats;    /* committed by sdae_mbs_step when a step succeeds */
   double *xi, *mu;         /* 2 n_c, 2 n_f: the step's state in the chart */
   unsigned char *rollback; /* the parts' state before the step (mbs_state.c), for a failure */
 };
@@ -50,8 +45,9 @@ size_t sdae__mbs_state_size(const sdae_mbs_stepper *s);
 int sdae__mbs_state_get(const sdae_mbs_stepper *s, void *buf, size_t len);
 int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len);
 
-/* the statistics, from the parts' counters and the normal form's stepper's: the one place they
- * are put together (after every step, a reset and a state set) */
+/* the statistics from the normal form's stepper's and the chart's measure, beside the counters
+ * the steps committed: the one place they are put together (after every step, a reset and a
+ * state set) */
 void sdae__mbs_stepper_gather(sdae_mbs_stepper *s);
 
 #endif /* STABDAE_SRC_MBS_MBS_IMPL_H */

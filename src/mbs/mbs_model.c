@@ -21,13 +21,8 @@ static int code(sdae_mbs_model *m, int rc) {
 
 static int rate(void *ctx, double t, const double *xi, const double *mu, double *out) {
   sdae_mbs_model *m = ctx;
-  int rc;
-  if (m->sp) {
-    rc = sdae__mbs_sparse_phi_inv(m->sp, t, xi, mu);
-    return rc == SDAE_OK ? sdae__mbs_sparse_mu_dot(m->sp, t, out) : rc;
-  }
-  rc = sdae__mbs_phi_inv(m->co, t, xi, mu);
-  return rc == SDAE_OK ? sdae__mbs_mu_dot(m->co, t, out) : rc;
+  int rc = m->type->phi_inv(m->co, t, xi, mu);
+  return rc == SDAE_OK ? m->type->mu_dot(m->co, t, out) : rc;
 }
 
 static int q0(double t, const double *mu, double *out, void *params) {
@@ -43,45 +38,18 @@ static int Q_apply(double t, const double *xi, const double *mu, double *Qxi, do
 
 static int H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
-  const sdae_mbs_coords *co = m->co;
-  int rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu);
-  if (rc == SDAE_OK) rc = sdae__mbs_energy_of(m->eval, t, co->q, co->v, co->M, out);
-  return code(m, rc);
-}
-
-/* R = W^T D W at Phi^-1(t, 0, mu) into m->R; zero without damping */
-static int damping(sdae_mbs_model *m, double t, const double *mu) {
-  size_t n_q = m->n_q, n_f = m->n_f;
-  const double *W = m->co->chart->W, *D = m->D;
-  int rc;
-  memset(m->R, 0, n_f * n_f * sizeof *m->R);
-  if (!m->eval->sys.damping) return SDAE_OK;
-  if ((rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu)) != SDAE_OK ||
-      (rc = sdae__mbs_damping(m->eval, t, m->co->q, m->D)) != SDAE_OK)
-    return rc;
-  for (size_t a = 0; a < n_f; a++)
-    for (size_t b = 0; b < n_f; b++) {
-      double acc = 0.0;
-      for (size_t i = 0; i < n_q; i++)
-        for (size_t j = 0; j < n_q; j++) acc += W[i * n_f + a] * D[i * n_q + j] * W[j * n_f + b];
-      m->R[a * n_f + b] = acc;
-    }
-  return SDAE_OK;
+  return code(m, m->type->energy_on(m->co, t, mu, out));
 }
 
 /* m->Bu = W^T F_in at Phi^-1(t, 0, mu), the momentum part of B u; kept for the next call at the
  * same (t, mu) within a step (grad H and the discrete gradient's input take it at the same
  * midpoint, one after the other) */
 static int input_p(sdae_mbs_model *m, double t, const double *mu) {
-  const sdae_mbs_coords *co = m->co;
   size_t n_mu = 2 * m->n_f;
   int rc;
   if (m->Bu_have && m->Bu_t == t && memcmp(m->Bu_mu, mu, n_mu * sizeof *mu) == 0) return SDAE_OK;
   m->Bu_have = 0;
-  if ((rc = sdae__mbs_phi_inv(m->co, t, m->zero, mu)) != SDAE_OK ||
-      (rc = sdae__mbs_input_force(m->eval, t, co->q, co->v, m->F_in)) != SDAE_OK)
-    return rc;
-  sdae__mbs_Wt(co->chart, m->F_in, m->Bu);
+  if ((rc = m->type->input_on(m->co, t, mu, m->Bu)) != SDAE_OK) return rc;
   memcpy(m->Bu_mu, mu, n_mu * sizeof *mu);
   m->Bu_t = t, m->Bu_have = 1;
   return SDAE_OK;
@@ -100,10 +68,10 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f;
   int rc = sdae__derive_q0(&m->derive, t, mu, out);
-  if (rc == SDAE_OK) rc = damping(m, t, mu);
-  if (rc == SDAE_OK && m->eval->sys.input_force) rc = input_p(m, t, mu);
+  if (rc == SDAE_OK) rc = m->type->damping_on(m->co, t, mu, m->R);
+  if (rc == SDAE_OK && m->input) rc = input_p(m, t, mu);
   if (rc != SDAE_OK) return code(m, rc);
-  for (size_t a = 0; a < n_f && m->eval->sys.input_force; a++) out[n_f + a] -= m->Bu[a];
+  for (size_t a = 0; a < n_f && m->input; a++) out[n_f + a] -= m->Bu[a];
   for (size_t a = 0; a < n_f; a++) { /* out = (q0_q, q0_p) becomes (-q0_p - R q0_q, q0_q) */
     double qa = out[a];
     m->row[a] = -out[n_f + a];
@@ -117,7 +85,7 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
 static int S(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f, n = 2 * n_f;
-  int rc = damping(m, t, mu);
+  int rc = m->type->damping_on(m->co, t, mu, m->R);
   if (rc != SDAE_OK) return code(m, rc);
   memset(out, 0, n * n * sizeof *out);
   for (size_t a = 0; a < n_f; a++) {
@@ -128,40 +96,35 @@ static int S(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co,
-                          sdae_mbs_sparse *sp) {
+void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, const sdae_mbs_type *type,
+                          void *co) {
   sdae_model *nf = &m->model;
-  m->eval = eval;
+  m->type = type;
   m->co = co;
-  m->sp = sp;
-  m->n_q = co->n_q;
-  m->n_c = co->n_c;
-  m->n_f = co->n_f;
+  m->n_c = eval->n_c;
+  m->n_f = eval->n_q - eval->n_c;
+  m->input = eval->sys.input_force != NULL;
   memset(nf, 0, sizeof *nf);
   nf->n_xi = 2 * m->n_c;
   nf->n_mu = 2 * m->n_f;
   nf->q0 = q0;
   nf->Q_apply = Q_apply;
-  if (eval->sys.potential && !sp) { /* the energy structure: the discrete gradients, never sparse */
+  if (eval->sys.potential && type->energy_on) { /* the energy structure: the discrete gradients */
     nf->H = H;
     nf->grad_H = grad_H;
     nf->S = S;
-    if (eval->sys.input_force) nf->input = input;
+    if (m->input) nf->input = input;
   }
   nf->params = m;
 }
 
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
-  sdae__derive_carve(&m->derive, 2 * m->n_c, 2 * m->n_f, rate, m, a);
-  m->zero = sdae__take(a, 2 * m->n_c, 1);
-  if (m->zero) /* NULL while the block is only counted */
-    memset(m->zero, 0, 2 * m->n_c * sizeof *m->zero);
-  m->D = sdae__take(a, m->sp ? 0 : m->n_q, m->n_q); /* the energy structure's alone */
-  m->R = sdae__take(a, m->sp ? 0 : m->n_f, m->n_f);
-  m->row = sdae__take(a, m->n_f, 1);
-  m->F_in = sdae__take(a, m->n_q, 1);
-  m->Bu = sdae__take(a, m->n_f, 1);
-  m->Bu_mu = sdae__take(a, 2 * m->n_f, 1);
+  size_t n_f = m->n_f, structure = m->model.H ? n_f : 0; /* the energy structure's alone */
+  sdae__derive_carve(&m->derive, 2 * m->n_c, 2 * n_f, rate, m, a);
+  m->R = sdae__take(a, structure, n_f);
+  m->row = sdae__take(a, structure, 1);
+  m->Bu = sdae__take(a, structure, 1);
+  m->Bu_mu = sdae__take(a, 2 * structure, 1);
   m->floor = sdae__take(a, 2 * m->n_c, 1);
   m->derive.floor = m->floor;
 }

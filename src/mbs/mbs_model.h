@@ -9,23 +9,19 @@
 #include <stabdae/stabdae.h>
 
 #include "core/arena.h"
-#include "mbs_coords.h"
-#include "mbs_eval.h"
-#include "mbs_sparse.h"
+#include "mbs_type.h"
 #include "model/derive.h"
 
 typedef struct sdae_mbs_model {
-  sdae_model model;   /* params = this */
-  sdae_derive derive; /* q0 and Q from the mu-dynamics */
-  sdae_mbs_eval *eval;
-  sdae_mbs_coords *co;
-  sdae_mbs_sparse *sp; /* a sparse mechanism's coordinates (mbs_sparse.h), or NULL: co's */
-  size_t n_q, n_c, n_f;
+  sdae_model model;          /* params = this */
+  sdae_derive derive;        /* q0 and Q from the mu-dynamics */
+  const sdae_mbs_type *type; /* the coordinates (mbs_type.h) and their parts */
+  void *co;
+  size_t n_c, n_f;
+  int input;     /* the mechanism has forces from outside the Lagrangian (input_force) */
   int status;    /* the status behind the last failing callback of the normal form */
-  double *zero;  /* 2 n_c zeros: xi on the manifold, where H and R are taken */
-  double *D, *R; /* the damping D(q) (n_q x n_q) and R = W^T D W (n_f x n_f) */
+  double *R;     /* n_f x n_f: R = W^T D W on the manifold */
   double *row;   /* n_f: grad H's first half while q0's is still read */
-  double *F_in;  /* n_q: the forces from outside the Lagrangian at Phi^-1(t, 0, mu) */
   double *Bu;    /* n_f: W^T F_in, the input's momentum part, taken from q0 in grad H */
   double *Bu_mu; /* n_mu: the mu Bu was evaluated at (with Bu_t), kept for the map's input */
   double Bu_t;
@@ -33,10 +29,11 @@ typedef struct sdae_mbs_model {
   double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
-/* the normal form of the mechanism behind eval, in coords' chart; the arrays come from
+/* the normal form of a mechanism in its coordinates co of the given type (the energy structure
+ * where the type has one and the mechanism a potential); the arrays come from
  * sdae__mbs_model_carve */
-void sdae__mbs_model_init(sdae_mbs_model *m, sdae_mbs_eval *eval, sdae_mbs_coords *co,
-                          sdae_mbs_sparse *sp);
+void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, const sdae_mbs_type *type,
+                          void *co);
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
 /* forgets the q0 and B u kept: another start of Phi^-1, another chart */
 void sdae__mbs_model_forget(sdae_mbs_model *m);

@@ -120,8 +120,6 @@ int sdae__mbs_sparse_carve(sdae_mbs_sparse *sp, sdae_arena *a) {
   return sdae__sparse_ldl_analyse(&sp->ksym, &sp->Kp);
 }
 
-void sdae__mbs_sparse_forget(sdae_mbs_sparse *sp) { sp->valid = sp->fresh = 0; }
-
 void sdae__mbs_sparse_stale(sdae_mbs_sparse *sp) { sp->fresh = 0; }
 
 /* ---- products through the patterns ---- */
@@ -202,7 +200,7 @@ static int same_chart(const sdae_mbs_sparse *sp) {
 int sdae__mbs_sparse_choose(sdae_mbs_sparse *sp, int force_best) {
   double now = HUGE_VAL, best;
   int other = 1 - sp->cur, rc;
-  sp->kept = 0;
+  sp->kept = sp->switched = 0;
   if (sp->have &&
       (sp->reuse || sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK)) {
     now = estimate(sp, sp->cur);
@@ -216,8 +214,8 @@ int sdae__mbs_sparse_choose(sdae_mbs_sparse *sp, int force_best) {
     sp->measure = now; /* kept: its measure where it was kept */
     return SDAE_OK;
   }
-  sp->kept = 0;
-  if (sp->have && !same_chart(sp)) sp->switches++;
+  sp->kept = sp->switched = 0;
+  sp->switched = sp->have && !same_chart(sp);
   sp->cur = other, sp->have = 1, sp->measure = best;
   independents(sp);
   return SDAE_OK;
@@ -248,6 +246,7 @@ int sdae__mbs_sparse_xi(sdae_mbs_sparse *sp, double t, const double *q, const do
   sp->at_start = at_point(sp, t, q, v);
   sp->reuse = sp->at_start && sp->fresh;
   sp->valid = sp->fresh = 0;
+  sp->phi_inv_iters = 0;
   if ((rc = sdae__mbs_constraint(sp->eval, t, q, sp->c)) != SDAE_OK) return rc;
   if (!sp->at_start && ((rc = sdae__mbs_jacobian_values(sp->eval, t, q, sp->G)) != SDAE_OK ||
                         (rc = sdae__mbs_constraint_t(sp->eval, t, q, sp->ct)) != SDAE_OK))
@@ -511,7 +510,6 @@ void sdae__mbs_sparse_state(sdae_mbs_sparse *sp, sdae_bytes *b) {
   size_t n_q = sp->n_q, n_c = sp->n_c;
   sdae__bytes_flag(b, &sp->have);
   sdae__bytes_flag(b, &sp->cur);
-  sdae__bytes(b, &sp->switches, sizeof sp->switches);
   sdae__bytes_doubles(b, &sp->measure, 1);
   sdae__bytes(b, sp->ind, sp->n_f * sizeof *sp->ind);
   lu_pivots(&sp->lu[0], b);
@@ -525,7 +523,6 @@ void sdae__mbs_sparse_state(sdae_mbs_sparse *sp, sdae_bytes *b) {
   sdae__bytes_doubles(b, sp->ct, n_c);
   sdae__bytes_doubles(b, sp->M, sp->Mp->nnz);
   sdae__bytes_doubles(b, sp->nu, n_c);
-  sdae__bytes(b, &sp->phi_inv_iters, sizeof sp->phi_inv_iters);
 }
 
 /* pivots that are a permutation's: pivot[k] a column whose row is k, every other column none;

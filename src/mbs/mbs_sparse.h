@@ -31,9 +31,9 @@ typedef struct sdae_mbs_sparse {
   /* the chart: the current factorization and a candidate's, swapped on a switch */
   sdae_sparse_lu lu[2];
   int cur, have, kept;
-  size_t *ind;            /* n_f: the current chart's q_I, ascending */
-  unsigned long switches; /* charts replaced (the first one is not) */
-  double measure;         /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
+  size_t *ind;    /* n_f: the current chart's q_I, ascending */
+  int switched;   /* the last choice replaced the chart (the first one does not) */
+  double measure; /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
   /* the saddle-point system: its pattern, where M's and G's values go in it, its order and
    * structure (analysed when the stepper is built, shared with the query) and its factors */
   sdae_pattern Kp;
@@ -57,7 +57,7 @@ typedef struct sdae_mbs_sparse {
   double *zc, *yd, *q_D, *res;          /* n_c each */
   double *est_x, *est_z;                /* n_q each: the norm estimate's */
   sdae_newton newton;                   /* Phi^-1's chord, G_D's factors kept from the base */
-  unsigned long phi_inv_iters;
+  unsigned long phi_inv_iters;          /* since the step's start, as mbs_coords' */
 } sdae_mbs_sparse;
 
 /* the sparse coordinates serve this mechanism and options: both patterns, jacobian_dot and
@@ -84,7 +84,6 @@ int sdae__mbs_sparse_phi_inv(sdae_mbs_sparse *sp, double t, const double *xi, co
 int sdae__mbs_sparse_phi_inv_state(sdae_mbs_sparse *sp, double t, const double *xi,
                                    const double *mu);
 int sdae__mbs_sparse_mu_dot(sdae_mbs_sparse *sp, double t, double *out);
-void sdae__mbs_sparse_forget(sdae_mbs_sparse *sp);
 /* the factors made anew at the next step's start (a state was set) */
 void sdae__mbs_sparse_stale(sdae_mbs_sparse *sp);
 /* the dependent coordinates, ascending, into dep (n_c) */

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* A mechanical stepper's state as bytes (<stabdae/mbs.h>, after MuJoCo's mj_getState and
  * mj_setState): what the next step depends on besides the caller's (t, q, v), each part's
- * fields listed once by the part itself (core/bytes.h), in this order: the chart, the point
- * Phi^-1 left, the normal form's stepper (its counters and the Newton matrix it keeps). Around
+ * fields listed once by the part itself (core/bytes.h), in this order: the statistics' counters,
+ * the chart, the point Phi^-1 left, the normal form's stepper (its counters and the Newton
+ * matrix it keeps). Around
  * them a header (a magic, the format, the build's identity, the stepper's identity: the
  * mechanism's sizes and callbacks, the options and the map by name, the length) and a
  * checksum of everything before it. Nothing is a pointer, so the bytes serve another stepper
@@ -18,7 +19,7 @@
 
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
-#define STATE_FORMAT 2u /* 2: the sparse saddle-point system factored anew, no pivots kept */
+#define STATE_FORMAT 3u /* 3: the counters the stepper's own, before the parts */
 
 typedef struct header {
   char magic[8];
@@ -76,26 +77,22 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
   return sdae__fnv(h, map, strlen(map));
 }
 
-/* every part's fields, in the one order */
-/* the chart and the coordinates: a sparse mechanism's (mbs_sparse.c) or the dense ones */
-static void coordinates(sdae_mbs_stepper *s, sdae_bytes *b) {
-  if (s->sparse) {
-    sdae__mbs_sparse_state(&s->sp, b);
-    return;
-  }
-  sdae__mbs_chart_state(&s->chart, b);
-  sdae__mbs_coords_state(&s->coords, b);
-}
-
+/* every part's fields, in the one order: the coordinates' (the chart and the point), the normal
+ * form's stepper's; the counters the steps committed are the stepper's own, in the bytes but
+ * not in a rollback (a failed step commits none) */
 static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
-  coordinates(s, b);
+  s->type->state(s->co, b);
   sdae__stepper_state(s->inner, b);
 }
 
+static void counters(sdae_mbs_stepper *s, sdae_bytes *b) {
+  sdae__bytes(b, &s->stats.chart_switches, sizeof s->stats.chart_switches);
+  sdae__bytes(b, &s->stats.phi_inv_iters, sizeof s->stats.phi_inv_iters);
+}
+
 size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {
-  sdae_mbs_stepper probe = *s; /* counted: the sizes read, nothing else */
-  sdae_bytes b = {NULL, NULL, 0};
-  coordinates(&probe, &b);
+  sdae_bytes b = {NULL, NULL, 0}; /* counted: the sizes read, nothing else */
+  s->type->state(s->co, &b);
   return b.at + sdae__stepper_state_bytes(&s->nf.model, &s->opt);
 }
 
@@ -109,8 +106,15 @@ void sdae__mbs_rollback(sdae_mbs_stepper *s) {
   parts(s, &b);
 }
 
+static size_t counters_size(void) {
+  sdae_mbs_stepper probe;
+  sdae_bytes b = {NULL, NULL, 0};
+  counters(&probe, &b);
+  return b.at;
+}
+
 size_t sdae__mbs_state_size(const sdae_mbs_stepper *s) {
-  return header_size() + sdae__mbs_parts_bytes(s) + sizeof(uint64_t);
+  return header_size() + counters_size() + sdae__mbs_parts_bytes(s) + sizeof(uint64_t);
 }
 
 int sdae__mbs_state_get(const sdae_mbs_stepper *s, void *buf, size_t len) {
@@ -125,7 +129,8 @@ int sdae__mbs_state_get(const sdae_mbs_stepper *s, void *buf, size_t len) {
   h.identity = stepper_identity(s);
   h.length = size;
   header_fields(&h, &b);
-  parts((sdae_mbs_stepper *)s, &b); /* written: s is only read */
+  counters((sdae_mbs_stepper *)s, &b); /* written: s is only read */
+  parts((sdae_mbs_stepper *)s, &b);
   sum = sdae__fnv(SDAE_FNV_START, buf, b.at);
   sdae__bytes(&b, &sum, sizeof sum);
   return SDAE_OK;
@@ -150,18 +155,18 @@ static int verify(const sdae_mbs_stepper *s, const unsigned char *in, size_t len
 
 int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
   const unsigned char *in = buf;
-  sdae_bytes b = {NULL, in, header_size()};
+  sdae_bytes b = {NULL, in, header_size() + counters_size()};
   int rc;
   if ((rc = verify(s, in, len)) != SDAE_OK) return rc;
   /* whole and ours, yet what indexes memory (the chart, Newton's pivots) may have been made by
    * hand: read, checked, and the stepper put back as it was when it is not whole */
   sdae__mbs_rollback_save(s);
   parts(s, &b);
-  if (!(s->sparse ? sdae__mbs_sparse_valid(&s->sp) : sdae__mbs_chart_valid(&s->chart)) ||
-      !sdae__stepper_state_valid(s->inner)) {
+  if (!s->type->state_read(s->co) || !sdae__stepper_state_valid(s->inner)) {
     sdae__mbs_rollback(s);
     return SDAE_ERR_STATE_DAMAGED;
   }
-  if (s->sparse) sdae__mbs_sparse_stale(&s->sp); /* its factors are not in the bytes */
+  b.at = header_size(); /* whole: the counters too */
+  counters(s, &b);
   return SDAE_OK;
 }
