@@ -9,15 +9,20 @@
 #include "testmodels.h"
 
 #include "core/arena.h"
+#ifdef SDAE_ARENA_ASAN
+#include <sanitizer/asan_interface.h>
+#endif
 #include "core/lu.h"
 #include "maps/map.h"
 #include "stepper/stepper.h"
 
 static size_t round_up(size_t v, size_t a) { return (v + a - 1) / a * a; }
 
+#define RZ SDAE_ARENA_REDZONE /* after each array under AddressSanitizer, else 0 */
+
 /* The same walk twice, counted and handed out: doubles (3), pivots (3), a 2 x 5 block of
  * doubles, 5 bytes aligned for any type, 2 size_t. The offsets, by hand: each array starts at
- * the end of the previous one rounded up to its alignment. */
+ * the end of the previous one (and its redzone) rounded up to its alignment. */
 typedef struct walk {
   double *a, *c;
   unsigned *b;
@@ -38,12 +43,12 @@ static walk take_all(sdae_arena *ar) {
 START_TEST(counts_and_aligns) {
   static max_align_t block[32];
   sdae_arena count = {0}, hand = {(char *)block, 0, 0};
-  size_t oa = 0, ob = oa + 3 * sizeof(double);
+  size_t oa = 0, ob = oa + 3 * sizeof(double) + RZ;
   size_t ob_at = round_up(ob, alignof(unsigned));
-  size_t oc = round_up(ob_at + 3 * sizeof(unsigned), alignof(double));
-  size_t od = round_up(oc + 10 * sizeof(double), alignof(max_align_t));
-  size_t oe = round_up(od + 5, alignof(size_t));
-  size_t end = oe + 2 * sizeof(size_t), bytes;
+  size_t oc = round_up(ob_at + 3 * sizeof(unsigned) + RZ, alignof(double));
+  size_t od = round_up(oc + 10 * sizeof(double) + RZ, alignof(max_align_t));
+  size_t oe = round_up(od + 5 + RZ, alignof(size_t));
+  size_t end = oe + 2 * sizeof(size_t) + RZ, bytes;
   walk w = take_all(&count);
   /* counting hands out nothing */
   ck_assert_ptr_null(w.a);
@@ -83,10 +88,10 @@ START_TEST(empty_arrays) {
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, 0);
   sdae__take_array(&a, 1, 1, 1);
-  sdae__take_array(&a, 0, 8, 8); /* aligns: 1 -> 8 */
-  ck_assert_uint_eq(a.used, 8);
+  sdae__take_array(&a, 0, 8, 8); /* aligns: 1 -> 8 (1 + RZ rounded up) */
+  ck_assert_uint_eq(a.used, round_up(1 + RZ, 8));
   ck_assert_int_eq(sdae__arena_bytes(&a, 0, &bytes), SDAE_OK);
-  ck_assert_uint_eq(bytes, 8);
+  ck_assert_uint_eq(bytes, round_up(1 + RZ, 8));
 }
 END_TEST
 
@@ -120,16 +125,17 @@ START_TEST(overflow_each_check) {
   a = (sdae_arena){NULL, SIZE_MAX - 6, 0};
   sdae__take_array(&a, 0, 8, 8);
   overflowed(&a);
-  /* the array past the end: 8 + (SIZE_MAX - 8) = SIZE_MAX fits, one byte more does not */
+  /* the array past the end: 8 + (SIZE_MAX - 8) = SIZE_MAX fits (with its redzone), one byte
+   * more does not */
   a = (sdae_arena){NULL, 8, 0};
-  sdae__take_array(&a, SIZE_MAX - 8, 1, 1);
+  sdae__take_array(&a, SIZE_MAX - 8 - RZ, 1, 1);
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, SIZE_MAX);
   a = (sdae_arena){NULL, 8, 0};
-  sdae__take_array(&a, SIZE_MAX - 7, 1, 1);
+  sdae__take_array(&a, SIZE_MAX - 7 - RZ, 1, 1);
   overflowed(&a);
   a = (sdae_arena){NULL, 0, 0};
-  sdae__take_array(&a, SIZE_MAX, 1, 1); /* the whole of size_t, from 0 */
+  sdae__take_array(&a, SIZE_MAX - RZ, 1, 1); /* the whole of size_t, from 0 */
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, SIZE_MAX);
   /* the header: used + header must fit */
@@ -169,11 +175,39 @@ START_TEST(stepper_too_large_for_size_t) {
 }
 END_TEST
 
+/* The arrays lie end to end but for the redzones; under AddressSanitizer the bytes between two
+ * carved arrays are poisoned, every byte of an array is not, and a block given back is whole
+ * again.
+ * A part that carves one double short and writes its last entry is then caught at that write,
+ * not absorbed by the next array. */
+START_TEST(the_gaps_between_arrays_are_poisoned) {
+  static max_align_t block[16];
+  sdae_arena a = {(char *)block, 0, 0};
+  double *x = sdae__take(&a, 3, 1);
+  unsigned char *flags = sdae__take_array(&a, 5, 1, 1);
+  double *y = sdae__take(&a, 2, 1);
+  ck_assert_ptr_eq(x, (double *)block);
+  ck_assert_ptr_eq(flags, (unsigned char *)block + 3 * sizeof(double) + RZ);
+  ck_assert_ptr_eq(y, (double *)((char *)block + round_up(3 * sizeof(double) + 5 + 2 * RZ, 8)));
+#ifdef SDAE_ARENA_ASAN
+  for (size_t b = 0; b < 3 * sizeof(double); b++)
+    ck_assert(!__asan_address_is_poisoned((char *)x + b));
+  for (size_t b = 0; b < RZ; b++) ck_assert(__asan_address_is_poisoned((char *)(x + 3) + b));
+  ck_assert(__asan_address_is_poisoned(flags + 5));
+  ck_assert(!__asan_address_is_poisoned(y + 1));
+  ck_assert(__asan_address_is_poisoned(y + 2));
+  sdae__arena_release(block, sizeof block);
+  ck_assert(!__asan_address_is_poisoned(x + 3));
+#endif
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("arena");
   ADD_CASE(s, counts_and_aligns);
   ADD_CASE(s, empty_arrays);
   ADD_CASE(s, overflow_each_check);
+  ADD_CASE(s, the_gaps_between_arrays_are_poisoned);
   ADD_CASE(s, stepper_too_large_for_size_t);
   return run_suite(s);
 }

@@ -131,6 +131,101 @@ START_TEST(caller_buffer) {
 }
 END_TEST
 
+/* Every map in every shape (n_xi below, equal to and above n_mu) in a caller's block of exactly
+ * sdae_stepper_size bytes, at an address aligned for nothing, between two canaries: a step
+ * writes inside the block alone. The model: n_mu / 2 oscillators, q0 = J mu, H = |mu|^2 / 2,
+ * S = J, the user map the midpoint rule, Q of fixed nonzero entries. */
+typedef struct shape {
+  size_t n_xi, n_mu;
+} shape;
+
+static int osc_q0(double t, const double *mu, double *out, void *p) {
+  const shape *sh = p;
+  size_t m = sh->n_mu / 2;
+  (void)t;
+  for (size_t i = 0; i < m; i++) out[i] = mu[m + i], out[m + i] = -mu[i];
+  return 0;
+}
+
+static int osc_Q(double t, const double *xi, const double *mu, double *out, void *p) {
+  const shape *sh = p;
+  (void)t, (void)xi, (void)mu;
+  for (size_t r = 0; r < sh->n_mu; r++)
+    for (size_t c = 0; c < sh->n_xi; c++) out[r * sh->n_xi + c] = 1.0 / (double)(1 + r + c);
+  return 0;
+}
+
+static int osc_H(double t, const double *mu, double *out, void *p) {
+  const shape *sh = p;
+  (void)t;
+  *out = 0.0;
+  for (size_t i = 0; i < sh->n_mu; i++) *out += 0.5 * mu[i] * mu[i];
+  return 0;
+}
+
+static int osc_grad_H(double t, const double *mu, double *out, void *p) {
+  const shape *sh = p;
+  (void)t;
+  memcpy(out, mu, sh->n_mu * sizeof *out);
+  return 0;
+}
+
+static int osc_S(double t, const double *mu, double *out, void *p) {
+  const shape *sh = p;
+  size_t n = sh->n_mu, m = n / 2;
+  (void)t, (void)mu;
+  memset(out, 0, n * n * sizeof *out);
+  for (size_t i = 0; i < m; i++) out[i * n + m + i] = 1.0, out[(m + i) * n + i] = -1.0;
+  return 0;
+}
+
+static int osc_user_phi(double t, double T, const double *mu, const double *mu_next, double *out,
+                        void *p) {
+  const shape *sh = p;
+  size_t m = sh->n_mu / 2;
+  (void)t, (void)T;
+  for (size_t i = 0; i < m; i++) {
+    out[i] = 0.5 * (mu[m + i] + mu_next[m + i]);
+    out[m + i] = -0.5 * (mu[i] + mu_next[i]);
+  }
+  return 0;
+}
+
+#define CANARY 64
+START_TEST(every_map_and_shape_stays_inside_its_block) {
+  const char *maps[] = {"euler", "midpoint",  "dgrad",     "user", "dg4",
+                        "dg6",   "midpoint4", "midpoint6", "rk4",  "rk8"};
+  const shape shapes[] = {{1, 4}, {2, 2}, {5, 2}, {3, 6}};
+  for (size_t k = 0; k < sizeof shapes / sizeof *shapes; k++)
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; i++) {
+      shape sh = shapes[k];
+      sdae_model m = {.n_xi = sh.n_xi,
+                      .n_mu = sh.n_mu,
+                      .q0 = osc_q0,
+                      .Q = osc_Q,
+                      .H = osc_H,
+                      .grad_H = osc_grad_H,
+                      .S = osc_S,
+                      .user_phi = osc_user_phi,
+                      .params = &sh};
+      sdae_options o;
+      sdae_stepper *s = NULL;
+      double xi[5] = {1e-3, -2e-3, 3e-3, -1e-3, 2e-3}, mu[6] = {1.0, 0.5, -0.25, 0.0, 0.5, 1.0};
+      sdae_options_default(&o);
+      o.map = sdae_map_by_name(maps[i]);
+      size_t need = sdae_stepper_size(&m, &o);
+      ck_assert_uint_gt(need, 0);
+      unsigned char *mem = malloc(need + 2 * CANARY + 1), *block = mem + CANARY + 1;
+      memset(mem, 0x5A, need + 2 * CANARY + 1);
+      ck_assert_int_eq(sdae_stepper_init(&s, block, need, &m, &o), SDAE_OK);
+      for (int n = 0; n < 5; n++) ck_assert_int_eq(sdae_step(s, 0.1 * n, 0.1, xi, mu), SDAE_OK);
+      for (size_t b = 0; b < CANARY + 1; b++) ck_assert_uint_eq(mem[b], 0x5A);
+      for (size_t b = 0; b < CANARY; b++) ck_assert_uint_eq(block[need + b], 0x5A);
+      free(mem);
+    }
+}
+END_TEST
+
 /* ---- failing steps: the state must be bit-for-bit what it was ---- */
 
 typedef enum { OK, Q0_FATAL, Q0_RECOVER, Q0_NAN, Q_FATAL, Q_INF, H_NAN, PHI_NAN } fault;
@@ -426,6 +521,7 @@ int main(void) {
   ADD_CASE(s, map_without_callbacks);
   ADD_CASE(s, baselines_need_rel_degree);
   ADD_CASE(s, caller_buffer);
+  ADD_CASE(s, every_map_and_shape_stays_inside_its_block);
   ADD_CASE(s, bad_step_arguments);
   ADD_CASE(s, callback_failures);
   ADD_CASE(s, energy_callback_nan);

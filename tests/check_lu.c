@@ -371,6 +371,25 @@ START_TEST(cholesky_refuses_asymmetry) {
 }
 END_TEST
 
+/* A mass positive but singular to rounding: Cholesky refuses a pivot at or below n eps times
+ * the largest entry (the rounding its elimination leaves), and takes one above it. diag(1, d)
+ * at n = 2: d = 1.5 eps is refused (a tolerance of zero would take it), d = 3 eps is taken (a
+ * tolerance twice as large would refuse it); a rank-one u u^T of exact binary entries leaves
+ * a pivot of exactly zero. */
+START_TEST(cholesky_refuses_a_mass_singular_to_rounding) {
+  double M[4];
+  const double eps = DBL_EPSILON;
+  double below[4] = {1.0, 0.0, 0.0, 1.5 * eps}, above[4] = {1.0, 0.0, 0.0, 3.0 * eps};
+  double rank_one[9] = {1.0, 0.5, 2.0, 0.5, 0.25, 1.0, 2.0, 1.0, 4.0};
+  memcpy(M, below, sizeof M);
+  ck_assert_int_eq(sdae__cholesky_factor(M, 2), SDAE_ERR_MASS);
+  memcpy(M, above, sizeof M);
+  ck_assert_int_eq(sdae__cholesky_factor(M, 2), SDAE_OK);
+  ck_assert_double_eq(M[3], sqrt(3.0 * eps));
+  ck_assert_int_eq(sdae__cholesky_factor(rank_one, 3), SDAE_ERR_MASS);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("lu");
   ADD_CASE(s, same_solution_as_gsl);
@@ -390,5 +409,6 @@ int main(void) {
   ADD_CASE(s, singular_leaves_x_untouched);
   ADD_CASE(s, cholesky_takes_rounded_symmetric_products);
   ADD_CASE(s, cholesky_refuses_asymmetry);
+  ADD_CASE(s, cholesky_refuses_a_mass_singular_to_rounding);
   return run_suite(s);
 }

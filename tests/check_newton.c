@@ -209,6 +209,7 @@ static void steps_in_block(unsigned char fill, sdae_stabilizer stabilizer, doubl
   memset(mem, fill, sizeof mem);
   ck_assert_int_eq(sdae_stepper_init(&s, mem, sizeof mem, &m, &o), SDAE_OK);
   for (int n = 0; n < 10; n++) ck_assert_int_eq(sdae_step(s, n * 0.1, 0.1, xi, mu), SDAE_OK);
+  sdae_stepper_free(s); /* the block the caller's again, to be filled anew */
 }
 
 START_TEST(stale_memory_is_never_read) {
@@ -648,6 +649,7 @@ static void chain_steps_in_block(unsigned char fill, double *xi, double *mu) {
   memset(mem, fill, sizeof mem);
   ck_assert_int_eq(sdae_stepper_init(&s, mem, sizeof mem, &m, &o), SDAE_OK);
   for (int n = 0; n < 10; n++) ck_assert_int_eq(sdae_step(s, n * 0.5, 0.5, xi, mu), SDAE_OK);
+  sdae_stepper_free(s); /* the block the caller's again, to be filled anew */
 }
 
 /* The band's cells outside the matrix and its fill-in are cleared before each matrix is

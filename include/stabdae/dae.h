@@ -60,7 +60,8 @@ SDAE_API int sdae_dae_model_alloc(sdae_dae_model **d, const sdae_dae *dae, size_
 SDAE_API int sdae_dae_model_alloc_with(sdae_dae_model **d, const sdae_dae *dae, size_t n_xi,
                                        sdae_mu_dot_fn mu_dot, const double *x_guess,
                                        const sdae_allocator *a);
-SDAE_API void sdae_dae_model_free(sdae_dae_model *d); /* NULL and init'ed ones are fine */
+/* as sdae_stepper_free: NULL and init'ed ones are fine */
+SDAE_API void sdae_dae_model_free(sdae_dae_model *d);
 
 /* The model to hand to sdae_stepper_alloc or sdae_check_model: n_xi, n_mu, q0 and Q_apply, with
  * n_constraints = 0 (set them in a copy for the baselines). Valid as long as d is. */

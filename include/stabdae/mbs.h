@@ -120,7 +120,8 @@ SDAE_API int sdae_mbs_stepper_alloc(sdae_mbs_stepper **s, const sdae_mbs *sys,
 /* As sdae_mbs_stepper_alloc, the block from the allocator a (NULL: malloc). */
 SDAE_API int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys,
                                          const sdae_options *o, const sdae_allocator *a);
-SDAE_API void sdae_mbs_stepper_free(sdae_mbs_stepper *s); /* NULL and init'ed ones are fine */
+/* as sdae_stepper_free: NULL and init'ed ones are fine */
+SDAE_API void sdae_mbs_stepper_free(sdae_mbs_stepper *s);
 
 /* One step from (t, q, v) in the current chart (chosen anew at the boundary); q, v updated in
  * place, untouched on error (and the chart as it was). A start off c = 0 needs no assembly:

@@ -164,7 +164,10 @@ SDAE_API int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sda
  * of a, frees its block with it and lends it to sdae_certify_box. */
 SDAE_API int sdae_stepper_alloc_with(sdae_stepper **s, const sdae_model *m, const sdae_options *o,
                                      const sdae_allocator *a);
-SDAE_API void sdae_stepper_free(sdae_stepper *s); /* NULL and init'ed steppers are fine */
+/* Gives back an allocated stepper's block; for an init'ed one gives nothing back, and makes the
+ * caller's block plain bytes again (built with AddressSanitizer, the library poisons the gaps
+ * between its arrays: free before filling the block anew). NULL is fine. */
+SDAE_API void sdae_stepper_free(sdae_stepper *s);
 
 /* One step of scheme 11 or 15 from time t: xi, mu are updated in place. On error they are left
  * exactly as they were. */

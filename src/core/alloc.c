@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "alloc.h"
+#include "arena.h"
 
 static int custom(const sdae_allocator *a) { return a && a->alloc && a->free; }
 
@@ -28,6 +29,7 @@ void *sdae__alloc_array(const sdae_allocator *a, size_t n, size_t size) {
 void *sdae__block_alloc(sdae_block *b, const sdae_allocator *a, size_t bytes) {
   b->mem = sdae__alloc(a, bytes);
   b->bytes = bytes;
+  b->caller = NULL;
   if (a)
     b->allocator = *a;
   else
@@ -35,7 +37,16 @@ void *sdae__block_alloc(sdae_block *b, const sdae_allocator *a, size_t bytes) {
   return b->mem;
 }
 
+void sdae__block_caller(sdae_block *b, void *mem, size_t len) {
+  *b = (sdae_block){NULL, len, {0}, mem};
+}
+
 void sdae__block_free(const sdae_block *b) {
   sdae_block copy = *b; /* b may live in the block it describes */
+  if (copy.caller) {
+    sdae__arena_release(copy.caller, copy.bytes);
+    return;
+  }
+  if (copy.mem) sdae__arena_release(copy.mem, copy.bytes);
   sdae__free(&copy.allocator, copy.mem, copy.bytes);
 }

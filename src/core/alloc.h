@@ -14,16 +14,20 @@ void sdae__free(const sdae_allocator *a, void *ptr, size_t size);
 /* n elements of size bytes each, or NULL when n * size overflows or there is no room */
 void *sdae__alloc_array(const sdae_allocator *a, size_t n, size_t size);
 
-/* The one block an object lives in when the library allocated it: what to give back and to
- * whom. An object in the caller's memory has mem NULL, and freeing it gives nothing back. */
+/* The one block an object lives in: when the library allocated it, what to give back and to
+ * whom. An object in the caller's memory has mem NULL and its block in caller: freeing it
+ * gives nothing back, and makes the caller's bytes whole again (core/arena.h's redzones). */
 typedef struct sdae_block {
   void *mem;
   size_t bytes;
   sdae_allocator allocator; /* zero: malloc and free */
+  void *caller;             /* the caller's block (bytes long), or NULL */
 } sdae_block;
 
 /* bytes from the allocator a (NULL: malloc), recorded in *b; NULL when there is no room */
 void *sdae__block_alloc(sdae_block *b, const sdae_allocator *a, size_t bytes);
+/* the caller's memory (len bytes) recorded in *b as the block an object lives in */
+void sdae__block_caller(sdae_block *b, void *mem, size_t len);
 /* gives back the block *b describes (which may hold *b itself); nothing for mem NULL */
 void sdae__block_free(const sdae_block *b);
 

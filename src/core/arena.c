@@ -13,6 +13,15 @@
 
 #include "arena.h"
 
+#ifdef SDAE_ARENA_ASAN
+#include <sanitizer/asan_interface.h>
+#define POISON(p, n) ASAN_POISON_MEMORY_REGION((p), (n))
+#define UNPOISON(p, n) ASAN_UNPOISON_MEMORY_REGION((p), (n))
+#else
+#define POISON(p, n) ((void)(p), (void)(n))
+#define UNPOISON(p, n) ((void)(p), (void)(n))
+#endif
+
 static int mul_ok(size_t a, size_t b, size_t *out) {
   if (a != 0 && b > SIZE_MAX / a) return 0;
   *out = a * b;
@@ -20,17 +29,26 @@ static int mul_ok(size_t a, size_t b, size_t *out) {
 }
 
 void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align) {
-  size_t bytes, at = (a->used + align - 1) / align * align;
+  size_t bytes, at = (a->used + align - 1) / align * align, zone;
   if (a->overflow || a->used > SIZE_MAX - (align - 1) || !mul_ok(n, size, &bytes) ||
       bytes > SIZE_MAX - at) {
     a->overflow = 1;
     return NULL;
   }
-  a->used = at + bytes;
+  zone = (size_t)SDAE_ARENA_REDZONE * (bytes > 0); /* none after an empty array */
+  if (zone > SIZE_MAX - at - bytes) {
+    a->overflow = 1;
+    return NULL;
+  }
+  a->used = at + bytes + zone;
   if (!a->base) return NULL;
+  UNPOISON(a->base + at, bytes);
   memset(a->base + at, 0, bytes);
+  POISON(a->base + at + bytes, zone);
   return a->base + at;
 }
+
+void sdae__arena_release(void *mem, size_t bytes) { UNPOISON(mem, bytes); }
 
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2) {
   size_t n;

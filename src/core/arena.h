@@ -6,6 +6,22 @@
 
 #include <stddef.h>
 
+/* Under AddressSanitizer every array is followed by SDAE_ARENA_REDZONE bytes, counted and
+ * poisoned: a part that writes or reads past its own array into the next is caught there, not
+ * absorbed by its neighbour (the block's size includes them: size and init still agree) */
+#if defined(__SANITIZE_ADDRESS__)
+#define SDAE_ARENA_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SDAE_ARENA_ASAN 1
+#endif
+#endif
+#ifdef SDAE_ARENA_ASAN
+#define SDAE_ARENA_REDZONE 16
+#else
+#define SDAE_ARENA_REDZONE 0
+#endif
+
 typedef struct sdae_arena {
   char *base; /* NULL: count only; else aligned for any type */
   size_t used;
@@ -17,6 +33,9 @@ void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align);
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
 unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
 size_t *sdae__take_indices(sdae_arena *a, size_t n);
+/* a block's bytes made whole again (its redzones unpoisoned) before it is given back: a
+ * caller's allocator may hand them out anew */
+void sdae__arena_release(void *mem, size_t bytes);
 /* header + the arrays counted, in bytes; SDAE_ERR_OVERFLOW when that does not fit in size_t */
 int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes);
 /* a block of an object (header bytes) and the arrays counted in a, in memory of any alignment:

@@ -143,6 +143,7 @@ int sdae_dae_model_init(sdae_dae_model **d, void *mem, size_t len, const sdae_da
   if ((rc = measure(dae, n_xi, &bytes)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
   *d = build(mem, dae, n_xi, mu_dot, x_guess);
+  sdae__block_caller(&(*d)->block, mem, len);
   return SDAE_OK;
 }
 

@@ -97,7 +97,12 @@ int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sda
   if (!s || !mem) return SDAE_ERR_NULL;
   if ((rc = measure(sys, o, &bytes, &inner)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
-  return build(s, mem, sys, o, inner);
+  if ((rc = build(s, mem, sys, o, inner)) != SDAE_OK) {
+    sdae__arena_release(mem, len); /* the caller's bytes as they were lent */
+    return rc;
+  }
+  sdae__block_caller(&(*s)->block, mem, len);
+  return SDAE_OK;
 }
 
 int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys, const sdae_options *o,

@@ -109,6 +109,7 @@ int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model 
   if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
   *s = build(mem, m, o);
+  sdae__block_caller(&(*s)->block, mem, len);
   return SDAE_OK;
 }
 

@@ -199,5 +199,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   for (unsigned i = 0; i < steps; i++)
     one_step(s, twin, &o, x.t + (double)i * x.T, x.T, x.xi, x.mu, &good);
   sdae_stepper_free(s);
+  sdae_stepper_free(twin); /* the caller's block its own again */
   return 0;
 }
