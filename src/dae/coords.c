@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* Phi's Jacobian, Phi^-1 and mu's rate along f for a DAE's coordinates z = Phi(t, x) = (xi, mu)
- * (<stabdae/check.h>). The finite differences are central: the Jacobian's with the step
+ * (<stabdae/dae.h>). The finite differences are central: the Jacobian's with the step
  * cbrt(eps) max(1, |x_j|) (second order, about eps^(2/3) relative), mu's rate fourth order
  * (below). */
 #include <float.h>
