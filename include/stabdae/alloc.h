@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae allocator hook: a user without a heap (or with an arena of its own) gives the library
- * an allocate/free pair, as Lua's lua_Alloc. Every allocating function of the library has a form
- * that takes one; NULL (or an allocator without alloc or free) means malloc and free. */
+/* stabdae allocator hook (layer: core): a user without a heap (or with an arena of its own) gives
+ * the library an allocate/free pair, as Lua's lua_Alloc. Every allocating function of the library
+ * has a form that takes one; NULL (or an allocator without alloc or free) means malloc and free. */
 #ifndef STABDAE_ALLOC_H
 #define STABDAE_ALLOC_H
 

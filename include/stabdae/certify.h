@@ -1,18 +1,17 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae step-size certificates: Theorem 3's and Theorem 5's bounds over a box, and
- * condition (18) measured along a trajectory. */
+/* stabdae step-size certificates (layer: analysis): Theorem 3's and Theorem 5's bounds over a
+ * box, and condition (18) measured along a trajectory. */
 #ifndef STABDAE_CERTIFY_H
 #define STABDAE_CERTIFY_H
 
 #include <stddef.h>
 
-#include <stabdae/export.h>
+#include <stabdae/base.h>
+#include <stabdae/stepper.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-struct sdae_stepper;
 
 typedef struct sdae_certificate {
   double sup_neg_k;       /* max_i sup_B (-k_i(xi, mu)), eq. 14's denominator */

@@ -1,14 +1,16 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae model check: is a normal form typed by hand (q0, Q) consistent with the original DAE
- * xdot = f(x) + g(x) lambda, 0 = h(x) and its coordinates z = Phi(x) = (xi, mu)? */
+/* stabdae's checks (layer: analysis), the one place for them: is a normal form typed by hand
+ * (q0, Q) consistent with the original DAE xdot = f(x) + g(x) lambda, 0 = h(x) and its
+ * coordinates z = Phi(x) = (xi, mu) (sdae_check_model)? Are the derivatives a mechanism gives
+ * those of its callbacks (sdae_mbs_check)? */
 #ifndef STABDAE_CHECK_H
 #define STABDAE_CHECK_H
 
 #include <stddef.h>
 
-#include <stabdae/alloc.h>
+#include <stabdae/base.h>
 #include <stabdae/dae.h>
-#include <stabdae/export.h>
+#include <stabdae/mbs.h>
 #include <stabdae/model.h>
 
 #ifdef __cplusplus
@@ -48,6 +50,53 @@ SDAE_API int sdae_check_model_with(const sdae_model *model, const sdae_dae *dae,
                                    const double *lo, const double *hi, size_t npoints,
                                    unsigned long seed, double tol, double *worst_z,
                                    const sdae_allocator *a, sdae_check_report *r);
+
+/* ---- a mechanism's derivatives ------------------------------------------------------- */
+
+/* The derivatives a mechanism gives, each compared by sdae_mbs_check with differences of the
+ * callbacks it derives from. */
+typedef enum sdae_mbs_derivative {
+  SDAE_MBS_JACOBIAN = 0,         /* jacobian against c */
+  SDAE_MBS_CONSTRAINT_T = 1,     /* constraint_t against c in t */
+  SDAE_MBS_MASS_DOT_V = 2,       /* mass_dot_v against M along (1, v) */
+  SDAE_MBS_JACOBIAN_DOT = 3,     /* jacobian_dot against jacobian along (1, v) */
+  SDAE_MBS_CONSTRAINT_T_DOT = 4, /* constraint_t_dot against constraint_t along (1, v) */
+  SDAE_MBS_FORCE = 5             /* force against -dV/dq, the Lagrangian's velocity terms and
+                                  * -D v, where a potential is given */
+} sdae_mbs_derivative;
+#define SDAE_MBS_DERIVATIVES 6
+
+typedef struct sdae_mbs_check_report {
+  unsigned checked;                      /* bit k set: derivative k was given and compared */
+  double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst entry: what |given - differences|
+                                          * exceeds the differences' rounding by, relative to
+                                          * the entry (0 when not given; Inf for a NaN) */
+  int worst;          /* the derivative with the largest mismatch; -1: none given */
+  size_t worst_index; /* its entry (row-major) where that mismatch is */
+  int consistent;     /* every mismatch <= tol */
+} sdae_mbs_check_report;
+
+/* Compares every derivative the mechanism gives with fourth-order central differences of the
+ * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
+ * wrong sign would show), and reports the worst mismatch and where. Entry by entry, so a row
+ * of large entries hides no wrong small one; the differences' rounding is allowed for, so a
+ * derivative that vanishes at the state (a force at equilibrium) is no false alarm. Smooth
+ * callbacks agree to about 1e-9: tol = 1e-6 separates a right derivative from a wrong one.
+ * With a jacobian_pattern, an entry of G that the differences of c show nonzero outside it is a
+ * mismatch of SDAE_MBS_JACOBIAN there (the given G is zero there). An entry outside a
+ * mass_pattern is never written, so it shows only through what M's derivatives change: the
+ * checks of mass_dot_v and of the force.
+ * On SDAE_OK *r is written whole; otherwise it is untouched and the status says why:
+ * SDAE_ERR_NULL (sys, q, v, r, a required callback, jacobian_dot without jacobian,
+ * constraint_t_dot without constraint_t, or jacobian_pattern without jacobian), SDAE_ERR_DIM,
+ * SDAE_ERR_PATTERN, SDAE_ERR_PARAM (tol not positive, a
+ * state not finite), SDAE_ERR_NOMEM, SDAE_ERR_OVERFLOW, or a callback's failure
+ * (SDAE_ERR_CALLBACK_*, SDAE_ERR_NONFINITE). With its workspace (one block, given back before
+ * it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
+SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v,
+                            double tol, sdae_mbs_check_report *r);
+SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
+                                 double tol, const sdae_allocator *a, sdae_mbs_check_report *r);
 
 #ifdef __cplusplus
 }

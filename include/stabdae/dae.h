@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae generic front-end: the library derives the normal form (paper eq. 5) of a DAE
- * xdot = f(t, x) + g(t, x) lambda, 0 = h(t, x) (eq. 1) from its coordinates
- * z = Phi(t, x) = (xi, mu), doing Proposition 1 itself. With
+/* stabdae generic front-end (layer: dae): the library derives the normal form (paper eq. 5) of a
+ * DAE xdot = f(t, x) + g(t, x) lambda, 0 = h(t, x) (eq. 1) from its coordinates z = Phi(t, x) =
+ * (xi, mu), doing Proposition 1 itself. With
  *
  *     G(t, xi, mu) = mu_dot(t, Phi^-1(t, xi, mu))     (the mu-dynamics; lambda drops out as
  *                                                       L_g mu = 0)
@@ -15,8 +15,7 @@
 
 #include <stddef.h>
 
-#include <stabdae/alloc.h>
-#include <stabdae/export.h>
+#include <stabdae/base.h>
 #include <stabdae/model.h>
 
 #ifdef __cplusplus

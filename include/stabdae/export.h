@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* SDAE_API marks the public symbols: the library is built with hidden visibility, so only
- * what carries this macro is exported from the shared object. */
+/* The export macro (layer: core): SDAE_API marks the public symbols: the library is built with
+ * hidden visibility, so only what carries this macro is exported from the shared object. */
 #ifndef STABDAE_EXPORT_H
 #define STABDAE_EXPORT_H
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae co-simulation FMUs: a mechanism of <stabdae/mbs.h> described by one table, which the
+/* stabdae co-simulation FMUs (layer: fmi, above the library: fmi/ compiles it into each FMU):
+ * a mechanism of <stabdae/mbs.h> described by one table, which the
  * CMake function stabdae_add_fmu (docs/fmi.md) turns into an FMI 3.0 and an FMI 2.0
  * co-simulation FMU. The user writes no FMI code: the table names the mechanism's parameters
  * (where each lives in the user's params struct), a function giving the sdae_mbs at those

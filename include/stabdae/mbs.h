@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae mechanical front-end: a mechanism in the multibody convention
+/* stabdae mechanical front-end (layer: mbs): a mechanism in the multibody convention
  *
  *     q' = v,   M(t, q) v' = F(t, q, v) - G(t, q)^T lambda,   c(t, q) = 0,   G = dc/dq
  *
@@ -7,14 +7,16 @@
  * xi = per constraint (c_j, G_j v + dc_j/dt); a chart splits q into dependent q_D (n_c) and
  * independent q_I by a pivoted factorization of G, with W = dq/dq_I spanning ker G; the
  * coordinates mu = (q_I, W^T M v); q0 and Q by the rule of <stabdae/dae.h>. The chart switches
- * between steps to the best one when that is better by SDAE_MBS_CHART_FACTOR. */
+ * between steps to the best one when that is better by SDAE_MBS_CHART_FACTOR. The check of the
+ * derivatives a mechanism gives, sdae_mbs_check, is with the other checks in <stabdae/check.h>. */
 #ifndef STABDAE_MBS_H
 #define STABDAE_MBS_H
 
 #include <stddef.h>
 
+#include <stabdae/base.h>
 #include <stabdae/pattern.h>
-#include <stabdae/stabdae.h>
+#include <stabdae/stepper.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -167,51 +169,6 @@ SDAE_API int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent);
 
 SDAE_API const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s);
 SDAE_API void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s);
-
-/* The derivatives a mechanism gives, each compared by sdae_mbs_check with differences of the
- * callbacks it derives from. */
-typedef enum sdae_mbs_derivative {
-  SDAE_MBS_JACOBIAN = 0,         /* jacobian against c */
-  SDAE_MBS_CONSTRAINT_T = 1,     /* constraint_t against c in t */
-  SDAE_MBS_MASS_DOT_V = 2,       /* mass_dot_v against M along (1, v) */
-  SDAE_MBS_JACOBIAN_DOT = 3,     /* jacobian_dot against jacobian along (1, v) */
-  SDAE_MBS_CONSTRAINT_T_DOT = 4, /* constraint_t_dot against constraint_t along (1, v) */
-  SDAE_MBS_FORCE = 5             /* force against -dV/dq, the Lagrangian's velocity terms and
-                                  * -D v, where a potential is given */
-} sdae_mbs_derivative;
-#define SDAE_MBS_DERIVATIVES 6
-
-typedef struct sdae_mbs_check_report {
-  unsigned checked;                      /* bit k set: derivative k was given and compared */
-  double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst entry: what |given - differences|
-                                          * exceeds the differences' rounding by, relative to
-                                          * the entry (0 when not given; Inf for a NaN) */
-  int worst;          /* the derivative with the largest mismatch; -1: none given */
-  size_t worst_index; /* its entry (row-major) where that mismatch is */
-  int consistent;     /* every mismatch <= tol */
-} sdae_mbs_check_report;
-
-/* Compares every derivative the mechanism gives with fourth-order central differences of the
- * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
- * wrong sign would show), and reports the worst mismatch and where. Entry by entry, so a row
- * of large entries hides no wrong small one; the differences' rounding is allowed for, so a
- * derivative that vanishes at the state (a force at equilibrium) is no false alarm. Smooth
- * callbacks agree to about 1e-9: tol = 1e-6 separates a right derivative from a wrong one.
- * With a jacobian_pattern, an entry of G that the differences of c show nonzero outside it is a
- * mismatch of SDAE_MBS_JACOBIAN there (the given G is zero there). An entry outside a
- * mass_pattern is never written, so it shows only through what M's derivatives change: the
- * checks of mass_dot_v and of the force.
- * On SDAE_OK *r is written whole; otherwise it is untouched and the status says why:
- * SDAE_ERR_NULL (sys, q, v, r, a required callback, jacobian_dot without jacobian,
- * constraint_t_dot without constraint_t, or jacobian_pattern without jacobian), SDAE_ERR_DIM,
- * SDAE_ERR_PATTERN, SDAE_ERR_PARAM (tol not positive, a
- * state not finite), SDAE_ERR_NOMEM, SDAE_ERR_OVERFLOW, or a callback's failure
- * (SDAE_ERR_CALLBACK_*, SDAE_ERR_NONFINITE). With its workspace (one block, given back before
- * it returns) from the allocator a in sdae_mbs_check_with (NULL: malloc). */
-SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v,
-                            double tol, sdae_mbs_check_report *r);
-SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
-                                 double tol, const sdae_allocator *a, sdae_mbs_check_report *r);
 
 /* Called with the state after step `step` (0: the initial one); non-zero stops the run. */
 typedef int (*sdae_mbs_observer)(size_t step, double t, const double *q, const double *v,

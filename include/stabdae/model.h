@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae model: the whole problem, the stabilized normal form (paper eq. 5) given as callbacks,
- * with the energy structure its discrete gradients use and an optional user map. How it is
- * solved (scheme, gains, map, Newton) is in sdae_options. */
+/* stabdae model (layer: model): the whole problem, the stabilized normal form (paper eq. 5) given
+ * as callbacks, with the energy structure its discrete gradients use and an optional user map. How
+ * it is solved (scheme, gains, map, Newton) is in sdae_options. */
 #ifndef STABDAE_MODEL_H
 #define STABDAE_MODEL_H
 
@@ -10,6 +10,9 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* Highest relative degree of one constraint the baselines (none, Baumgarte) accept. */
+#define SDAE_MAX_REL_DEGREE 4
 
 /* Every callback returns 0 on success, > 0 for a recoverable failure and < 0 for a fatal one
  * (the SUNDIALS rule), and receives the model's params. Matrices are row-major flat arrays. */

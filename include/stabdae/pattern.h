@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* stabdae sparsity pattern: where a matrix callback's nonzeros are, so that it writes those
- * alone (<stabdae/mbs.h>: mass_pattern, jacobian_pattern). */
+/* stabdae sparsity pattern (layer: core): where a matrix callback's nonzeros are, so that it writes
+ * those alone (<stabdae/mbs.h>: mass_pattern, jacobian_pattern). */
 #ifndef STABDAE_PATTERN_H
 #define STABDAE_PATTERN_H
 
