@@ -1,7 +1,10 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The allocator hook: every allocation of the library goes through here. */
+/* The allocator hook: every allocation of the library goes through here; and the one block an
+ * object lives in, made in the caller's memory or the allocator's. */
 #include <stdint.h>
 #include <stdlib.h>
+
+#include <stabdae/base.h>
 
 #include "alloc.h"
 #include "arena.h"
@@ -49,4 +52,45 @@ void sdae__block_free(const sdae_block *b) {
   }
   if (copy.mem) sdae__arena_release(copy.mem, copy.bytes);
   sdae__free(&copy.allocator, copy.mem, copy.bytes);
+}
+
+size_t sdae__block_size(const sdae_block_type *t, const void *args) {
+  size_t bytes;
+  return t->measure(args, &bytes) == SDAE_OK ? bytes : 0;
+}
+
+int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size_t len,
+                     void **obj) {
+  size_t bytes;
+  sdae_block *block;
+  void *o;
+  int rc;
+  if (!mem) return SDAE_ERR_NULL;
+  if ((rc = t->measure(args, &bytes)) != SDAE_OK) return rc;
+  if (len < bytes) return SDAE_ERR_BUFFER;
+  if ((rc = t->build(mem, args, &o, &block)) != SDAE_OK) {
+    sdae__arena_release(mem, len); /* the caller's bytes as they were lent */
+    return rc;
+  }
+  sdae__block_caller(block, mem, len);
+  *obj = o;
+  return SDAE_OK;
+}
+
+int sdae__block_new(const sdae_block_type *t, const void *args, const sdae_allocator *a,
+                    void **obj) {
+  sdae_block given;
+  sdae_block *block;
+  size_t bytes;
+  void *mem, *o;
+  int rc;
+  if ((rc = t->measure(args, &bytes)) != SDAE_OK) return rc;
+  if (!(mem = sdae__block_alloc(&given, a, bytes))) return SDAE_ERR_NOMEM;
+  if ((rc = t->build(mem, args, &o, &block)) != SDAE_OK) {
+    sdae__block_free(&given);
+    return rc;
+  }
+  *block = given;
+  *obj = o;
+  return SDAE_OK;
 }

@@ -31,4 +31,24 @@ void sdae__block_caller(sdae_block *b, void *mem, size_t len);
 /* gives back the block *b describes (which may hold *b itself); nothing for mem NULL */
 void sdae__block_free(const sdae_block *b);
 
+/* An object that lives in one block (a stepper, a DAE's model, a mechanical stepper): what its
+ * public size, init, alloc_with and free share, written once (alloc.c). measure validates the
+ * arguments and gives the block's bytes (with room to align a caller's block); build makes the
+ * object in mem (measure's bytes long) and says where it and its sdae_block are. A failed
+ * build leaves nothing behind but the block. */
+typedef struct sdae_block_type {
+  int (*measure)(const void *args, size_t *bytes);
+  int (*build)(void *mem, const void *args, void **obj, sdae_block **block);
+} sdae_block_type;
+
+/* the bytes an object needs; 0 when measure refuses its arguments */
+size_t sdae__block_size(const sdae_block_type *t, const void *args);
+/* the object in the caller's memory mem[0..len): SDAE_ERR_NULL, measure's or build's refusal,
+ * SDAE_ERR_BUFFER when len is short; *obj set on success alone */
+int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size_t len, void **obj);
+/* the object in a block from the allocator a (NULL: malloc): SDAE_ERR_NOMEM when there is no
+ * room; *obj set on success alone */
+int sdae__block_new(const sdae_block_type *t, const void *args, const sdae_allocator *a,
+                    void **obj);
+
 #endif /* STABDAE_SRC_CORE_ALLOC_H */

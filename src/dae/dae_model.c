@@ -106,61 +106,65 @@ static void carve(sdae_dae_model *d, sdae_arena *a) {
   d->Qxi = sdae__take(a, n_mu, 1), d->qnorm2 = sdae__take(a, n_xi, 1);
 }
 
+typedef struct args {
+  const sdae_dae *dae;
+  size_t n_xi;
+  sdae_mu_dot_fn mu_dot;
+  const double *x_guess;
+} args;
+
 /* bytes for the block, with room to align a caller's */
-static int measure(const sdae_dae *dae, size_t n_xi, size_t *bytes) {
+static int measure(const void *p, size_t *bytes) {
+  const args *g = p;
   sdae_dae_model probe;
   sdae_arena a = {0};
-  wire(&probe, dae, n_xi, NULL);
+  int rc = validate(g->dae, g->n_xi);
+  if (rc != SDAE_OK) return rc;
+  wire(&probe, g->dae, g->n_xi, NULL);
   carve(&probe, &a);
   return sdae__block_bytes(&a, sizeof(sdae_dae_model), bytes);
 }
 
-static sdae_dae_model *build(void *mem, const sdae_dae *dae, size_t n_xi, sdae_mu_dot_fn mu_dot,
-                             const double *x_guess) {
+static int build(void *mem, const void *p, void **obj, sdae_block **block) {
+  const args *g = p;
   sdae_arena a;
   sdae_dae_model *d = sdae__block_start(mem, sizeof(sdae_dae_model), &a);
-  wire(d, dae, n_xi, mu_dot);
+  wire(d, g->dae, g->n_xi, g->mu_dot);
   carve(d, &a);
-  if (x_guess) {
-    memcpy(d->x_last, x_guess, dae->n * sizeof *x_guess);
+  if (g->x_guess) {
+    memcpy(d->x_last, g->x_guess, g->dae->n * sizeof *g->x_guess);
     d->have_x = 1;
   }
-  return d;
+  *obj = d, *block = &d->block;
+  return SDAE_OK;
 }
 
+static const sdae_block_type dae_model_block = {measure, build};
+
 size_t sdae_dae_model_size(const sdae_dae *dae, size_t n_xi) {
-  size_t bytes;
-  if (validate(dae, n_xi) != SDAE_OK || measure(dae, n_xi, &bytes) != SDAE_OK) return 0;
-  return bytes;
+  const args g = {dae, n_xi, NULL, NULL};
+  return sdae__block_size(&dae_model_block, &g);
 }
 
 int sdae_dae_model_init(sdae_dae_model **d, void *mem, size_t len, const sdae_dae *dae, size_t n_xi,
                         sdae_mu_dot_fn mu_dot, const double *x_guess) {
-  size_t bytes;
+  const args g = {dae, n_xi, mu_dot, x_guess};
+  void *obj;
   int rc;
-  if (!d || !mem) return SDAE_ERR_NULL;
-  if ((rc = validate(dae, n_xi)) != SDAE_OK) return rc;
-  if ((rc = measure(dae, n_xi, &bytes)) != SDAE_OK) return rc;
-  if (len < bytes) return SDAE_ERR_BUFFER;
-  *d = build(mem, dae, n_xi, mu_dot, x_guess);
-  sdae__block_caller(&(*d)->block, mem, len);
-  return SDAE_OK;
+  if (!d) return SDAE_ERR_NULL;
+  if ((rc = sdae__block_init(&dae_model_block, &g, mem, len, &obj)) == SDAE_OK) *d = obj;
+  return rc;
 }
 
 int sdae_dae_model_alloc_with(sdae_dae_model **d, const sdae_dae *dae, size_t n_xi,
                               sdae_mu_dot_fn mu_dot, const double *x_guess,
                               const sdae_allocator *a) {
-  sdae_block block;
-  size_t bytes;
-  void *mem;
+  const args g = {dae, n_xi, mu_dot, x_guess};
+  void *obj;
   int rc;
   if (!d) return SDAE_ERR_NULL;
-  if ((rc = validate(dae, n_xi)) != SDAE_OK) return rc;
-  if ((rc = measure(dae, n_xi, &bytes)) != SDAE_OK) return rc;
-  if (!(mem = sdae__block_alloc(&block, a, bytes))) return SDAE_ERR_NOMEM;
-  *d = build(mem, dae, n_xi, mu_dot, x_guess);
-  (*d)->block = block;
-  return SDAE_OK;
+  if ((rc = sdae__block_new(&dae_model_block, &g, a, &obj)) == SDAE_OK) *d = obj;
+  return rc;
 }
 
 int sdae_dae_model_alloc(sdae_dae_model **d, const sdae_dae *dae, size_t n_xi,

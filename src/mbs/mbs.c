@@ -58,68 +58,71 @@ static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o)
   return s->type->init(s->co, &s->eval, o);
 }
 
-/* the block's bytes (with room to align a caller's block) and the normal form's stepper's */
-static int measure(const sdae_mbs *sys, const sdae_options *o, size_t *bytes, size_t *inner) {
+typedef struct args {
+  const sdae_mbs *sys;
+  const sdae_options *o;
+} args;
+
+/* the block's bytes (with room to align a caller's block): the parts' and the normal form's
+ * stepper's */
+static int measure(const void *p, size_t *bytes) {
+  const args *g = p;
   sdae_mbs_stepper probe;
   sdae_arena a = {0};
-  int rc = validate(sys, o);
-  if (rc != SDAE_OK || (rc = wire(&probe, sys, o)) != SDAE_OK) return rc;
+  size_t inner;
+  int rc = validate(g->sys, g->o);
+  if (rc != SDAE_OK || (rc = wire(&probe, g->sys, g->o)) != SDAE_OK) return rc;
   if ((rc = sdae__stepper_validate(&probe.nf.model, &probe.opt)) != SDAE_OK) return rc;
-  if ((*inner = sdae_stepper_size(&probe.nf.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
-  carve(&probe, &a, *inner);
+  if ((inner = sdae_stepper_size(&probe.nf.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
+  carve(&probe, &a, inner);
   return sdae__block_bytes(&a, sizeof(sdae_mbs_stepper), bytes);
 }
 
-size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
-  size_t bytes, inner;
-  return measure(sys, o, &bytes, &inner) == SDAE_OK ? bytes : 0;
-}
-
-static int build(sdae_mbs_stepper **out, void *mem, const sdae_mbs *sys, const sdae_options *o,
-                 size_t inner) {
+/* the parts wired and carved, then the normal form's stepper in its part of the block; what
+ * the coordinates analyse when built may refuse the mechanism */
+static int build(void *mem, const void *p, void **obj, sdae_block **block) {
+  const args *g = p;
   sdae_arena a;
   sdae_mbs_stepper *s = sdae__block_start(mem, sizeof(sdae_mbs_stepper), &a);
+  size_t inner;
   void *inner_mem;
-  int rc;
-  if ((rc = wire(s, sys, o)) != SDAE_OK || (rc = carve(s, &a, inner)) != SDAE_OK) return rc;
+  int rc = wire(s, g->sys, g->o);
+  if (rc != SDAE_OK) return rc;
+  inner = sdae_stepper_size(&s->nf.model, &s->opt); /* measured: not 0 */
+  if ((rc = carve(s, &a, inner)) != SDAE_OK) return rc;
   inner_mem = s->inner;
   /* measured with the same model and options: cannot fail */
   sdae_stepper_init(&s->inner, inner_mem, inner, &s->nf.model, &s->opt);
   sdae__stepper_keep_newton(s->inner); /* each residual a Phi^-1: the matrix is kept */
-  *out = s;
+  *obj = s, *block = &s->block;
   return SDAE_OK;
+}
+
+static const sdae_block_type mbs_block = {measure, build};
+
+size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
+  const args g = {sys, o};
+  return sdae__block_size(&mbs_block, &g);
 }
 
 int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sdae_mbs *sys,
                           const sdae_options *o) {
-  size_t bytes, inner;
+  const args g = {sys, o};
+  void *obj;
   int rc;
-  if (!s || !mem) return SDAE_ERR_NULL;
-  if ((rc = measure(sys, o, &bytes, &inner)) != SDAE_OK) return rc;
-  if (len < bytes) return SDAE_ERR_BUFFER;
-  if ((rc = build(s, mem, sys, o, inner)) != SDAE_OK) {
-    sdae__arena_release(mem, len); /* the caller's bytes as they were lent */
-    return rc;
-  }
-  sdae__block_caller(&(*s)->block, mem, len);
-  return SDAE_OK;
+  if (!s) return SDAE_ERR_NULL;
+  if ((rc = sdae__block_init(&mbs_block, &g, mem, len, &obj)) == SDAE_OK) *s = obj;
+  return rc;
 }
 
 int sdae_mbs_stepper_alloc_with(sdae_mbs_stepper **s, const sdae_mbs *sys, const sdae_options *o,
                                 const sdae_allocator *a) {
-  sdae_block block;
-  size_t bytes, inner;
-  void *mem;
+  const args g = {sys, o};
+  void *obj;
   int rc;
   if (!s) return SDAE_ERR_NULL;
-  if ((rc = measure(sys, o, &bytes, &inner)) != SDAE_OK) return rc;
-  if (!(mem = sdae__block_alloc(&block, a, bytes))) return SDAE_ERR_NOMEM;
-  if ((rc = build(s, mem, sys, o, inner)) != SDAE_OK) {
-    sdae__block_free(&block);
-    return rc;
-  }
-  (*s)->block = block;
-  return SDAE_OK;
+  if ((rc = sdae__block_new(&mbs_block, &g, a, &obj)) == SDAE_OK) *s = obj;
+  return rc;
 }
 
 int sdae_mbs_stepper_alloc(sdae_mbs_stepper **s, const sdae_mbs *sys, const sdae_options *o) {
@@ -199,31 +202,14 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
 
 /* ---- integrate ---- */
 
-typedef struct run {
-  sdae_mbs_stepper *s;
-  double *q, *v;
-  sdae_mbs_observer obs;
-  void *data;
-} run;
-
-static int step(void *ctx, double t, double T) {
-  run *r = ctx;
-  return sdae_mbs_step(r->s, t, T, r->q, r->v);
-}
-
-static int observe(void *ctx, size_t i, double t) {
-  run *r = ctx;
-  return r->obs(i, t, r->q, r->v, r->data);
+static int step(void *s, double t, double T, double *q, double *v) {
+  return sdae_mbs_step(s, t, T, q, v);
 }
 
 int sdae_mbs_integrate(sdae_mbs_stepper *s, double t0, double T, size_t nsteps, size_t every,
                        double *q, double *v, sdae_mbs_observer obs, void *data,
                        size_t *steps_done) {
-  run r = {s, q, v, obs, data};
-  sdae_drive d = {step, obs ? observe : NULL, &r};
-  if (steps_done) *steps_done = 0;
-  if (!s || !q || !v) return SDAE_ERR_NULL;
-  return sdae__drive(&d, t0, T, nsteps, every, steps_done);
+  return sdae__run(s, step, t0, T, nsteps, every, q, v, obs, data, steps_done);
 }
 
 const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s) {

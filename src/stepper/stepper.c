@@ -76,56 +76,59 @@ static void wire(sdae_stepper *s, const sdae_model *m, const sdae_options *o) {
   s->stab.opt = &s->opt;
 }
 
+typedef struct args {
+  const sdae_model *m;
+  const sdae_options *o;
+} args;
+
 /* Bytes for the block, with room to align a caller's block. */
-static int measure(const sdae_model *m, const sdae_options *o, size_t *bytes) {
+static int measure(const void *p, size_t *bytes) {
+  const args *g = p;
   sdae_stepper probe;
   sdae_arena a = {0};
-  wire(&probe, m, o);
+  int rc = sdae__stepper_validate(g->m, g->o);
+  if (rc != SDAE_OK) return rc;
+  wire(&probe, g->m, g->o);
   carve(&probe, &a);
   return sdae__block_bytes(&a, sizeof(sdae_stepper), bytes);
 }
 
-size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
-  size_t bytes;
-  if (sdae__stepper_validate(m, o) != SDAE_OK || measure(m, o, &bytes) != SDAE_OK) return 0;
-  return bytes;
-}
-
-static sdae_stepper *build(void *mem, const sdae_model *m, const sdae_options *o) {
+static int build(void *mem, const void *p, void **obj, sdae_block **block) {
+  const args *g = p;
   sdae_arena a;
   sdae_stepper *s = sdae__block_start(mem, sizeof(sdae_stepper), &a);
-  wire(s, m, o);
+  wire(s, g->m, g->o);
   carve(s, &a);
   s->stab.qnorm2 = s->qnorm2;
-  return s;
+  *obj = s, *block = &s->block;
+  return SDAE_OK;
+}
+
+static const sdae_block_type stepper_block = {measure, build};
+
+size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
+  const args g = {m, o};
+  return sdae__block_size(&stepper_block, &g);
 }
 
 int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model *m,
                       const sdae_options *o) {
-  size_t bytes;
+  const args g = {m, o};
+  void *obj;
   int rc;
-  if (!s || !mem) return SDAE_ERR_NULL;
-  if ((rc = sdae__stepper_validate(m, o)) != SDAE_OK) return rc;
-  if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
-  if (len < bytes) return SDAE_ERR_BUFFER;
-  *s = build(mem, m, o);
-  sdae__block_caller(&(*s)->block, mem, len);
-  return SDAE_OK;
+  if (!s) return SDAE_ERR_NULL;
+  if ((rc = sdae__block_init(&stepper_block, &g, mem, len, &obj)) == SDAE_OK) *s = obj;
+  return rc;
 }
 
 int sdae_stepper_alloc_with(sdae_stepper **s, const sdae_model *m, const sdae_options *o,
                             const sdae_allocator *a) {
-  sdae_block block;
-  size_t bytes;
-  void *mem;
+  const args g = {m, o};
+  void *obj;
   int rc;
   if (!s) return SDAE_ERR_NULL;
-  if ((rc = sdae__stepper_validate(m, o)) != SDAE_OK) return rc;
-  if ((rc = measure(m, o, &bytes)) != SDAE_OK) return rc;
-  if (!(mem = sdae__block_alloc(&block, a, bytes))) return SDAE_ERR_NOMEM;
-  *s = build(mem, m, o);
-  (*s)->block = block;
-  return SDAE_OK;
+  if ((rc = sdae__block_new(&stepper_block, &g, a, &obj)) == SDAE_OK) *s = obj;
+  return rc;
 }
 
 int sdae_stepper_alloc(sdae_stepper **s, const sdae_model *m, const sdae_options *o) {

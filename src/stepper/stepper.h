@@ -30,14 +30,11 @@ size_t sdae__stepper_state_bytes(const sdae_model *m, const sdae_options *o);
 /* what was read indexes nothing outside the stepper (Newton's pivots) */
 int sdae__stepper_state_valid(const sdae_stepper *s);
 
-/* nsteps fixed steps of a stepper of either kind, the observer seeing step 0, every `every`-th
- * step and the last; step and observe receive ctx (integrate.c) */
-typedef struct sdae_drive {
-  int (*step)(void *ctx, double t, double T);
-  int (*observe)(void *ctx, size_t step, double t); /* NULL: none; non-zero stops */
-  void *ctx;
-} sdae_drive;
-int sdae__drive(const sdae_drive *d, double t0, double T, size_t nsteps, size_t every,
-                size_t *steps_done);
+/* nsteps fixed steps of a stepper of either kind (sdae_integrate, sdae_mbs_integrate): step
+ * advances the state (x, y) (xi and mu, or q and v) of the stepper s from t by T, the observer
+ * sees step 0, every `every`-th step and the last (integrate.c) */
+typedef int (*sdae_step_fn)(void *s, double t, double T, double *x, double *y);
+int sdae__run(void *s, sdae_step_fn step, double t0, double T, size_t nsteps, size_t every,
+              double *x, double *y, sdae_observer obs, void *data, size_t *steps_done);
 
 #endif /* STABDAE_SRC_STEPPER_STEPPER_H */
