@@ -13,15 +13,14 @@
 #include <math.h>
 #include <string.h>
 
-#include <stabdae/mbs.h>
+#include <stabdae/check.h>
 
 #include "core/alloc.h"
 #include "core/arena.h"
 #include "core/callback.h"
+#include "core/difference.h"
 #include "core/pattern.h"
 #include "mbs/mbs_eval.h"
-
-#define FD_STEP 7.4e-4 /* DBL_EPSILON^(1/5): truncation and rounding balanced */
 
 /* what is evaluated along a line */
 typedef enum quantity { C, CT, G, MV, V, KINETIC } quantity;
@@ -109,7 +108,7 @@ static int evaluate(checker *k, quantity what, double t, const double *q, double
   }
 }
 
-/* The step along (dt, dq): FD_STEP over the speed of what moves, absolute (an angle wound up
+/* The step along (dt, dq): SDAE_FD_STEP over the speed of what moves, absolute (an angle wound up
  * to 16 rad or a time of 1e3 changes no faster than at 0), but never below 2^20 ulps of the
  * largest moving variable, which beyond about 4e9 makes it relative; then exact in t, or in
  * the one coordinate that moves. */
@@ -121,7 +120,7 @@ static double line_step(const checker *k, double t, const double *q, double dt, 
       big = fmax(big, fabs(q[j])), speed = fmax(speed, fabs(dq[j]));
       moving = j, count++;
     }
-  h = FD_STEP * fmax(1.0, 0x1p20 * DBL_EPSILON * big / FD_STEP) / speed;
+  h = SDAE_FD_STEP * fmax(1.0, 0x1p20 * DBL_EPSILON * big / SDAE_FD_STEP) / speed;
   if (dt != 0.0) return (t + h) - t;
   return count == 1 && dq[moving] == 1.0 ? (q[moving] + h) - q[moving] : h;
 }
@@ -130,21 +129,20 @@ static double line_step(const checker *k, double t, const double *q, double dt, 
  * into noise */
 static int derivative(checker *k, quantity what, double t, const double *q, double dt,
                       const double *dq, double *out, double *noise) {
-  static const double offset[4] = {1.0, -1.0, 2.0, -2.0}, weight[4] = {8.0, -8.0, -1.0, 1.0};
   size_t n = size_of(k, what);
   double h = line_step(k, t, q, dt, dq);
   memset(out, 0, n * sizeof *out);
   memset(noise, 0, n * sizeof *noise);
-  for (int o = 0; o < 4; o++) {
+  for (int o = 0; o < SDAE_FD_POINTS; o++) {
     int rc;
-    for (size_t j = 0; j < k->n_q; j++) k->qs[j] = q[j] + offset[o] * h * dq[j];
-    if ((rc = evaluate(k, what, t + offset[o] * h * dt, k->qs, k->at)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n; i++) {
-      out[i] += weight[o] * k->at[i];
-      noise[i] = fmax(noise[i], fabs(k->at[i]));
-    }
+    double s = sdae__fd_offset[o] * h;
+    for (size_t j = 0; j < k->n_q; j++) k->qs[j] = q[j] + s * dq[j];
+    if ((rc = evaluate(k, what, t + s * dt, k->qs, k->at)) != SDAE_OK) return rc;
+    sdae__fd_add(out, 1, k->at, n, o);
+    for (size_t i = 0; i < n; i++) noise[i] = fmax(noise[i], fabs(k->at[i]));
   }
-  for (size_t i = 0; i < n; i++) out[i] /= 12.0 * h, noise[i] *= NOISE * DBL_EPSILON / h;
+  sdae__fd_finish(out, 1, n, h);
+  for (size_t i = 0; i < n; i++) noise[i] *= NOISE * DBL_EPSILON / h;
   return SDAE_OK;
 }
 

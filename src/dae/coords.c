@@ -9,6 +9,7 @@
 
 #include "coords.h"
 #include "core/callback.h"
+#include "core/difference.h"
 #include "core/lu.h"
 
 void sdae__coords_carve(sdae_coords *c, const sdae_dae *dae, size_t n_xi, sdae_arena *a) {
@@ -103,18 +104,17 @@ static double size_of(const double *v, size_t n) {
  * moves by its own scale, max(1, |x|) / max(1, |f|) (norms: x's components are taken to share
  * one scale; the unit scale, and the unit of time, below 1): x moves by eps^(1/5) of its size. */
 int sdae__coords_mu_rate(sdae_coords *c, double t, const double *x, double *out) {
-  static const double at[4] = {1.0, -1.0, 2.0, -2.0}, w[4] = {8.0, -8.0, -1.0, 1.0};
   const sdae_dae *d = c->dae;
   size_t n = c->n, n_xi = c->n_xi;
   int rc = sdae__callback_checked(d->f(t, x, c->fx, d->params), c->fx, n);
   if (rc != SDAE_OK) return rc;
   double s = pow(DBL_EPSILON, 0.2) * size_of(x, n) / size_of(c->fx, n);
   memset(out, 0, (n - n_xi) * sizeof *out);
-  for (int k = 0; k < 4; k++) {
-    for (size_t i = 0; i < n; i++) c->xa[i] = x[i] + at[k] * s * c->fx[i];
-    if ((rc = Phi_at(c, t + at[k] * s, c->xa, c->za)) != SDAE_OK) return rc;
-    for (size_t i = n_xi; i < n; i++) out[i - n_xi] += w[k] * c->za[i];
+  for (int k = 0; k < SDAE_FD_POINTS; k++) {
+    for (size_t i = 0; i < n; i++) c->xa[i] = x[i] + sdae__fd_offset[k] * s * c->fx[i];
+    if ((rc = Phi_at(c, t + sdae__fd_offset[k] * s, c->xa, c->za)) != SDAE_OK) return rc;
+    sdae__fd_add(out, 1, c->za + n_xi, n - n_xi, k);
   }
-  for (size_t i = 0; i < n - n_xi; i++) out[i] /= 12.0 * s;
+  sdae__fd_finish(out, 1, n - n_xi, s);
   return SDAE_OK;
 }

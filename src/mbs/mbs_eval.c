@@ -12,12 +12,9 @@
 #include <string.h>
 
 #include "core/callback.h"
+#include "core/difference.h"
 #include "core/lu.h"
 #include "mbs_eval.h"
-
-static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
-static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
-#define FD_STEP 7.4e-4                                  /* DBL_EPSILON^(1/5) */
 
 int sdae__mbs_patterns_check(const sdae_mbs *sys) {
   int rc;
@@ -55,6 +52,7 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   e->along_G = sdae__take(a, n_c, m);
   e->along_M = sdae__take(a, m, m);
   e->along_ct = sdae__take(a, n_c, 1);
+  e->along_Mv = sdae__take(a, m, 1);
   e->along_Gdot = sdae__take(a, n_c, m);
   e->along_ctdot = sdae__take(a, n_c, 1);
   e->t_Gdot = sdae__take(a, n_c, m);
@@ -148,28 +146,22 @@ int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D) {
   return matrix_checked(rc, p, e->mass_values, e->n_q, e->n_q, D);
 }
 
-/* a step h near h0 that x + h represents exactly */
-static double exact_step(double x, double h0) {
-  double xh = x + h0;
-  return xh - x;
-}
-
 /* G column by column: d/dh c(t, q + h e_j) */
 static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
   size_t n_q = e->n_q, n_c = e->n_c;
   double *qs = e->jac_q, *c = e->jac_c;
   memcpy(qs, q, n_q * sizeof *q);
   for (size_t j = 0; j < n_q; j++) {
-    double h = exact_step(q[j], FD_STEP * fmax(1.0, fabs(q[j])));
+    double h = sdae__fd_step(q[j], SDAE_FD_STEP * fmax(1.0, fabs(q[j])));
     for (size_t i = 0; i < n_c; i++) G[i * n_q + j] = 0.0;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < SDAE_FD_POINTS; k++) {
       int rc;
-      qs[j] = q[j] + offset[k] * h;
+      qs[j] = q[j] + sdae__fd_offset[k] * h;
       if ((rc = sdae__mbs_constraint(e, t, qs, c)) != SDAE_OK) return rc;
-      for (size_t i = 0; i < n_c; i++) G[i * n_q + j] += weight[k] * c[i];
+      sdae__fd_add(G + j, n_q, c, n_c, k);
     }
     qs[j] = q[j];
-    for (size_t i = 0; i < n_c; i++) G[i * n_q + j] /= 12.0 * h;
+    sdae__fd_finish(G + j, n_q, n_c, h);
   }
   return SDAE_OK;
 }
@@ -185,22 +177,22 @@ int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
 /* A difference step in t relative to max(1, |t|): where t is so large that its doubles are too
  * sparse for the absolute step (t + h rounds to more than half the step away, beyond about
  * 1e12; h would vanish at 1e15, where the spacing is 0.125). */
-static double t_step(double t) { return exact_step(t, FD_STEP * fmax(1.0, fabs(t))); }
+static double t_step(double t) { return sdae__fd_step(t, SDAE_FD_STEP * fmax(1.0, fabs(t))); }
 
 /* d/dh c(t + h, q): exactly 0 when c does not depend on t, the four values being equal. The step
  * is absolute while t can hold it: a driver's time scale (a road's period) does not grow with t,
  * so a step relative to t would lose its accuracy on the way (1 relative at t = 1e3 for a
  * period of 2). */
 static int constraint_t_fd(sdae_mbs_eval *e, double t, const double *q, double *ct) {
-  double h = exact_step(t, FD_STEP), *c = e->ct_c;
-  if (!(fabs(h - FD_STEP) <= 0.5 * FD_STEP)) h = t_step(t);
+  double h = sdae__fd_step(t, SDAE_FD_STEP), *c = e->ct_c;
+  if (!(fabs(h - SDAE_FD_STEP) <= 0.5 * SDAE_FD_STEP)) h = t_step(t);
   memset(ct, 0, e->n_c * sizeof *ct);
-  for (int k = 0; k < 4; k++) {
-    int rc = sdae__mbs_constraint(e, t + offset[k] * h, q, c);
+  for (int k = 0; k < SDAE_FD_POINTS; k++) {
+    int rc = sdae__mbs_constraint(e, t + sdae__fd_offset[k] * h, q, c);
     if (rc != SDAE_OK) return rc;
-    for (size_t i = 0; i < e->n_c; i++) ct[i] += weight[k] * c[i];
+    sdae__fd_add(ct, 1, c, e->n_c, k);
   }
-  for (size_t i = 0; i < e->n_c; i++) ct[i] /= 12.0 * h;
+  sdae__fd_finish(ct, 1, e->n_c, h);
   return SDAE_OK;
 }
 
@@ -225,21 +217,24 @@ typedef struct along_parts {
 static int along_point(sdae_mbs_eval *e, double t, const double *q, const double *v, double ht,
                        double hq, int k, const along_parts *p) {
   size_t n_q = e->n_q, n_c = e->n_c;
-  double w = weight[k], ts = t + offset[k] * ht;
+  double ts = t + sdae__fd_offset[k] * ht;
   int rc;
-  for (size_t j = 0; j < n_q; j++) e->along_q[j] = q[j] + offset[k] * hq * v[j];
+  for (size_t j = 0; j < n_q; j++) e->along_q[j] = q[j] + sdae__fd_offset[k] * hq * v[j];
   if (p->Gdot) {
     if ((rc = sdae__mbs_jacobian(e, ts, e->along_q, e->along_G)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n_c * n_q; i++) p->Gdot[i] += w * e->along_G[i];
+    sdae__fd_add(p->Gdot, 1, e->along_G, n_c * n_q, k);
   }
   if (p->Mdv) {
     if ((rc = sdae__mbs_mass(e, ts, e->along_q, e->along_M)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n_q; i++)
-      for (size_t j = 0; j < n_q; j++) p->Mdv[i] += w * e->along_M[i * n_q + j] * v[j];
+    /* each term M_ij v_j added in turn (stride 0: one sum per row) */
+    for (size_t i = 0; i < n_q; i++) {
+      for (size_t j = 0; j < n_q; j++) e->along_Mv[j] = e->along_M[i * n_q + j] * v[j];
+      sdae__fd_add(p->Mdv + i, 0, e->along_Mv, n_q, k);
+    }
   }
   if (p->ctdot) {
     if ((rc = sdae__mbs_constraint_t(e, ts, e->along_q, e->along_ct)) != SDAE_OK) return rc;
-    for (size_t i = 0; i < n_c; i++) p->ctdot[i] += w * e->along_ct[i];
+    sdae__fd_add(p->ctdot, 1, e->along_ct, n_c, k);
   }
   return SDAE_OK;
 }
@@ -248,9 +243,8 @@ static void zero(double *x, size_t n) {
   if (x) memset(x, 0, n * sizeof *x);
 }
 
-static void scale(double *x, size_t n, double a) {
-  if (x)
-    for (size_t i = 0; i < n; i++) x[i] *= a;
+static void finish(double *x, size_t n, double h) {
+  if (x) sdae__fd_finish(x, 1, n, h);
 }
 
 /* the fourth-order difference in s of the parts at (t + s ht / h, q + s hq v / h), step h: the
@@ -261,13 +255,13 @@ static int stencil(sdae_mbs_eval *e, double t, const double *q, const double *v,
   zero(p->Gdot, n_c * n_q);
   zero(p->Mdv, n_q);
   zero(p->ctdot, n_c);
-  for (int k = 0; k < 4; k++) {
+  for (int k = 0; k < SDAE_FD_POINTS; k++) {
     int rc = along_point(e, t, q, v, ht, hq, k, p);
     if (rc != SDAE_OK) return rc;
   }
-  scale(p->Gdot, n_c * n_q, 1.0 / (12.0 * h));
-  scale(p->Mdv, n_q, 1.0 / (12.0 * h));
-  scale(p->ctdot, n_c, 1.0 / (12.0 * h));
+  finish(p->Gdot, n_c * n_q, h);
+  finish(p->Mdv, n_q, h);
+  finish(p->ctdot, n_c, h);
   return SDAE_OK;
 }
 
@@ -276,15 +270,15 @@ static void add(double *x, const double *y, size_t n) {
     for (size_t i = 0; i < n; i++) x[i] += y[i];
 }
 
-/* One step s along (1, v) moves q by s v and t by s: s about FD_STEP relative to q and to v's
+/* One step s along (1, v) moves q by s v and t by s: s about SDAE_FD_STEP relative to q and to v's
  * time scale, exact in t + s. Where t is so large that its doubles are too sparse for such an
  * s (t + s rounds to more than half the step away from it), the derivative is taken in two
  * parts, d/ds at (t, q + s v) and d/ds at (t + s, q) with a step in t relative to |t|. */
 static int differenced(sdae_mbs_eval *e, double t, const double *q, const double *v,
                        const along_parts *p) {
   size_t n_q = e->n_q, n_c = e->n_c;
-  double nq = inf_norm(q, n_q), h0 = FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q));
-  double h = exact_step(t, h0), ht;
+  double nq = inf_norm(q, n_q), h0 = SDAE_FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n_q));
+  double h = sdae__fd_step(t, h0), ht;
   along_parts in_t = {p->Gdot ? e->t_Gdot : NULL, p->Mdv ? e->t_Mdv : NULL,
                       p->ctdot ? e->t_ctdot : NULL};
   int rc;

@@ -20,6 +20,7 @@ typedef struct sdae_mbs_eval {
   double *ct_c;          /* dc/dt by differences: c at a moved t */
   double *along_q;       /* the derivatives along (1, v): q moved along v, and there */
   double *along_G, *along_M, *along_ct; /* G, M and dc/dt */
+  double *along_Mv;                     /* a row of M times v, term by term */
   double *along_Gdot, *along_ctdot;     /* gamma's Gdot and d/ds dc/dt */
   double *t_Gdot, *t_Mdv, *t_ctdot;     /* the stencils' parts along t alone, at late times */
   double *input;                        /* n_q: the forces from outside the Lagrangian */

@@ -12,7 +12,6 @@ problem the CPU each setting needs for relative errors of 1e-6 and 1e-9 (log-log
 between the sweep points around it), the steps and evaluations there, and the ratio of IDA's
 best to stabdae's best (target: at least 2).
 """
-import argparse
 import os
 import subprocess
 import sys
@@ -24,7 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from workprecision import cpu_at, fmt, provenance, read_rows, series_where  # noqa: E402
+from workprecision import (arguments, cpu_at, fmt, provenance, read_rows,  # noqa: E402
+                           series_where)
 
 ERRORS = (1e-6, 1e-9)
 TARGET_RATIO = 2.0
@@ -145,15 +145,8 @@ def table(rows, problem):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(HERE, "..", "..", "build"))
-    ap.add_argument("--points", help="draw from this CSV instead of running the measurements")
-    ap.add_argument("--reps", type=int, default=3)
-    ap.add_argument("--problems", default="slider_crank,car_axis,andrews")
-    args = ap.parse_args(argv)
-    build = os.path.abspath(args.build)
-    report = os.path.join(build, "report")
-    os.makedirs(report, exist_ok=True)
+    args, build, report = arguments(__doc__.split("\n")[0], argv, [
+        ("--problems", {"default": "slider_crank,car_axis,andrews"})])
     command, points = None, args.points
     if not points:
         points = os.path.join(report, "benchmarks.csv")

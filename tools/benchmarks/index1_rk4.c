@@ -17,11 +17,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
 
+#include "core/difference.h"
 #include "core/lu.h"
-
-static const double offset[4] = {1.0, -1.0, 2.0, -2.0};
-static const double weight[4] = {8.0, -8.0, -1.0, 1.0}; /* over 12 s */
-#define FD_STEP 7.4e-4                                  /* DBL_EPSILON^(1/5) */
 
 /* The saddle-point system [M G^T; G 0] [a; lambda] = [F; -gamma] by its Schur complement, in
  * the library's own written-out Cholesky (src/core/lu.c), as lean as the front-end's solves
@@ -33,18 +30,18 @@ struct index1 {
   sdae_mbs sys;
   size_t n_q, n_c;
   double *S, *Y, *lambda; /* n_c x n_c (factored in place), n_c x n_q (rows M^-1 G_r^T), n_c */
-  double *M, *F, *G, *Gs, *gamma, *g, *ct;
-  double *qs;                      /* a stencil point, or a stage's q */
-  double *kq[4], *kv[4], *sq, *sv; /* RK4's stage rates and stage state */
-  double *block;                   /* every array above, one allocation */
+  double *M, *F, *G, *Gs, *gamma, *g, *gk, *ct; /* g: the stencil's sum, gk: its k-th value */
+  double *qs;                                   /* a stencil point, or a stage's q */
+  double *kq[4], *kv[4], *sq, *sv;              /* RK4's stage rates and stage state */
+  double *block;                                /* every array above, one allocation */
 };
 
 index1 *index1_alloc(const sdae_mbs *sys) {
   size_t n = sys->n_q, m = sys->n_c;
   if (!sys->mass || !sys->force || !sys->jacobian || m == 0 || m >= n) return NULL;
   index1 *w = calloc(1, sizeof *w);
-  /* S, Y, lambda, M, F, G, Gs, gamma, g, ct, qs, kq[4], kv[4], sq, sv */
-  size_t total = m * m + m * n + m + n * n + n + 2 * m * n + 3 * m + n + 8 * n + 2 * n;
+  /* S, Y, lambda, M, F, G, Gs, gamma, g, gk, ct, qs, kq[4], kv[4], sq, sv */
+  size_t total = m * m + m * n + m + n * n + n + 2 * m * n + 4 * m + n + 8 * n + 2 * n;
   if (!w || !(w->block = malloc(total * sizeof(double)))) {
     index1_free(w);
     return NULL;
@@ -60,6 +57,7 @@ index1 *index1_alloc(const sdae_mbs *sys) {
   w->Gs = p, p += m * n;
   w->gamma = p, p += m;
   w->g = p, p += m;
+  w->gk = p, p += m;
   w->ct = p, p += m;
   w->qs = p, p += n;
   for (int s = 0; s < 4; s++) w->kq[s] = p, p += n;
@@ -82,12 +80,6 @@ index1_source index1_gdot_source(const index1 *w) {
 index1_source index1_ct_dot_source(const index1 *w) {
   if (!w->sys.constraint_t) return INDEX1_ZERO;
   return w->sys.constraint_t_dot ? INDEX1_GIVEN : INDEX1_DIFFERENCES;
-}
-
-/* a step h near h0 that x + h represents exactly */
-static double exact_step(double x, double h0) {
-  double xh = x + h0;
-  return xh - x;
 }
 
 /* the larger of m and |x|, written out: fmax is a call (its NaN rules), on every stage's path */
@@ -126,25 +118,25 @@ static int gamma_at(index1 *w, double t, const double *q, const double *v) {
   if (!fd_G && !fd_ct) return 0;
   /* the front-end's step along (1, v): eps^(1/5) when |v| is small against 1 + |q|, shorter as
    * the motion is faster */
-  double nq = inf_norm(q, n), h = exact_step(t, FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n)));
+  double nq = inf_norm(q, n);
+  double h = sdae__fd_step(t, SDAE_FD_STEP * (1.0 + nq) / (1.0 + nq + inf_norm(v, n)));
   memset(w->g, 0, m * sizeof *w->g);
-  for (int k = 0; k < 4; k++) {
-    double ts = t + offset[k] * h, wk = weight[k];
-    for (size_t j = 0; j < n; j++) w->qs[j] = q[j] + offset[k] * h * v[j];
+  for (int k = 0; k < SDAE_FD_POINTS; k++) {
+    double ts = t + sdae__fd_offset[k] * h;
+    for (size_t j = 0; j < n; j++) w->qs[j] = q[j] + sdae__fd_offset[k] * h * v[j];
+    memset(w->gk, 0, m * sizeof *w->gk);
     if (fd_G) {
       if ((rc = s->jacobian(ts, w->qs, w->Gs, s->params)) != 0) return rc;
-      for (size_t i = 0; i < m; i++) {
-        double gi = 0.0;
-        for (size_t j = 0; j < n; j++) gi += w->Gs[i * n + j] * v[j];
-        w->g[i] += wk * gi;
-      }
+      add_product(w->Gs, v, m, n, w->gk);
     }
     if (fd_ct) {
       if ((rc = s->constraint_t(ts, w->qs, w->ct, s->params)) != 0) return rc;
-      for (size_t i = 0; i < m; i++) w->g[i] += wk * w->ct[i];
+      for (size_t i = 0; i < m; i++) w->gk[i] += w->ct[i];
     }
+    sdae__fd_add(w->g, 1, w->gk, m, k);
   }
-  for (size_t i = 0; i < m; i++) w->gamma[i] += w->g[i] / (12.0 * h);
+  sdae__fd_finish(w->g, 1, m, h);
+  for (size_t i = 0; i < m; i++) w->gamma[i] += w->g[i];
   return 0;
 }
 

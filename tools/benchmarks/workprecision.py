@@ -160,16 +160,27 @@ def target_section(rows):
     return lines
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+def arguments(description, argv, extra=()):
+    """The options every report of this folder takes (--build, --points, --reps) and its own
+    (extra: (flag, keyword arguments) pairs): the options, the build and its report folder,
+    made."""
+    ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--build", default=os.path.join(HERE, "..", "..", "build"))
     ap.add_argument("--points", help="draw from this CSV instead of running the measurements")
     ap.add_argument("--reps", type=int, default=3)
+    for flag, kwargs in extra:
+        ap.add_argument(flag, **kwargs)
     args = ap.parse_args(argv)
     build = os.path.abspath(args.build)
-    work, report = os.path.join(build, "workprecision"), os.path.join(build, "report")
-    os.makedirs(work, exist_ok=True)
+    report = os.path.join(build, "report")
     os.makedirs(report, exist_ok=True)
+    return args, build, report
+
+
+def main(argv=None):
+    args, build, report = arguments(__doc__.split("\n")[0], argv)
+    work = os.path.join(build, "workprecision")
+    os.makedirs(work, exist_ok=True)
     ref = os.path.join(work, "reference.csv")
     if not os.path.exists(ref):
         subprocess.run([sys.executable, os.path.join(HERE, "reference.py"), ref], check=True)

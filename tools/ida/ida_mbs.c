@@ -17,6 +17,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 
+#include "core/difference.h"
+
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -41,16 +43,8 @@ typedef struct mech {
   double *MiGT, *MiF, *A;      /* the dense start: M^-1 G^T, M^-1 F, G M^-1 G^T */
 } mech;
 
-/* The fourth-order central stencils over 12 h (first derivative) and 12 h^2 (second):
- * f' ~ [8 (f(h) - f(-h)) - (f(2h) - f(-2h))] / (12 h),
- * f'' ~ [16 (f(h) + f(-h)) - (f(2h) + f(-2h)) - 30 f(0)] / (12 h^2). */
-static const double offset[5] = {1.0, -1.0, 2.0, -2.0, 0.0};
-static const double weight1[5] = {8.0, -8.0, -1.0, 1.0, 0.0};
-static const double weight2[5] = {16.0, 16.0, -1.0, -1.0, -30.0};
-/* Steps about eps^(1/5) (first derivative) and eps^(1/6) (second) times the variable's scale:
- * truncation h^4 and rounding eps/h (eps/h^2) balance there. */
-#define FD_STEP1 7.4e-4
-#define FD_STEP2 2.5e-3
+/* The derivatives by differences are the library's one fourth-order central stencil
+ * (src/core/difference.h), first and second derivative; the rest of this reference is its own. */
 
 /* The arrays of the residual, and with dense_start those of the dense consistent start (the KLU
  * path has its own: no array of n_q^2 then). */
@@ -146,22 +140,20 @@ static int constraint(mech *m, double t, const double *q, double *c) {
   return checked(m->sys->constraint(t, q, c, m->sys->params), c, m->n_c);
 }
 
-/* a step near h0 that x + h represents exactly */
-static double exact_step(double x, double h0) { return (x + h0) - x; }
-
 /* G column by column: d/dh c(t, q + h e_j) */
 static int jacobian_fd(mech *m, double t, const double *q, double *G) {
   size_t nq = m->n_q, nc = m->n_c;
   memcpy(m->qj, q, nq * sizeof *q);
   for (size_t j = 0; j < nq; j++) {
-    double h = exact_step(q[j], FD_STEP1 * fmax(1.0, fabs(q[j])));
+    double h = sdae__fd_step(q[j], SDAE_FD_STEP * fmax(1.0, fabs(q[j])));
     for (size_t i = 0; i < nc; i++) G[i * nq + j] = 0.0;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < SDAE_FD_POINTS; k++) {
       int rc;
-      m->qj[j] = q[j] + offset[k] * h;
+      m->qj[j] = q[j] + sdae__fd_offset[k] * h;
       if ((rc = constraint(m, t, m->qj, m->cj)) != 0) return rc;
-      for (size_t i = 0; i < nc; i++) G[i * nq + j] += weight1[k] * m->cj[i] / (12.0 * h);
+      sdae__fd_add(G + j, nq, m->cj, nc, k);
     }
+    sdae__fd_finish(G + j, nq, nc, h);
     m->qj[j] = q[j];
   }
   return 0;
@@ -174,15 +166,16 @@ static int jacobian(mech *m, double t, const double *q, double *G) {
 
 /* dc/dt: the callback, or d/dh c(t + h, q) (exactly 0 when c does not depend on t) */
 static int constraint_t(mech *m, double t, const double *q, double *ct) {
-  double h = exact_step(t, FD_STEP1 * fmax(1.0, fabs(t)));
+  double h = sdae__fd_step(t, SDAE_FD_STEP * fmax(1.0, fabs(t)));
   if (m->sys->constraint_t)
     return checked(m->sys->constraint_t(t, q, ct, m->sys->params), ct, m->n_c);
   memset(ct, 0, m->n_c * sizeof *ct);
-  for (int k = 0; k < 4; k++) {
-    int rc = constraint(m, t + offset[k] * h, q, m->cj);
+  for (int k = 0; k < SDAE_FD_POINTS; k++) {
+    int rc = constraint(m, t + sdae__fd_offset[k] * h, q, m->cj);
     if (rc != 0) return rc;
-    for (size_t i = 0; i < m->n_c; i++) ct[i] += weight1[k] * m->cj[i] / (12.0 * h);
+    sdae__fd_add(ct, 1, m->cj, m->n_c, k);
   }
+  sdae__fd_finish(ct, 1, m->n_c, h);
   return 0;
 }
 
@@ -205,17 +198,22 @@ static int c_along(mech *m, double t, const double *q, const double *v, double *
  * (qa, fa are this function's). */
 static int derivative_along(mech *m, along_fn f, int order, double t, const double *q,
                             const double *v, double *out) {
-  double nq = inf_norm(q, m->n_q), h0 = order == 1 ? FD_STEP1 : FD_STEP2;
-  double h = exact_step(t, h0 * (1.0 + nq) / (1.0 + nq + inf_norm(v, m->n_q)));
-  const double *w = order == 1 ? weight1 : weight2;
-  double scale = order == 1 ? 12.0 * h : 12.0 * h * h;
+  double nq = inf_norm(q, m->n_q), h0 = order == 1 ? SDAE_FD_STEP : SDAE_FD2_STEP;
+  double h = sdae__fd_step(t, h0 * (1.0 + nq) / (1.0 + nq + inf_norm(v, m->n_q)));
   memset(out, 0, m->n_c * sizeof *out);
-  for (int k = 0; k < (order == 1 ? 4 : 5); k++) {
+  for (int k = 0; k < (order == 1 ? SDAE_FD_POINTS : SDAE_FD2_POINTS); k++) {
     int rc;
-    for (size_t j = 0; j < m->n_q; j++) m->qa[j] = q[j] + offset[k] * h * v[j];
-    if ((rc = f(m, t + offset[k] * h, m->qa, v, m->fa)) != 0) return rc;
-    for (size_t i = 0; i < m->n_c; i++) out[i] += w[k] * m->fa[i] / scale;
+    for (size_t j = 0; j < m->n_q; j++) m->qa[j] = q[j] + sdae__fd_offset[k] * h * v[j];
+    if ((rc = f(m, t + sdae__fd_offset[k] * h, m->qa, v, m->fa)) != 0) return rc;
+    if (order == 1)
+      sdae__fd_add(out, 1, m->fa, m->n_c, k);
+    else
+      sdae__fd2_add(out, 1, m->fa, m->n_c, k);
   }
+  if (order == 1)
+    sdae__fd_finish(out, 1, m->n_c, h);
+  else
+    sdae__fd2_finish(out, 1, m->n_c, h);
   return 0;
 }
 
