@@ -16,8 +16,8 @@ import time
 from dataclasses import asdict
 
 from . import report
-from .operators import DESCRIPTIONS, OPERATORS, generate, integer_and_pointer_names, \
-    typedef_names
+from .operators import DEFAULT_OPERATORS, DESCRIPTIONS, OPERATORS, generate, \
+    integer_and_pointer_names, typedef_names
 from .runner import Workspace, kill_all
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -37,7 +37,11 @@ def parse_args(argv):
     p.add_argument("--only", nargs="+", metavar="ID", help="these mutants")
     p.add_argument("--files", nargs="+", metavar="FILE", help="mutants of these files (paths "
                    "relative to the repository, e.g. src/x.c)")
-    p.add_argument("--ops", nargs="+", choices=OPERATORS, help="these operator classes")
+    p.add_argument("--ops", nargs="+", choices=OPERATORS, help="these operator classes (default: "
+                   "all but carve, which needs --sanitize)")
+    p.add_argument("--sanitize", action="store_true", help="build the mutants with "
+                   "AddressSanitizer (in build/mutate/build-asan): a carve one element short "
+                   "writes into the arena's poisoned gap, which only it sees")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 2, help="tests run at once")
     p.add_argument("--timeout", type=float, default=10.0, help="least per-test timeout (s); "
                    "a test may take 10 times its unmutated time")
@@ -170,7 +174,9 @@ def main(argv=None):
     for f in files:
         if not os.path.isfile(os.path.join(ROOT, f)):
             raise SystemExit(f"mutate: no such file: {f}")
-    mutants = all_mutants(files, args.ops or OPERATORS)
+    if args.ops and "carve" in args.ops and not args.sanitize:
+        raise SystemExit("mutate: carve mutants are judged under AddressSanitizer: add --sanitize")
+    mutants = all_mutants(files, args.ops or DEFAULT_OPERATORS)
     equivalents = load_equivalents()
     chosen = select(args, mutants, equivalents)
     if args.rescore:
@@ -194,7 +200,7 @@ def main(argv=None):
 
 
 def run(args, mutants, chosen, equivalents, work):
-    ws = Workspace(ROOT, work, jobs=args.jobs, timeout_floor=args.timeout)
+    ws = Workspace(ROOT, work, jobs=args.jobs, timeout_floor=args.timeout, sanitize=args.sanitize)
     started = datetime.datetime.now(datetime.timezone.utc)
     # the sources' version now, as the copy is made (HEAD may move during a long run)
     source = dict(commit=_git("rev-parse", "--short", "HEAD"),

@@ -4,6 +4,7 @@
 file:operator:sha1(stripped original line)[:8]:occurrence, so it survives edits elsewhere in
 the file and the list of equivalent mutants stays valid while the code moves."""
 import hashlib
+import math
 import re
 from dataclasses import dataclass
 
@@ -11,10 +12,14 @@ from .clex import match_brackets, tokenize
 
 # the classes of which a line gives one mutant, its first candidate: they are dense (a line of
 # numerics has many), and one per line keeps a full run near 200 mutants
-ONE_PER_LINE = {"not", "rel", "arith", "const"}
+ONE_PER_LINE = {"not", "rel", "arith", "const", "digits"}
 
 # in the order in which a change proposed by two classes is attributed (the first wins)
-OPERATORS = ("time", "status", "guard", "loop", "not", "rel", "arith", "const")
+OPERATORS = ("time", "status", "guard", "loop", "not", "rel", "arith", "const", "digits",
+             "carve", "tol")
+# a campaign's classes unless --ops names others: carve's mutants are judged under
+# AddressSanitizer alone (--sanitize), where the arena's redzones make an overrun fail
+DEFAULT_OPERATORS = tuple(op for op in OPERATORS if op != "carve")
 
 DESCRIPTIONS = {
     "time": "time arguments: a bare t/tm/t0 argument -> t + 1.0, t +/- x flipped, "
@@ -28,6 +33,12 @@ DESCRIPTIONS = {
     "arith": "arithmetic swaps: + -, * /, += -=, *= /=",
     "const": "constants: 0 -> 1, 1 -> 0, n -> n + 1, x.0 -> x - 1, other reals "
              "* (1 - 1e-4), tiny reals * 10",
+    "digits": "a coefficient of 10 or more significant digits moved two units in its last "
+              "place (the next double up, twice)",
+    "carve": "a carve one element short: sdae__take*(a, n, ...) -> n - 1, and a map's "
+             "scratch size one double short",
+    "tol": "a tolerance made zero: #define *TOL*/*SMALL*/*ROUNDING* x -> 0.0, and tol = x "
+           "or *_tol = x -> 0.0",
 }
 
 TIME_NAMES = {"t", "tm", "t0"}
@@ -420,8 +431,101 @@ def op_const(ctx):
     return out
 
 
+def _significant_digits(text):
+    mantissa = re.split(r"[eE]", text.rstrip("uUlLfF"))[0]
+    return len(mantissa.replace(".", "").lstrip("0"))
+
+
+def op_digits(ctx):
+    """A long real literal (a tableau's or composition's coefficient) two ulps up: the value a
+    coefficient typed with its last digits wrong rounds to."""
+    out = []
+    for i, tk in enumerate(ctx.tok):
+        if tk.kind != "number" or not any(c in tk.text for c in ".eE") \
+                or tk.text.lower().startswith("0x") or _significant_digits(tk.text) < 10:
+            continue
+        body = tk.text.rstrip("uUlLfF")
+        v = float(body)
+        new = math.nextafter(math.nextafter(v, math.inf), math.inf)
+        out.append(_change(ctx, i, i, repr(new) + tk.text[len(body):]))
+    return out
+
+
+TAKES = {"sdae__take", "sdae__take_array", "sdae__take_indices", "sdae__take_pivots"}
+
+
+def _arguments(ctx, open_):
+    """The token ranges (first, last) of a call's top-level arguments."""
+    close, args, first = ctx.partner[open_], [], open_ + 1
+    for k in range(open_ + 1, close + 1):
+        if k == close or (ctx.t(k) == "," and ctx.enclosing[k] == open_):
+            if k - 1 >= first:
+                args.append((first, k - 1))
+            first = k + 1
+    return args
+
+
+def op_carve(ctx):
+    """The count of a carved array one short (its second argument, after the arena), and the
+    size a map's scratch function returns one double short: an overrun of the last element
+    then lands in the next array, which only a redzone or a canary shows. Calls alone, within
+    a function (the carving functions' own definitions are at file scope)."""
+    out = []
+    for i, tk in enumerate(ctx.tok):
+        if tk.kind == "ident" and tk.text in TAKES and ctx.t(i + 1) == "(" \
+                and ctx.partner[i + 1] is not None and ctx.enclosing[i] is not None:
+            args = _arguments(ctx, i + 1)
+            if len(args) >= 2:
+                a, b = args[1]
+                out.append(_change(ctx, a, b, f"({ctx.span(a, b)}) - 1"))
+        if tk.text == "return" and _in_function_named(ctx, i, "_scratch"):
+            end = i + 1
+            while end < len(ctx.tok) and ctx.t(end) != ";":
+                end += 1
+            if end - 1 >= i + 1:
+                out.append(_change(ctx, i + 1, end - 1, f"({ctx.span(i + 1, end - 1)}) - 1"))
+    return out
+
+
+def _in_function_named(ctx, i, suffix):
+    """Whether token i lies in the body of a function whose name ends with suffix."""
+    j = ctx.enclosing[i]
+    while j is not None and ctx.enclosing[j] is not None:
+        j = ctx.enclosing[j]
+    if j is None or ctx.t(j) != "{":
+        return False
+    k = j - 1  # the parameter list's ')' before the body, then the name before its '('
+    if ctx.t(k) != ")" or ctx.partner[k] is None:
+        return False
+    name = ctx.t(ctx.partner[k] - 1)
+    return name.endswith(suffix)
+
+
+TOL_MACRO = re.compile(r"^[ \t]*#[ \t]*define[ \t]+(\w*(?:TOL|SMALL|ROUNDING)\w*)[ \t]+"
+                       r"(\(?[-+]?[0-9][0-9.eE+-]*\)?[ \t]*(?:\*[^\n/]*)?)", re.M)
+
+
+def op_tol(ctx):
+    """A tolerance made zero: a macro named for one (TOL, SMALL, ROUNDING) with a numeric
+    value, or a variable tol or *_tol given a value."""
+    out = []
+    for m in TOL_MACRO.finditer(ctx.text):
+        line = ctx.text.count("\n", 0, m.start(2)) + 1
+        out.append((m.start(2), m.end(2), "0.0", line))
+    for i, tk in enumerate(ctx.tok):
+        if tk.kind == "ident" and (tk.text == "tol" or tk.text.endswith("_tol")) \
+                and ctx.t(i + 1) == "=" and ctx.t(i - 1) not in (".", "->"):
+            end = i + 2
+            while end < len(ctx.tok) and ctx.t(end) not in (";", ","):
+                end = ctx.partner[end] + 1 if ctx.t(end) in "([" and ctx.partner[end] else end + 1
+            if end - 1 >= i + 2:
+                out.append(_change(ctx, i + 2, end - 1, "0.0"))
+    return out
+
+
 GENERATORS = {"time": op_time, "status": op_status, "guard": op_guard, "loop": op_loop,
-              "not": op_not, "rel": op_rel, "arith": op_arith, "const": op_const}
+              "not": op_not, "rel": op_rel, "arith": op_arith, "const": op_const,
+              "digits": op_digits, "carve": op_carve, "tol": op_tol}
 
 
 def _line_bounds(text, start, end):

@@ -17,6 +17,13 @@ CMAKE_OPTIONS = ["-DSTABDAE_BUILD_TOOLS=OFF", "-DCMAKE_BUILD_TYPE=RelWithDebInfo
                  "-DSTABDAE_WERROR=OFF"]
 
 
+def python_option(root):
+    """The harness's venv (build/venv, made by tools/check) as the build's Python, so that the
+    unit tests written in Python (the tableaus' order conditions) run in the campaign too."""
+    python = os.path.join(root, "build", "venv", "bin", "python")
+    return [f"-DPython3_EXECUTABLE={python}"] if os.path.exists(python) else []
+
+
 def source_files(root):
     """The working tree's files (tracked and untracked, not ignored), relative to root."""
     try:
@@ -225,6 +232,7 @@ class Workspace:
     work: str
     jobs: int = 2
     labels: tuple = ("unit", "examples")
+    sanitize: bool = False  # built with AddressSanitizer (the carve operator's mutants)
     timeout_floor: float = 10.0
     timeout_factor: float = 10.0
     tests: list = field(default_factory=list)
@@ -237,7 +245,7 @@ class Workspace:
 
     @property
     def build(self):
-        return os.path.join(self.work, "build")
+        return os.path.join(self.work, "build-asan" if self.sanitize else "build")
 
     def prepare(self, say):
         """Copies the sources, configures if needed, builds and runs the baseline."""
@@ -246,10 +254,12 @@ class Workspace:
         if self._configured_elsewhere():
             shutil.rmtree(self.build)  # a build dir of another checkout: start afresh
         if not os.path.exists(os.path.join(self.build, "CMakeCache.txt")):
-            say("configuring build/mutate/build")
+            say(f"configuring {os.path.relpath(self.build, self.root)}")
             gen = ["-G", "Ninja"] if shutil.which("ninja") else []
             rc, out = run_quiet(["cmake", "-S", self.tree, "-B", self.build] + gen +
-                                CMAKE_OPTIONS, log=os.path.join(self.work, "configure.log"))
+                                CMAKE_OPTIONS + python_option(self.root) +
+                                (["-DSTABDAE_SANITIZE=ON"] if self.sanitize else []),
+                                log=os.path.join(self.work, "configure.log"))
             if rc != 0:
                 raise SystemExit(f"mutate: cmake configure failed, see {self.work}/configure.log")
         t0 = time.monotonic()
