@@ -188,6 +188,11 @@ def write(out, files):
         raise ModelError(f"--out {out}: {err.strerror or err}") from None
 
 
+def run():
+    """The command stabdae-gen (pyproject.toml's entry point): main on the command line."""
+    sys.exit(main(sys.argv[1:]))
+
+
 def main(argv):
     try:
         args = _parse(argv)
