@@ -12,6 +12,7 @@ problem the CPU each setting needs for relative errors of 1e-6 and 1e-9 (log-log
 between the sweep points around it), the steps and evaluations there, and the ratio of IDA's
 best to stabdae's best (target: at least 2).
 """
+
 import os
 import subprocess
 import sys
@@ -23,8 +24,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from workprecision import (arguments, cpu_at, fmt, provenance, read_rows,  # noqa: E402
-                           series_where)
+from workprecision import (  # noqa: E402
+    arguments,
+    cpu_at,
+    fmt,
+    provenance,
+    read_rows,
+    series_where,
+)
 
 ERRORS = (1e-6, 1e-9)
 TARGET_RATIO = 2.0
@@ -36,14 +43,24 @@ TITLES = {
 INT_KEYS = ("steps", "reps", "evals", "rhs", "newton")
 REFERENCES = {
     "slider_crank": "GSL's rk8pd at 1e-14 on the index-1 ODE (computed by the program; IDA at "
-                    "rtol 1e-12 is 1e-9 off it)",
+    "rtol 1e-12 is 1e-9 off it)",
     "car_axis": "the Test Set's solution at t = 3 (RADAU5 at tight tolerances)",
     "andrews": "the Test Set's solution at t = 0.03 (PSIDE at 1e-14, good to about 1e-10 "
-               "relative in the positions: the floor every solver meets near 1.5e-10)",
+    "relative in the positions: the floor every solver meets near 1.5e-10)",
 }
 # one colour per setting in every panel
-COLOURS = {"index1": "C1", "ggl": "C0", "midpoint": "C5", "midpoint4": "C6",
-           "midpoint6": "C7", "dgrad": "C4", "dg4": "C2", "dg6": "C3", "rk4": "C8", "rk8": "C9"}
+COLOURS = {
+    "index1": "C1",
+    "ggl": "C0",
+    "midpoint": "C5",
+    "midpoint4": "C6",
+    "midpoint6": "C7",
+    "dgrad": "C4",
+    "dg4": "C2",
+    "dg6": "C3",
+    "rk4": "C8",
+    "rk8": "C9",
+}
 FLOAT_KEYS = ("param", "cpu_s", "err_q", "err_v")
 
 
@@ -84,10 +101,14 @@ def plot(rows, problems, path):
         for (solver, setting), pts in sorted(series(rows, problem).items()):
             ok = [p for p in pts if p["status"] == "ok" and p["error"] > 0]
             if ok:
-                ax.loglog([p["cpu_s"] for p in ok], [p["error"] for p in ok],
-                          "-o" if solver == "stabdae" else "--s", ms=4,
-                          color=COLOURS.get(setting),
-                          label="%s %s" % ("IDA" if solver == "ida" else "stabdae", setting))
+                ax.loglog(
+                    [p["cpu_s"] for p in ok],
+                    [p["error"] for p in ok],
+                    "-o" if solver == "stabdae" else "--s",
+                    ms=4,
+                    color=COLOURS.get(setting),
+                    label="%s %s" % ("IDA" if solver == "ida" else "stabdae", setting),
+                )
         for e in ERRORS:
             ax.axhline(e, color="grey", lw=0.8, ls=":")
         ax.set_xlabel("CPU time [s] (median of repetitions)")
@@ -104,74 +125,130 @@ def per_step(p):
     map, IDA's residual) and the callbacks each of those costs"""
     steps, rhs = max(p["steps"], 1), max(p["rhs"], 1)
     return "%d steps, %.3g us/step, %.3g map or residual evaluations/step, %.3g callbacks each" % (
-        p["steps"], 1e6 * p["cpu_s"] / steps, p["rhs"] / steps, p["evals"] / rhs)
+        p["steps"],
+        1e6 * p["cpu_s"] / steps,
+        p["rhs"] / steps,
+        p["evals"] / rhs,
+    )
 
 
 def target_lines(rows, problem):
-    lines = ["| solver | setting | CPU s for 1e-6 | steps, evaluations there | CPU s for 1e-9 "
-             "| steps, evaluations there |", "|---|---|---:|---|---:|---|"]
+    lines = [
+        "| solver | setting | CPU s for 1e-6 | steps, evaluations there | CPU s for 1e-9 "
+        "| steps, evaluations there |",
+        "|---|---|---:|---|---:|---|",
+    ]
     for (solver, setting), pts in sorted(series(rows, problem).items()):
         cells = []
         for e in ERRORS:
             p = nearest_reaching(pts, e)
-            cells += [fmt(cpu_at(pts, e), "%.4g"),
-                      "-" if p is None else "%d, %d (param %.3g)" % (p["steps"], p["evals"],
-                                                                    p["param"])]
+            cells += [
+                fmt(cpu_at(pts, e), "%.4g"),
+                "-" if p is None else "%d, %d (param %.3g)" % (p["steps"], p["evals"], p["param"]),
+            ]
         lines.append("| %s | %s | %s |" % (solver, setting, " | ".join(cells)))
     lines.append("")
     for e in ERRORS:
         s, i = best(rows, problem, "stabdae", e), best(rows, problem, "ida", e)
         if s is None or i is None:
-            lines.append("- error %g: %s never reached it: no ratio." % (
-                e, "stabdae" if s is None else "IDA"))
+            lines.append(
+                "- error %g: %s never reached it: no ratio."
+                % (e, "stabdae" if s is None else "IDA")
+            )
             continue
         ratio = i[1] / s[1]
-        lines.append("- error %g: stabdae's best %s %.4g s (%s); IDA's best %s %.4g s (%s); "
-                     "IDA / stabdae = %.2f (target >= %g: %s)." % (
-                         e, s[0], s[1], per_step(s[2]), i[0], i[1], per_step(i[2]), ratio,
-                         TARGET_RATIO, "met" if ratio >= TARGET_RATIO else "missed"))
+        lines.append(
+            "- error %g: stabdae's best %s %.4g s (%s); IDA's best %s %.4g s (%s); "
+            "IDA / stabdae = %.2f (target >= %g: %s)."
+            % (
+                e,
+                s[0],
+                s[1],
+                per_step(s[2]),
+                i[0],
+                i[1],
+                per_step(i[2]),
+                ratio,
+                TARGET_RATIO,
+                "met" if ratio >= TARGET_RATIO else "missed",
+            )
+        )
     return lines
 
 
 def table(rows, problem):
-    lines = ["| solver | setting | T or rtol | steps | evaluations | Newton | reps | CPU s "
-             "| error q | error v | status |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    lines = [
+        "| solver | setting | T or rtol | steps | evaluations | Newton | reps | CPU s "
+        "| error q | error v | status |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+    ]
     for (solver, setting), pts in sorted(series(rows, problem).items()):
         for p in pts:
-            lines.append("| %s | %s | %.3g | %d | %d | %d | %d | %.4g | %s | %s | %s |" % (
-                solver, setting, p["param"], p["steps"], p["evals"], p["newton"], p["reps"],
-                p["cpu_s"], fmt(p["err_q"]), fmt(p["err_v"]), p["status"]))
+            lines.append(
+                "| %s | %s | %.3g | %d | %d | %d | %d | %.4g | %s | %s | %s |"
+                % (
+                    solver,
+                    setting,
+                    p["param"],
+                    p["steps"],
+                    p["evals"],
+                    p["newton"],
+                    p["reps"],
+                    p["cpu_s"],
+                    fmt(p["err_q"]),
+                    fmt(p["err_v"]),
+                    p["status"],
+                )
+            )
     return lines
 
 
 def main(argv=None):
-    args, build, report = arguments(__doc__.split("\n")[0], argv, [
-        ("--problems", {"default": "slider_crank,car_axis,andrews"})])
+    args, build, report = arguments(
+        __doc__.split("\n")[0], argv, [("--problems", {"default": "slider_crank,car_axis,andrews"})]
+    )
     command, points = None, args.points
     if not points:
         points = os.path.join(report, "benchmarks.csv")
-        command = [os.path.join(build, "tools", "benchmarks"), "--problems", args.problems,
-                   "--reps", str(args.reps), "--out", points]
+        command = [
+            os.path.join(build, "tools", "benchmarks"),
+            "--problems",
+            args.problems,
+            "--reps",
+            str(args.reps),
+            "--out",
+            points,
+        ]
         subprocess.run(command, check=True)
     rows = read_points(points)
     problems = [p for p in args.problems.split(",") if any(r["problem"] == p for r in rows)]
     plot(rows, problems, os.path.join(report, "benchmarks.png"))
 
-    md = ["# The standard index-3 benchmarks: stabdae against SUNDIALS IDA", "",
-          *provenance(command, points),
-          "- error: max_i |q_i - q_ref,i| / max_i |q_ref,i| at the end time (positions; the "
-          "velocities' beside it in the tables), against the problem's reference (below)",
-          "- stabdae: the mechanical front-end (<stabdae/mbs.h>), scheme 15, delta 2, "
-          "epsilon 1, fixed T; IDA: tools/ida's driver from the same callbacks, dense direct "
-          "solver with IDA's difference-quotient Jacobian, atol = rtol max_i |q0_i|, index1 "
-          "(acceleration-level constraint) and ggl (Gear-Gupta-Leimkuhler) forms",
-          "- evaluations: calls of the mechanism's callbacks (mass, force, constraint, "
-          "jacobian, constraint_t, potential, damping) counted alike for both solvers",
-          "- CPU: CLOCK_PROCESS_CPUTIME_ID for the whole run (set-up included), median of the "
-          "repetitions", "", "![benchmarks](benchmarks.png)", ""]
+    md = [
+        "# The standard index-3 benchmarks: stabdae against SUNDIALS IDA",
+        "",
+        *provenance(command, points),
+        "- error: max_i |q_i - q_ref,i| / max_i |q_ref,i| at the end time (positions; the "
+        "velocities' beside it in the tables), against the problem's reference (below)",
+        "- stabdae: the mechanical front-end (<stabdae/mbs.h>), scheme 15, delta 2, "
+        "epsilon 1, fixed T; IDA: tools/ida's driver from the same callbacks, dense direct "
+        "solver with IDA's difference-quotient Jacobian, atol = rtol max_i |q0_i|, index1 "
+        "(acceleration-level constraint) and ggl (Gear-Gupta-Leimkuhler) forms",
+        "- evaluations: calls of the mechanism's callbacks (mass, force, constraint, "
+        "jacobian, constraint_t, potential, damping) counted alike for both solvers",
+        "- CPU: CLOCK_PROCESS_CPUTIME_ID for the whole run (set-up included), median of the "
+        "repetitions",
+        "",
+        "![benchmarks](benchmarks.png)",
+        "",
+    ]
     for problem in problems:
-        md += ["## %s" % TITLES.get(problem, problem), "",
-               "Reference: %s." % REFERENCES.get(problem, "?"), ""] + target_lines(rows, problem)
+        md += [
+            "## %s" % TITLES.get(problem, problem),
+            "",
+            "Reference: %s." % REFERENCES.get(problem, "?"),
+            "",
+        ] + target_lines(rows, problem)
         md += ["", "<details><summary>every point</summary>", ""] + table(rows, problem)
         md += ["", "</details>", ""]
     with open(os.path.join(report, "benchmarks.md"), "w") as f:

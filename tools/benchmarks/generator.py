@@ -6,6 +6,7 @@ and per set of callbacks); writes build/report/generator.md.
 
   python tools/benchmarks/generator.py [--build DIR] [--reps N]
 """
+
 import argparse
 import glob
 import os
@@ -27,8 +28,12 @@ def generation_seconds(model, reps):
     with tempfile.TemporaryDirectory() as out:
         for _ in range(reps):
             start = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "stabdae_gen", model, "--out", out],
-                           env=env, check=True, capture_output=True)
+            subprocess.run(
+                [sys.executable, "-m", "stabdae_gen", model, "--out", out],
+                env=env,
+                check=True,
+                capture_output=True,
+            )
             times.append(time.perf_counter() - start)
     return statistics.median(times)
 
@@ -39,17 +44,23 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     args = ap.parse_args()
     bench_cmd = [os.path.join(args.build, "tools", "bench_generated")]
-    lines = ["# The generator's cost", "", *provenance(bench_cmd, None), "",
-             "## Generation (wall time of the command, median of %d)" % args.reps, "",
-             "| model | seconds |", "|---|---|"]
+    lines = [
+        "# The generator's cost",
+        "",
+        *provenance(bench_cmd, None),
+        "",
+        "## Generation (wall time of the command, median of %d)" % args.reps,
+        "",
+        "| model | seconds |",
+        "|---|---|",
+    ]
     for model in sorted(glob.glob(os.path.join(ROOT, "examples", "models", "sym", "*.py"))):
         seconds = generation_seconds(model, args.reps)
         lines.append(f"| {os.path.basename(model)} | {seconds:.2f} |")
         print(lines[-1], flush=True)
     bench = subprocess.run(bench_cmd, check=True, capture_output=True, text=True).stdout
     print(bench)
-    lines += ["", "## Generated against hand-written callbacks (CPU time, median of 7)", "",
-              bench]
+    lines += ["", "## Generated against hand-written callbacks (CPU time, median of 7)", "", bench]
     os.makedirs(os.path.join(args.build, "report"), exist_ok=True)
     with open(os.path.join(args.build, "report", "generator.md"), "w") as f:
         f.write("\n".join(lines))

@@ -12,6 +12,7 @@ Start x0 = (X, Y, Xdot, Ydot) = (0.7, 0, 0.6, 0), k = 2, m = 1; writes d,tf,X,Xd
   d = 0.03, tf = 100: manifold_reference (no closed form with damping).
 The file is written once; the caller keeps it as a cache.
 """
+
 import os
 import sys
 
@@ -32,10 +33,13 @@ def cn_solution(tf):
     mp.dps = 40
     X, Xd = mp.mpf(X0[0]), mp.mpf(X0[2])
     k, m = mp.mpf(K), mp.mpf(M)
-    A = (4 * (m * Xd ** 2 / 2 + k * X ** 4 / 4) / k) ** mp.mpf(0.25)
+    A = (4 * (m * Xd**2 / 2 + k * X**4 / 4) / k) ** mp.mpf(0.25)
     w = A * mp.sqrt(k / m)
     t0 = mp.ellipf(mp.acos(X / A), mp.mpf(1) / 2) / w
-    at = lambda t: exact.oscillator_exact(A, [mp.mpf(t) - t0], k=K, m=M, dps=40)[0]
+
+    def at(t):
+        return exact.oscillator_exact(A, [mp.mpf(t) - t0], k=K, m=M, dps=40)[0]
+
     start = at(0)
     if abs(start[0] - X) > 1e-30 or abs(start[1] - Xd) > 1e-30:
         raise RuntimeError("the phase does not reproduce X0: %s" % (start,))

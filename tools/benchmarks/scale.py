@@ -26,6 +26,7 @@ column) to stdout or --table, and with --plot a PNG of every timing column (head
 "us/step", or "IDA") against N, log-log, with the slopes N^1 and N^3 drawn faintly. Exit status
 0, 1 when rope_scale or a MuJoCo run fails, 2 for bad usage.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -101,8 +102,9 @@ def parse_table(text: str) -> Table:
     if len(lines) < 2:
         raise ValueError("no Markdown table in rope_scale's output")
     header, align = split_row(lines[0]), split_row(lines[1])
-    if len(align) != len(header) or not all(a.strip(":") and set(a.strip(":")) == {"-"}
-                                            for a in align):
+    if len(align) != len(header) or not all(
+        a.strip(":") and set(a.strip(":")) == {"-"} for a in align
+    ):
         raise ValueError(f"not a table's separator: {lines[1]!r}")
     rows = [split_row(ln) for ln in lines[2:]]
     for r in rows:
@@ -127,9 +129,11 @@ def merge(table: Table, name: str, cells: Sequence[str]) -> Table:
     """table with the column name (one cell a row) after its last timing column, or last."""
     timing = [i for i, h in enumerate(table.header) if is_timing(h)]
     at = timing[-1] + 1 if timing else len(table.header)
-    return Table([*table.header[:at], name, *table.header[at:]],
-                 [*table.align[:at], "---:", *table.align[at:]],
-                 [[*r[:at], c, *r[at:]] for r, c in zip(table.rows, cells, strict=True)])
+    return Table(
+        [*table.header[:at], name, *table.header[at:]],
+        [*table.align[:at], "---:", *table.align[at:]],
+        [[*r[:at], c, *r[at:]] for r, c in zip(table.rows, cells, strict=True)],
+    )
 
 
 def render(table: Table) -> str:
@@ -154,9 +158,14 @@ def chain_model(mj: ModuleType, n: int) -> Any:
     spec = mj.MjSpec.from_string(CHAIN_MJCF)
     parent = spec.worldbody
     for k in range(1, n + 1):
-        body = parent.add_body(name=f"mass{k}", pos=[0.0, 0.0, 0.0] if k == 1 else [1.0, 0.0, 0.0],
-                               mass=1.0, ipos=[1.0, 0.0, 0.0], inertia=[POINT_INERTIA] * 3,
-                               explicitinertial=1)
+        body = parent.add_body(
+            name=f"mass{k}",
+            pos=[0.0, 0.0, 0.0] if k == 1 else [1.0, 0.0, 0.0],
+            mass=1.0,
+            ipos=[1.0, 0.0, 0.0],
+            inertia=[POINT_INERTIA] * 3,
+            explicitinertial=1,
+        )
         body.add_joint(name=f"hinge{k}", type=mj.mjtJoint.mjJNT_HINGE, axis=[0.0, 0.0, 1.0])
         parent = body
     try:
@@ -230,8 +239,14 @@ def plot(table: Table, path: str, mujoco_version: str | None) -> None:
         if not pts:
             continue
         x, y = zip(*pts, strict=True)
-        ax.loglog(x, y, styles[series % len(styles)], label=label(name, mujoco_version),
-                  markersize=5, linewidth=1.6)
+        ax.loglog(
+            x,
+            y,
+            styles[series % len(styles)],
+            label=label(name, mujoco_version),
+            markersize=5,
+            linewidth=1.6,
+        )
         series += 1
         ys += y
         ns += x
@@ -249,8 +264,7 @@ def plot(table: Table, path: str, mujoco_version: str | None) -> None:
         ax.loglog(grid, ref, "--", color="0.55", linewidth=1.0, alpha=0.6, zorder=0)
         # the label where the line leaves the plot (top or right)
         end = min(n1 * 1.2, n0 * (hi / 1.6 / y0) ** (1.0 / p))
-        ax.text(end, y0 * (end / n0) ** p, text, color="0.4", fontsize=10, ha="right",
-                va="bottom")
+        ax.text(end, y0 * (end / n0) ** p, text, color="0.4", fontsize=10, ha="right", va="bottom")
     ax.set_xticks(sorted(set(ns)))
     ax.set_xticklabels([f"{n:g}" for n in sorted(set(ns))])
     ax.minorticks_off()
@@ -292,18 +306,42 @@ def budget_seconds(s: str) -> float:
 
 def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     p = Parser(prog=PROG, description=__doc__.split("\n\n")[0] if __doc__ else None)
-    p.add_argument("--rope-scale", required=True, metavar="PATH",
-                   help="the rope_scale program (build/tools/rope_scale)")
-    p.add_argument("--max-n", type=positive_int(8, 4096), default=4096,
-                   help="rope_scale's largest N (8..4096, default 4096)")
-    p.add_argument("--dense-max", type=positive_int(1, 4096), default=256,
-                   help="rope_scale's largest N of the dense runs (default 256)")
-    p.add_argument("--reps", type=positive_int(1, MAX_REPS), default=5,
-                   help=f"repetitions, their median (1..{MAX_REPS}, default 5)")
-    p.add_argument("--budget", type=budget_seconds, default=0.5,
-                   help="CPU seconds per stepper and N (default 0.5)")
-    p.add_argument("--mujoco-max", type=positive_int(0, 4096), default=1024,
-                   help="MuJoCo's largest N (0: none; default 1024)")
+    p.add_argument(
+        "--rope-scale",
+        required=True,
+        metavar="PATH",
+        help="the rope_scale program (build/tools/rope_scale)",
+    )
+    p.add_argument(
+        "--max-n",
+        type=positive_int(8, 4096),
+        default=4096,
+        help="rope_scale's largest N (8..4096, default 4096)",
+    )
+    p.add_argument(
+        "--dense-max",
+        type=positive_int(1, 4096),
+        default=256,
+        help="rope_scale's largest N of the dense runs (default 256)",
+    )
+    p.add_argument(
+        "--reps",
+        type=positive_int(1, MAX_REPS),
+        default=5,
+        help=f"repetitions, their median (1..{MAX_REPS}, default 5)",
+    )
+    p.add_argument(
+        "--budget",
+        type=budget_seconds,
+        default=0.5,
+        help="CPU seconds per stepper and N (default 0.5)",
+    )
+    p.add_argument(
+        "--mujoco-max",
+        type=positive_int(0, 4096),
+        default=1024,
+        help="MuJoCo's largest N (0: none; default 1024)",
+    )
     p.add_argument("--table", metavar="FILE", help="the merged table (default: stdout)")
     p.add_argument("--plot", metavar="FILE", help="the log-log plot (PNG)")
     a = p.parse_args(argv)
@@ -313,8 +351,17 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
 
 
 def run_rope_scale(a: argparse.Namespace) -> Table:
-    cmd = [a.rope_scale, "--max-n", str(a.max_n), "--dense-max", str(a.dense_max),
-           "--reps", str(a.reps), "--budget", f"{a.budget:g}"]
+    cmd = [
+        a.rope_scale,
+        "--max-n",
+        str(a.max_n),
+        "--dense-max",
+        str(a.dense_max),
+        "--reps",
+        str(a.reps),
+        "--budget",
+        f"{a.budget:g}",
+    ]
     print(f"{PROG}: {' '.join(cmd)}", file=sys.stderr, flush=True)
     # OpenBLAS's idle threads would spin in the process's CPU time (DESIGN.md)
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
@@ -336,11 +383,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         mj = load_mujoco() if a.mujoco_max > 0 else None
         version = getattr(mj, "__version__", None)
         if mj is None and a.mujoco_max > 0:
-            print(f"{PROG}: MuJoCo is not installed: its column is \"-\"; "
-                  f"`pip install {MUJOCO_PIN}` enables it", file=sys.stderr)
+            print(
+                f"{PROG}: MuJoCo is not installed: its column is \"-\"; "
+                f"`pip install {MUJOCO_PIN}` enables it",
+                file=sys.stderr,
+            )
         elif mj is not None:
-            print(f"{PROG}: MuJoCo {version}, RK4 on N hinges, up to N = {a.mujoco_max}",
-                  file=sys.stderr)
+            print(
+                f"{PROG}: MuJoCo {version}, RK4 on N hinges, up to N = {a.mujoco_max}",
+                file=sys.stderr,
+            )
         cells = []
         prev = 0.0
         for r in table.rows:
@@ -351,14 +403,19 @@ def main(argv: Sequence[str] | None = None) -> int:
             try:
                 s = time_mujoco(mj, n, a.reps, a.budget)
             except ModelError as e:
-                print(f"{PROG}: MuJoCo cannot build the chain of N = {n} ({e}): \"-\" from "
-                      "there on", file=sys.stderr)
+                print(
+                    f"{PROG}: MuJoCo cannot build the chain of N = {n} ({e}): \"-\" from there on",
+                    file=sys.stderr,
+                )
                 mj = None
                 cells.append("-")
                 continue
             growth = f", growth exponent {math.log2(s / prev):.2f}" if prev > 0.0 else ""
-            print(f"{PROG}: MuJoCo N = {n}: {1e6 * s:.1f} us/step{growth}", file=sys.stderr,
-                  flush=True)
+            print(
+                f"{PROG}: MuJoCo N = {n}: {1e6 * s:.1f} us/step{growth}",
+                file=sys.stderr,
+                flush=True,
+            )
             prev = s
             cells.append(f"{1e6 * s:.1f}")
         merged = merge(table, MUJOCO_HEADER, cells)

@@ -7,6 +7,7 @@ RK4's order.
 
   build/venv/bin/python tools/benchmarks/test_scale.py      (or python -m pytest on it)
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -58,8 +59,10 @@ class TableTest(unittest.TestCase):
         t = scale.parse_table("noise\n" + FAKE_TABLE)
         self.assertEqual(t.column("coordinates"), 4)
         self.assertEqual([r[t.column("N")] for r in t.rows], ["8", "16", "32"])
-        self.assertEqual([h for h in t.header if scale.is_timing(h)],
-                         ["rk4 sparse, us/step", "IDA/KLU, us/step", "index-1 RK4, us/step"])
+        self.assertEqual(
+            [h for h in t.header if scale.is_timing(h)],
+            ["rk4 sparse, us/step", "IDA/KLU, us/step", "index-1 RK4, us/step"],
+        )
         m = scale.merge(t, scale.MUJOCO_HEADER, ["1.0", "2.0", "-"])
         self.assertEqual(m.header[-1], scale.MUJOCO_HEADER)  # after the last timing column
         self.assertEqual(m.rows[2][-1], "-")
@@ -79,11 +82,14 @@ class CommandTest(unittest.TestCase):
     def test_usage_errors(self) -> None:
         with tempfile.TemporaryDirectory() as d:
             exe = fake_rope_scale(d)
-            for args in ([], ["--rope-scale", os.path.join(d, "none")],
-                         ["--rope-scale", exe, "--reps", "0"],
-                         ["--rope-scale", exe, "--max-n", "4"],
-                         ["--rope-scale", exe, "--budget", "x"],
-                         ["--rope-scale", exe, "--what"]):
+            for args in (
+                [],
+                ["--rope-scale", os.path.join(d, "none")],
+                ["--rope-scale", exe, "--reps", "0"],
+                ["--rope-scale", exe, "--max-n", "4"],
+                ["--rope-scale", exe, "--budget", "x"],
+                ["--rope-scale", exe, "--what"],
+            ):
                 rc, out, err = run_main(args)
                 self.assertEqual(rc, 2, args)
                 self.assertEqual(out, "")
@@ -98,8 +104,9 @@ class CommandTest(unittest.TestCase):
     def test_without_mujoco(self) -> None:
         with tempfile.TemporaryDirectory() as d, mock.patch.dict(sys.modules, {"mujoco": None}):
             png, md = os.path.join(d, "s.png"), os.path.join(d, "s.md")
-            rc, _, err = run_main(["--rope-scale", fake_rope_scale(d), "--plot", png,
-                                     "--table", md])
+            rc, _, err = run_main(
+                ["--rope-scale", fake_rope_scale(d), "--plot", png, "--table", md]
+            )
             self.assertEqual(rc, 0, err)
             self.assertIn(f"pip install {scale.MUJOCO_PIN}", err)
             with open(md, encoding="utf-8") as f:
@@ -112,8 +119,18 @@ class CommandTest(unittest.TestCase):
     @needs_mujoco
     def test_with_mujoco(self) -> None:
         with tempfile.TemporaryDirectory() as d:
-            rc, out, err = run_main(["--rope-scale", fake_rope_scale(d), "--mujoco-max", "16",
-                                     "--reps", "1", "--budget", "0.01"])
+            rc, out, err = run_main(
+                [
+                    "--rope-scale",
+                    fake_rope_scale(d),
+                    "--mujoco-max",
+                    "16",
+                    "--reps",
+                    "1",
+                    "--budget",
+                    "0.01",
+                ]
+            )
             self.assertEqual(rc, 0, err)
             t = scale.parse_table(out)
             cells = [r[t.column(scale.MUJOCO_HEADER)] for r in t.rows]
@@ -131,8 +148,9 @@ class CommandTest(unittest.TestCase):
             return real(mj, n)
 
         with tempfile.TemporaryDirectory() as d, mock.patch.object(scale, "chain_model", refuse):
-            rc, out, err = run_main(["--rope-scale", fake_rope_scale(d), "--reps", "1",
-                                     "--budget", "0.01"])
+            rc, out, err = run_main(
+                ["--rope-scale", fake_rope_scale(d), "--reps", "1", "--budget", "0.01"]
+            )
         self.assertEqual(rc, 0, err)
         self.assertIn("cannot build the chain of N = 16", err)
         t = scale.parse_table(out)
@@ -159,12 +177,12 @@ def rope_acceleration(p: np.ndarray, v: np.ndarray) -> np.ndarray:
     dv = v - np.vstack([[0.0, 0.0], v[:-1]])
     g = np.zeros((n, 2 * n))
     for j in range(n):
-        g[j, 2 * j:2 * j + 2] = d[j]
+        g[j, 2 * j : 2 * j + 2] = d[j]
         if j > 0:
-            g[j, 2 * j - 2:2 * j] = -d[j]
+            g[j, 2 * j - 2 : 2 * j] = -d[j]
     kkt = np.block([[np.eye(2 * n), g.T], [g, np.zeros((n, n))]])
     rhs = np.concatenate([np.tile([0.0, -scale.GRAVITY], n), -np.sum(dv * dv, 1)])
-    return np.linalg.solve(kkt, rhs)[:2 * n].reshape(n, 2)
+    return np.linalg.solve(kkt, rhs)[: 2 * n].reshape(n, 2)
 
 
 @needs_mujoco
@@ -224,8 +242,9 @@ class ChainTest(unittest.TestCase):
             prev = cur
         period = (ups[-1] - ups[0]) / (len(ups) - 1)
         self.assertGreaterEqual(len(ups), 3)
-        self.assertAlmostEqual(period / (2 * math.pi * math.sqrt(1 / scale.GRAVITY)), 1.0,
-                               delta=1e-6)
+        self.assertAlmostEqual(
+            period / (2 * math.pi * math.sqrt(1 / scale.GRAVITY)), 1.0, delta=1e-6
+        )
 
     def energy_error(self, n: int, h: float, t_end: float) -> float:
         m = scale.chain_model(self.mj, n)
@@ -244,7 +263,7 @@ class ChainTest(unittest.TestCase):
         """Energy kept along 3 s from the rope's start, its error of RK4's order 4."""
         coarse, fine = self.energy_error(8, 2 * scale.T, 3.0), self.energy_error(8, scale.T, 3.0)
         self.assertLess(fine, 1e-9)
-        self.assertGreater(coarse / fine, 2.0 ** 3.5)
+        self.assertGreater(coarse / fine, 2.0**3.5)
 
     @unittest.skipUnless(MJ is not None and MJ.__version__ == "4.0.0", "MuJoCo 4.0.0's limit")
     def test_depth_limit(self) -> None:

@@ -10,6 +10,7 @@ measurements. For d = 0, t = 1000 the report gives, per solver setting, the CPU 
 final error of 1e-6 (log-log interpolation between the two sweep points around it) and compares
 the best stabdae map with the best IDA form (target: at least 5 times less CPU).
 """
+
 import argparse
 import csv
 import datetime
@@ -43,11 +44,13 @@ def cpu_model():
 def provenance(command, points):
     """The report's first lines: machine, date, this command, and the measurements' command
     (or the CSV they were drawn from)."""
-    return ["- machine: %s, %d cores" % (cpu_model(), os.cpu_count() or 0),
-            "- date: %s" % datetime.datetime.now(datetime.timezone.utc).strftime(
-                "%Y-%m-%d %H:%M:%S UTC"),
-            "- command: %s" % " ".join([os.path.basename(sys.executable)] + sys.argv),
-            "- measurements: %s" % (" ".join(command) if command else "from " + points)]
+    return [
+        "- machine: %s, %d cores" % (cpu_model(), os.cpu_count() or 0),
+        "- date: %s"
+        % datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC"),
+        "- command: %s" % " ".join([os.path.basename(sys.executable)] + sys.argv),
+        "- measurements: %s" % (" ".join(command) if command else "from " + points),
+    ]
 
 
 def read_rows(path, floats, ints):
@@ -106,8 +109,13 @@ def plot(rows, cases, path):
             if not ok:
                 continue
             style = "-o" if solver == "stabdae" else "--s"
-            ax.loglog([p["cpu_s"] for p in ok], [p["error"] for p in ok], style, ms=4,
-                      label="%s %s" % ("IDA" if solver == "ida" else "stabdae", setting))
+            ax.loglog(
+                [p["cpu_s"] for p in ok],
+                [p["error"] for p in ok],
+                style,
+                ms=4,
+                label="%s %s" % ("IDA" if solver == "ida" else "stabdae", setting),
+            )
         if d == 0.0:
             ax.axhline(TARGET_ERROR, color="grey", lw=0.8, ls=":")
         ax.set_xlabel("CPU time [s] (median of repetitions)")
@@ -124,37 +132,67 @@ def fmt(v, spec="%.3g"):
 
 
 def table(rows, d):
-    lines = ["| solver | setting | T or rtol | steps | reps | CPU s | final error | status |",
-             "|---|---|---:|---:|---:|---:|---:|---|"]
+    lines = [
+        "| solver | setting | T or rtol | steps | reps | CPU s | final error | status |",
+        "|---|---|---:|---:|---:|---:|---:|---|",
+    ]
     for (solver, setting), pts in sorted(series(rows, d).items()):
         for p in pts:
-            lines.append("| %s | %s | %.3g | %d | %d | %.4g | %s | %s |" % (
-                solver, setting, p["param"], p["steps"], p["reps"], p["cpu_s"],
-                fmt(p["error"]), p["status"]))
+            lines.append(
+                "| %s | %s | %.3g | %d | %d | %.4g | %s | %s |"
+                % (
+                    solver,
+                    setting,
+                    p["param"],
+                    p["steps"],
+                    p["reps"],
+                    p["cpu_s"],
+                    fmt(p["error"]),
+                    p["status"],
+                )
+            )
     return lines
 
 
 def target_section(rows):
-    lines = ["| solver | setting | CPU s for error 1e-6 (interpolated) | cheapest measured "
-             "point with error <= 1e-6 |", "|---|---|---:|---|"]
+    lines = [
+        "| solver | setting | CPU s for error 1e-6 (interpolated) | cheapest measured "
+        "point with error <= 1e-6 |",
+        "|---|---|---:|---|",
+    ]
     best = {}
     for (solver, setting), pts in sorted(series(rows, 0.0).items()):
         c = cpu_at(pts, TARGET_ERROR)
         p = cheapest_below(pts, TARGET_ERROR)
-        lines.append("| %s | %s | %s | %s |" % (
-            solver, setting, fmt(c, "%.4g"),
-            "-" if p is None else "%.4g s (param %.3g, error %.2g)" % (p["cpu_s"], p["param"],
-                                                                      p["error"])))
+        lines.append(
+            "| %s | %s | %s | %s |"
+            % (
+                solver,
+                setting,
+                fmt(c, "%.4g"),
+                "-"
+                if p is None
+                else "%.4g s (param %.3g, error %.2g)" % (p["cpu_s"], p["param"], p["error"]),
+            )
+        )
         if c is not None and (solver not in best or c < best[solver][1]):
             best[solver] = (setting, c)
     lines.append("")
     if "stabdae" in best and "ida" in best:
         ratio = best["ida"][1] / best["stabdae"][1]
-        lines.append("Best stabdae map: %s, %.4g s; best IDA form: %s, %.4g s; IDA / stabdae = "
-                     "%.2f (target >= %g: %s)." % (best["stabdae"][0], best["stabdae"][1],
-                                                   best["ida"][0], best["ida"][1], ratio,
-                                                   TARGET_RATIO,
-                                                   "met" if ratio >= TARGET_RATIO else "missed"))
+        lines.append(
+            "Best stabdae map: %s, %.4g s; best IDA form: %s, %.4g s; IDA / stabdae = "
+            "%.2f (target >= %g: %s)."
+            % (
+                best["stabdae"][0],
+                best["stabdae"][1],
+                best["ida"][0],
+                best["ida"][1],
+                ratio,
+                TARGET_RATIO,
+                "met" if ratio >= TARGET_RATIO else "missed",
+            )
+        )
     else:
         lines.append("A solver never reached 1e-6: no ratio.")
     return lines
@@ -188,27 +226,40 @@ def main(argv=None):
     points = args.points
     if not points:
         points = os.path.join(work, "points.csv")
-        command = [os.path.join(build, "tools", "workprecision"), "--reference", ref, "--out",
-                   points, "--reps", str(args.reps)]
+        command = [
+            os.path.join(build, "tools", "workprecision"),
+            "--reference",
+            ref,
+            "--out",
+            points,
+            "--reps",
+            str(args.reps),
+        ]
         subprocess.run(command, check=True)
     rows = read_points(points)
     cases = sorted({(r["d"], r["tf"]) for r in rows}, reverse=True)
     png = os.path.join(report, "workprecision.png")
     plot(rows, cases, png)
 
-    md = ["# Work-precision: stabdae against SUNDIALS IDA", "",
-          *provenance(command, points),
-          "- problem: oscillator (k = 2, m = 1) on the manifold from x0 = (X, Y, Xdot, Ydot) = "
-          "(0.7, 0, 0.6, 0); error = max(|X - X_ref|, |Xdot - Xdot_ref|) at the final time "
-          "against reference.py (d = 0: A cn(w (t - t0) | 1/2) with amplitude and phase from "
-          "x0; d = 0.03: mpmath Taylor series, 30 digits)",
-          "- stabdae: scheme 15, delta 2, epsilon 1, fixed T; IDA: dense direct solver with the "
-          "analytic iteration matrix, atol = rtol, index1 (acceleration-level constraint) and "
-          "ggl (Gear-Gupta-Leimkuhler) forms",
-          "- CPU: CLOCK_PROCESS_CPUTIME_ID for the whole run (set-up included), median of the "
-          "repetitions", "",
-          "![work-precision](workprecision.png)", "",
-          "## d = 0, t = 1000: CPU for a final error of 1e-6", ""]
+    md = [
+        "# Work-precision: stabdae against SUNDIALS IDA",
+        "",
+        *provenance(command, points),
+        "- problem: oscillator (k = 2, m = 1) on the manifold from x0 = (X, Y, Xdot, Ydot) = "
+        "(0.7, 0, 0.6, 0); error = max(|X - X_ref|, |Xdot - Xdot_ref|) at the final time "
+        "against reference.py (d = 0: A cn(w (t - t0) | 1/2) with amplitude and phase from "
+        "x0; d = 0.03: mpmath Taylor series, 30 digits)",
+        "- stabdae: scheme 15, delta 2, epsilon 1, fixed T; IDA: dense direct solver with the "
+        "analytic iteration matrix, atol = rtol, index1 (acceleration-level constraint) and "
+        "ggl (Gear-Gupta-Leimkuhler) forms",
+        "- CPU: CLOCK_PROCESS_CPUTIME_ID for the whole run (set-up included), median of the "
+        "repetitions",
+        "",
+        "![work-precision](workprecision.png)",
+        "",
+        "## d = 0, t = 1000: CPU for a final error of 1e-6",
+        "",
+    ]
     md += target_section(rows)
     for d, tf in cases:
         md += ["", "## d = %g, t = %g" % (d, tf), ""] + table(rows, d)

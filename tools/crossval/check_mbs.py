@@ -11,6 +11,7 @@ E = sum m |v|^2/2 + m ga y (computed here from q and v) across the chart switche
 constraints c_j = (|p_a - p_b|^2 - l_j^2)/2 (computed here from q) stay at rounding along
 those runs, and from a start off them they fall below 1e-12 by t = 5 (Theorem 4). The
 pendulum's lambda column equals m (|v|^2 - ga y)/|q|^2 at the program's own state."""
+
 import math
 
 import numpy as np
@@ -25,28 +26,29 @@ THEORY = {"euler": 1, "midpoint": 2, "dgrad": 2, "dg4": 4, "rk4": 4}
 # T = 2e-3; rk4's is 3e-6 at 2^-6 and 4e-11 at T / 16. rk8 is not here: wherever double
 # precision resolves its error, its ninth-order term outweighs the eighth (observed orders 8.3
 # to 10 from T = 1/8), as on the oscillator of check b
-T0 = {"euler": 1e-2, "midpoint": 1e-2, "dgrad": 1e-2, "dg4": 2.0 ** -7, "rk4": 2.0 ** -6}
-ENERGY_T, ENERGY_TOL = 0.01, 1e-12   # |E - E0| relative to sum m ga l
+T0 = {"euler": 1e-2, "midpoint": 1e-2, "dgrad": 1e-2, "dg4": 2.0**-7, "rk4": 2.0**-6}
+ENERGY_T, ENERGY_TOL = 0.01, 1e-12  # |E - E0| relative to sum m ga l
 DRIFT_TOL, OFF_BY = 1e-12, 5.0
-LAMBDA_TOL = 1e-10                   # relative to m ga / L
+LAMBDA_TOL = 1e-10  # relative to m ga / L
 DPS = 25
 
 PEND = {"L": 1.0, "m": 1.0, "ga": 9.81}
-PEND_THETA0 = 1.0          # past 0.886 rad (tan^2 = 1.5): the chart switches twice a swing
+PEND_THETA0 = 1.0  # past 0.886 rad (tan^2 = 1.5): the chart switches twice a swing
 PEND_TF = 2.0
-PEND_OFF = ((0.5, -0.9), (0.1, 0.2))   # off the circle in position and velocity
+PEND_OFF = ((0.5, -0.9), (0.1, 0.2))  # off the circle in position and velocity
 DOUBLE = {"L1": 1.0, "L2": 1.0, "m1": 1.0, "m2": 1.0, "ga": 9.81}
 DOUBLE_THETA0, DOUBLE_OMEGA0 = (1.0, 1.5), (0.0, 0.0)
-DOUBLE_TF = 1.0            # short: the motion is chaotic
+DOUBLE_TF = 1.0  # short: the motion is chaotic
 
 
 def steps(map_name):
-    return [T0[map_name] / 2 ** j for j in range(HALVINGS + 1)]
+    return [T0[map_name] / 2**j for j in range(HALVINGS + 1)]
 
 
 def columns(table, n_q):
-    return table.columns(["q%d" % (i + 1) for i in range(n_q)]
-                         + ["v%d" % (i + 1) for i in range(n_q)])
+    return table.columns(
+        ["q%d" % (i + 1) for i in range(n_q)] + ["v%d" % (i + 1) for i in range(n_q)]
+    )
 
 
 def pend_start():
@@ -71,31 +73,54 @@ def double_links():
 
 
 def pend_reference(times):
-    return np.array(mech.pendulum_exact(PEND_THETA0, times, PEND["L"], PEND["m"], PEND["ga"],
-                                        DPS), dtype=float)
+    return np.array(
+        mech.pendulum_exact(PEND_THETA0, times, PEND["L"], PEND["m"], PEND["ga"], DPS), dtype=float
+    )
 
 
 def double_reference(times):
     d = DOUBLE
-    return np.array(mech.double_pendulum(DOUBLE_THETA0, DOUBLE_OMEGA0, times, d["L1"], d["L2"],
-                                         d["m1"], d["m2"], d["ga"], DPS), dtype=float)
+    return np.array(
+        mech.double_pendulum(
+            DOUBLE_THETA0, DOUBLE_OMEGA0, times, d["L1"], d["L2"], d["m1"], d["m2"], d["ga"], DPS
+        ),
+        dtype=float,
+    )
 
 
 # name, program, options, n_q, tf, reference(times), links, masses
 def cases():
     q0, v0 = pend_start()
     return [
-        ("pendulum_mbs from %g rad" % PEND_THETA0, "pendulum_mbs", pend_options(q0, v0), 2,
-         PEND_TF, pend_reference, pend_links(), [PEND["m"]]),
-        ("double_pendulum from (%g, %g) rad" % DOUBLE_THETA0, "double_pendulum",
-         double_options(), 4, DOUBLE_TF, double_reference, double_links(),
-         [DOUBLE["m1"], DOUBLE["m2"]]),
+        (
+            "pendulum_mbs from %g rad" % PEND_THETA0,
+            "pendulum_mbs",
+            pend_options(q0, v0),
+            2,
+            PEND_TF,
+            pend_reference,
+            pend_links(),
+            [PEND["m"]],
+        ),
+        (
+            "double_pendulum from (%g, %g) rad" % DOUBLE_THETA0,
+            "double_pendulum",
+            double_options(),
+            4,
+            DOUBLE_TF,
+            double_reference,
+            double_links(),
+            [DOUBLE["m1"], DOUBLE["m2"]],
+        ),
     ]
 
 
 def run(ctx, program, options, T, tf, every, map_name="dgrad"):
-    return runs.run_c(ctx.build, program, dict(options, **P.METHOD, T=T, tf=tf, scheme=15,
-                                               map=map_name, every=every))
+    return runs.run_c(
+        ctx.build,
+        program,
+        dict(options, **P.METHOD, T=T, tf=tf, scheme=15, map=map_name, every=every),
+    )
 
 
 def errors(ctx, case, map_name, ref_cache):
@@ -122,15 +147,41 @@ def check_orders(ctx, section):
             Ts = steps(map_name)
             fit = float(np.polyfit(np.log2(Ts), np.log2(errs), 1)[0])
             local = np.log2(errs[:-1] / errs[1:])
-            ok = section.expect(abs(fit - p) <= TOL_ORDER, "%s, %s: observed order %.3f, "
-                                "theory %d" % (case[0], map_name, fit, p))
+            ok = section.expect(
+                abs(fit - p) <= TOL_ORDER,
+                "%s, %s: observed order %.3f, theory %d" % (case[0], map_name, fit, p),
+            )
             results.append((case[0], map_name, p, Ts, errs, fit))
-            rows.append((case[0], map_name, p, "%.3g" % Ts[0], "%.2e" % errs[0],
-                         "%.2e" % errs[-1], " ".join("%.2f" % v for v in local),
-                         "%.3f" % fit, switches, "pass" if ok else "FAIL"))
+            rows.append(
+                (
+                    case[0],
+                    map_name,
+                    p,
+                    "%.3g" % Ts[0],
+                    "%.2e" % errs[0],
+                    "%.2e" % errs[-1],
+                    " ".join("%.2f" % v for v in local),
+                    "%.3f" % fit,
+                    switches,
+                    "pass" if ok else "FAIL",
+                )
+            )
             section.value("mbs_order_%s_%s" % (case[1], map_name), fit, "%.3f")
-    section.table(("case", "map", "theory", "largest T", "error there", "at T / 16",
-                   "order per halving", "fitted order", "chart switches", "verdict"), rows)
+    section.table(
+        (
+            "case",
+            "map",
+            "theory",
+            "largest T",
+            "error there",
+            "at T / 16",
+            "order per halving",
+            "fitted order",
+            "chart switches",
+            "verdict",
+        ),
+        rows,
+    )
     return results
 
 
@@ -160,20 +211,49 @@ def check_energy_drift(ctx, section):
             col = float(np.max(table["max_abs_c"]))
             E_col = float(np.max(np.abs(table["E"] - E))) / energy_scale(case)
             checked = map_name == "dgrad"
-            ok = section.expect(not checked or dE <= ENERGY_TOL, "%s, %s: energy changes by "
-                                "%.3g > %g" % (name, map_name, dE, ENERGY_TOL))
-            ok &= section.expect(max(c, col) <= DRIFT_TOL, "%s, %s: max |c| = %.3g (program: "
-                                 "%.3g) > %g" % (name, map_name, c, col, DRIFT_TOL))
-            ok &= section.expect(E_col <= 1e-13, "%s, %s: the E column differs from the "
-                                 "energy of q, v by %.3g" % (name, map_name, E_col))
-            rows.append((name, map_name, tf, "%.2e" % dE, "%.2e" % c, "%.2e" % col,
-                         int(table["switches"][-1]), "pass" if ok else "FAIL"))
-            curves.append(("%s %s" % (program, map_name), table["t"],
-                           np.abs(E - E[0]) / energy_scale(case)))
+            ok = section.expect(
+                not checked or dE <= ENERGY_TOL,
+                "%s, %s: energy changes by %.3g > %g" % (name, map_name, dE, ENERGY_TOL),
+            )
+            ok &= section.expect(
+                max(c, col) <= DRIFT_TOL,
+                "%s, %s: max |c| = %.3g (program: %.3g) > %g" % (name, map_name, c, col, DRIFT_TOL),
+            )
+            ok &= section.expect(
+                E_col <= 1e-13,
+                "%s, %s: the E column differs from the "
+                "energy of q, v by %.3g" % (name, map_name, E_col),
+            )
+            rows.append(
+                (
+                    name,
+                    map_name,
+                    tf,
+                    "%.2e" % dE,
+                    "%.2e" % c,
+                    "%.2e" % col,
+                    int(table["switches"][-1]),
+                    "pass" if ok else "FAIL",
+                )
+            )
+            curves.append(
+                ("%s %s" % (program, map_name), table["t"], np.abs(E - E[0]) / energy_scale(case))
+            )
             section.value("mbs_energy_%s_%s" % (program, map_name), dE)
             section.value("mbs_max_c_%s_%s" % (program, map_name), max(c, col))
-    section.table(("case", "map", "tf (T = 0.01)", "max |E - E0| / (sum m ga l)",
-                   "max |c| from q", "max_abs_c column", "chart switches", "verdict"), rows)
+    section.table(
+        (
+            "case",
+            "map",
+            "tf (T = 0.01)",
+            "max |E - E0| / (sum m ga l)",
+            "max |c| from q",
+            "max_abs_c column",
+            "chart switches",
+            "verdict",
+        ),
+        rows,
+    )
     return curves
 
 
@@ -182,47 +262,67 @@ def check_off_manifold(ctx, section):
     table = run(ctx, "pendulum_mbs", pend_options(q0, v0), 1e-3, tf, 10)
     c = constraint_abs(pend_links(), table, 2)
     late = float(np.max(c[table["t"] >= OFF_BY - 1e-12]))
-    section.expect(late < DRIFT_TOL, "pendulum_mbs from (%s, %s): |c| = %.3g for t >= %g"
-                   % (q0, v0, late, OFF_BY))
+    section.expect(
+        late < DRIFT_TOL,
+        "pendulum_mbs from (%s, %s): |c| = %.3g for t >= %g" % (q0, v0, late, OFF_BY),
+    )
     L, m, ga = PEND["L"], PEND["m"], PEND["ga"]
     x = columns(table, 2)
     lam = mech.pendulum_lambda(x.T, L, m, ga)
     dlam = float(np.max(np.abs(table["lambda1"] - lam))) / (m * ga / L)
-    section.expect(dlam <= LAMBDA_TOL, "pendulum_mbs: lambda1 differs from m (|v|^2 - ga y)/|q|^2"
-                   " by %.3g (relative to m ga / L)" % dlam)
-    section.text("From q0 = %s, v0 = %s (off the circle), T = 1e-3: |c| = %.3g at t = 0, max "
-                 "%.3g for t >= %g (tolerance %g); the lambda column against m (|v|^2 - ga y)"
-                 "/|q|^2 at the program's states: %.3g relative to m ga / L (tolerance %g)."
-                 % (q0, v0, c[0], late, OFF_BY, DRIFT_TOL, dlam, LAMBDA_TOL))
+    section.expect(
+        dlam <= LAMBDA_TOL,
+        "pendulum_mbs: lambda1 differs from m (|v|^2 - ga y)/|q|^2"
+        " by %.3g (relative to m ga / L)" % dlam,
+    )
+    section.text(
+        "From q0 = %s, v0 = %s (off the circle), T = 1e-3: |c| = %.3g at t = 0, max "
+        "%.3g for t >= %g (tolerance %g); the lambda column against m (|v|^2 - ga y)"
+        "/|q|^2 at the program's states: %.3g relative to m ga / L (tolerance %g)."
+        % (q0, v0, c[0], late, OFF_BY, DRIFT_TOL, dlam, LAMBDA_TOL)
+    )
     section.value("mbs_offmanifold_max_c_after_t5", late)
     section.value("mbs_lambda_deviation", dlam)
     return table["t"], c
 
 
 def check(ctx, section):
-    section.text(__doc__.split(". ", 1)[1] + """
+    section.text(
+        __doc__.split(". ", 1)[1]
+        + """
 
 Cases: the Cartesian pendulum (L 1, m 1) from rest %g rad from the bottom, tf = %g; the double
 pendulum (unit lengths and masses) from rest at angles %s, tf = %g; scheme 15, delta 2, eps 1.
 The coarsest step is 1e-2 (dg4: 2^-7, rk4: 2^-6). Energy and drift: T = %g, tf = 100 (full: 1000), the
 energy tolerance %g relative to sum m ga l, the constraints' %g; the midpoint map (which
 conserves only quadratic invariants) is shown beside dgrad without an energy tolerance."""
-                 % (PEND_THETA0, PEND_TF, DOUBLE_THETA0, DOUBLE_TF, ENERGY_T, ENERGY_TOL,
-                    DRIFT_TOL))
+        % (PEND_THETA0, PEND_TF, DOUBLE_THETA0, DOUBLE_TF, ENERGY_T, ENERGY_TOL, DRIFT_TOL)
+    )
     results = check_orders(ctx, section)
-    section.figure(plot_orders(ctx.outdir, results), "Front-end: error of (q, v) against T "
-                   "(log-log); dotted lines show the theoretical slope through the coarsest "
-                   "point.")
+    section.figure(
+        plot_orders(ctx.outdir, results),
+        "Front-end: error of (q, v) against T "
+        "(log-log); dotted lines show the theoretical slope through the coarsest "
+        "point.",
+    )
     curves = check_energy_drift(ctx, section)
     off = check_off_manifold(ctx, section)
-    section.figure(plot_energy(ctx.outdir, curves, off), "Front-end: left, the energy's change "
-                   "along the runs of T = 0.01; right, |c| from a start off the circle "
-                   "(pendulum_mbs, T = 1e-3).")
+    section.figure(
+        plot_energy(ctx.outdir, curves, off),
+        "Front-end: left, the energy's change "
+        "along the runs of T = 0.01; right, |c| from a start off the circle "
+        "(pendulum_mbs, T = 1e-3).",
+    )
 
 
 MARKERS = {"euler": "o", "midpoint": "s", "dgrad": "^", "dg4": "D", "rk4": "P"}
-COLOURS = {"euler": "tab:blue", "midpoint": "tab:orange", "dgrad": "tab:green",
-           "dg4": "tab:purple", "rk4": "tab:brown"}
+COLOURS = {
+    "euler": "tab:blue",
+    "midpoint": "tab:orange",
+    "dgrad": "tab:green",
+    "dg4": "tab:purple",
+    "rk4": "tab:brown",
+}
 
 
 def plot_orders(outdir, results):
@@ -230,10 +330,15 @@ def plot_orders(outdir, results):
     fig, axes = plots.figure(ncols=len(names), width=5.2, height=4.0)
     for ax, name in zip(axes, names):
         for _, map_name, p, Ts, errs, fit in (r for r in results if r[0] == name):
-            ax.loglog(Ts, errs, marker=MARKERS[map_name], ms=4, color=COLOURS[map_name],
-                      label="%s (%.2f)" % (map_name, fit))
-            ax.loglog(Ts, errs[0] * (np.array(Ts) / Ts[0]) ** p, ":", color=COLOURS[map_name],
-                      lw=1)
+            ax.loglog(
+                Ts,
+                errs,
+                marker=MARKERS[map_name],
+                ms=4,
+                color=COLOURS[map_name],
+                label="%s (%.2f)" % (map_name, fit),
+            )
+            ax.loglog(Ts, errs[0] * (np.array(Ts) / Ts[0]) ** p, ":", color=COLOURS[map_name], lw=1)
         ax.set_title(name)
         ax.set_xlabel("T")
         ax.set_ylabel("max error of (q, v)")
@@ -244,8 +349,7 @@ def plot_orders(outdir, results):
 def plot_energy(outdir, curves, off):
     fig, (ax, bx) = plots.figure(ncols=2, width=5.2, height=4.0)
     for name, t, rel in curves:
-        ax.semilogy(t, np.maximum(rel, 1e-18), label=name,
-                    ls="-" if "dgrad" in name else "--")
+        ax.semilogy(t, np.maximum(rel, 1e-18), label=name, ls="-" if "dgrad" in name else "--")
     ax.axhline(ENERGY_TOL, color="k", ls=":", lw=1, label="tolerance for dgrad")
     ax.set_ylim(1e-18, 1)
     ax.set_xlabel("t")

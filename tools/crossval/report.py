@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The report: one Section per check (Markdown text, tables, figures, summary values and
 failures), written as one Markdown file ending with the summary block of `name: value` lines."""
+
 import datetime
 import os
 
@@ -46,12 +47,19 @@ class Section:
 
 
 def write(path, sections, profile, seconds):
-    lines = ["# stabdae cross-validation (%s run)" % profile.name, "",
-             "Written by `tools/crossval/crossval%s` on %s in %.0f s. Each check states its "
-             "tolerance; a failed check is listed under Failures and makes tools/crossval/crossval "
-             "exit 1."
-             % (" --full" if profile.name == "full" else "",
-                datetime.datetime.now().strftime("%Y-%m-%d %H:%M"), seconds), ""]
+    lines = [
+        "# stabdae cross-validation (%s run)" % profile.name,
+        "",
+        "Written by `tools/crossval/crossval%s` on %s in %.0f s. Each check states its "
+        "tolerance; a failed check is listed under Failures and makes tools/crossval/crossval "
+        "exit 1."
+        % (
+            " --full" if profile.name == "full" else "",
+            datetime.datetime.now().strftime("%Y-%m-%d %H:%M"),
+            seconds,
+        ),
+        "",
+    ]
     lines += ["| check | verdict |", "|---|---|"]
     lines += ["| %s. %s | %s |" % (s.key, s.title, s.verdict()) for s in sections]
     lines.append("")
@@ -63,8 +71,12 @@ def write(path, sections, profile, seconds):
     lines += ["", "## Summary", "", "```"]
     for s in sections:
         lines += ["%s: %s" % (k, fmt(v)) for k, v in s.summary.items()]
-    lines += ["checks_failed: %d" % len(failures), "status: %s" % ("pass" if not failures
-                                                                  else "FAIL"), "```", ""]
+    lines += [
+        "checks_failed: %d" % len(failures),
+        "status: %s" % ("pass" if not failures else "FAIL"),
+        "```",
+        "",
+    ]
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
         f.write("\n".join(lines))

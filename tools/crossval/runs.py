@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Running the three implementations and reading their CSV into a Table.
 
-  run_c        a C example program (build/examples/NAME), CSV through --out
-  run_ida      the SUNDIALS IDA reference (build/tools/ida_reference)
-  run_reference the Python reference stabdae_ref in float64 or mpmath, in this process;
-               the map dg4 (not in stabdae_ref) is composed here from its dgrad map exactly as
-               the C library composes it (Yoshida's triple jump, see dg4_map)
-  parallel     runs jobs in worker processes with progress on stderr
+run_c        a C example program (build/examples/NAME), CSV through --out
+run_ida      the SUNDIALS IDA reference (build/tools/ida_reference)
+run_reference the Python reference stabdae_ref in float64 or mpmath, in this process;
+             the map dg4 (not in stabdae_ref) is composed here from its dgrad map exactly as
+             the C library composes it (Yoshida's triple jump, see dg4_map)
+parallel     runs jobs in worker processes with progress on stderr
 """
+
 import concurrent.futures
 import copy
 import math
@@ -79,11 +80,14 @@ def run_program(command, allow_failure=False):
     run, rows kept) is accepted when allow_failure; anything else raises HarnessError."""
     with tempfile.TemporaryDirectory(prefix="crossval-") as tmp:
         out = os.path.join(tmp, "out.csv")
-        proc = subprocess.run([str(c) for c in command] + ["--out", out],
-                              capture_output=True, text=True)
+        proc = subprocess.run(
+            [str(c) for c in command] + ["--out", out], capture_output=True, text=True
+        )
         if proc.returncode != 0 and not (allow_failure and proc.returncode == 1):
-            raise HarnessError("%s exited with %d: %s" % (" ".join(map(str, command)),
-                                                         proc.returncode, proc.stderr.strip()))
+            raise HarnessError(
+                "%s exited with %d: %s"
+                % (" ".join(map(str, command)), proc.returncode, proc.stderr.strip())
+            )
         return read_csv(out, proc.returncode)
 
 
@@ -101,6 +105,7 @@ def run_ida(build, model, options):
 
 
 # ---- the Python reference ----------------------------------------------------------------
+
 
 def dg4_map(stepper, T):
     """phi_T(mu) = (Psi4_T(mu) - mu)/T with Psi4_T = Psi_{g1 T} o Psi_{g2 T} o Psi_{g1 T},
@@ -125,16 +130,24 @@ def run_reference(spec):
     """spec: dict(model, params, x0, T, nsteps, scheme, map, stabilizer, arithmetic, dps,
     every). Returns a Table of floats (mpmath numbers rounded to the nearest double)."""
     map_name = spec["map"]
-    mdl, st, xi, mu = api.setup(spec["model"], spec["params"], spec["x0"], spec["scheme"],
-                                "dgrad" if map_name == "dg4" else map_name,
-                                spec.get("stabilizer", "paper"), spec["arithmetic"],
-                                spec.get("dps", 40))
+    mdl, st, xi, mu = api.setup(
+        spec["model"],
+        spec["params"],
+        spec["x0"],
+        spec["scheme"],
+        "dgrad" if map_name == "dg4" else map_name,
+        spec.get("stabilizer", "paper"),
+        spec["arithmetic"],
+        spec.get("dps", 40),
+    )
     T = mdl.a.num(float(spec["T"]))
     if map_name == "dg4":
         # the stages use the reference's dgrad Newton; a copy keeps the dgrad map for them
         st.map = dg4_map(copy.copy(st), T)
-    rows = [[float(v) for v in row]
-            for row in api.rows(mdl, st, xi, mu, T, spec["nsteps"], spec.get("every", 1))]
+    rows = [
+        [float(v) for v in row]
+        for row in api.rows(mdl, st, xi, mu, T, spec["nsteps"], spec.get("every", 1))
+    ]
     return Table(mdl.header, rows)
 
 
@@ -146,8 +159,7 @@ def parallel(function, jobs, labels, workers):
         for done, future in enumerate(concurrent.futures.as_completed(futures), 1):
             i = futures[future]
             results[i] = future.result()
-            log("  [%d/%d] %s (%.0f s elapsed)" % (done, len(jobs), labels[i],
-                                                   time.time() - start))
+            log("  [%d/%d] %s (%.0f s elapsed)" % (done, len(jobs), labels[i], time.time() - start))
     return results
 
 

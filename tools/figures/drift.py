@@ -11,6 +11,7 @@ from the same constraint function, so the two residuals are measured alike.
 
     python tools/figures/drift.py [--build build] [--outdir build/figures] [--csvdir build/demo]
 """
+
 import argparse
 import os
 import subprocess
@@ -40,16 +41,39 @@ def read_csv(path):
 def run_stabdae(build, csvdir):
     path = os.path.join(csvdir, "fourbar_stabdae.csv")
     # every 10 steps: the same 0.01 grid as ida_mbs's output
-    cmd = [os.path.join(build, "examples", "fourbar"), "--tf", str(TF), "--T", str(T),
-           "--every", "10", "--out", path]
+    cmd = [
+        os.path.join(build, "examples", "fourbar"),
+        "--tf",
+        str(TF),
+        "--T",
+        str(T),
+        "--every",
+        "10",
+        "--out",
+        path,
+    ]
     subprocess.run(cmd, check=True)
     return path
 
 
 def run_ida(build, csvdir, rtol):
     path = os.path.join(csvdir, "fourbar_ida_index1_rtol%s.csv" % rtol)
-    cmd = [os.path.join(build, "tools", "ida_mbs"), "fourbar", "--form", "index1",
-           "--rtol", rtol, "--atol", ATOL, "--tf", str(TF), "--every-dt", "0.01", "--out", path]
+    cmd = [
+        os.path.join(build, "tools", "ida_mbs"),
+        "fourbar",
+        "--form",
+        "index1",
+        "--rtol",
+        rtol,
+        "--atol",
+        ATOL,
+        "--tf",
+        str(TF),
+        "--every-dt",
+        "0.01",
+        "--out",
+        path,
+    ]
     subprocess.run(cmd, check=True)
     return path
 
@@ -73,12 +97,17 @@ def main():
     os.makedirs(csvdir, exist_ok=True)
 
     runs = [("stabdae (scheme 15, dgrad, T %g)" % T, run_stabdae(args.build, csvdir))]
-    runs += [("IDA (index-1 form, rtol %s, atol %s)" % (r, ATOL), run_ida(args.build, csvdir, r))
-             for r in RTOLS]
+    runs += [
+        ("IDA (index-1 form, rtol %s, atol %s)" % (r, ATOL), run_ida(args.build, csvdir, r))
+        for r in RTOLS
+    ]
     results = [(label, path) + read_csv(path) for label, path in runs]
 
-    table = [["max abs(c) over the 3 constraints"] + ["t = %g" % w for w in SHOWN]
-             + ["max over [0, %g]" % TF]]
+    table = [
+        ["max abs(c) over the 3 constraints"]
+        + ["t = %g" % w for w in SHOWN]
+        + ["max over [0, %g]" % TF]
+    ]
     for label, _, t, c in results:
         table.append([label] + ["%.1e" % at(t, c, w) for w in SHOWN] + ["%.1e" % np.max(c)])
     widths = [max(len(row[i]) for row in table) for i in range(len(table[0]))]
@@ -91,8 +120,11 @@ def main():
         ax.semilogy(t[shown], c[shown], style, label=label)
     eps = np.finfo(float).eps
     ax.axhline(eps, color="gray", lw=0.8, label="machine epsilon (%.1e)" % eps)
-    ax.set(title="Four-bar linkage: the residual of its three loop-closure constraints",
-           xlabel="t [s]", ylabel=r"$\mathrm{max}_i\,|c_i(q(t))|$")
+    ax.set(
+        title="Four-bar linkage: the residual of its three loop-closure constraints",
+        xlabel="t [s]",
+        ylabel=r"$\mathrm{max}_i\,|c_i(q(t))|$",
+    )
     ax.legend(loc="center right")
     ax.grid(True, which="major")
     fig.tight_layout()

@@ -11,6 +11,7 @@ for d = 0.03 and d = 0, and writes fig2.png ... fig9.png:
 
     python tools/figures/paper.py [--build build] [--outdir build/figures] [--every 10]
 """
+
 import argparse
 import os
 import subprocess
@@ -60,8 +61,11 @@ def fig_Y(data, d, number, outdir):
     low = int(np.floor(np.log10(np.min(np.abs(Y[nz])))))
     lg.set_yticks([10.0**e for e in range(0, low - 1, -25)])
     lg.axhline(1e-12, color="gray", ls="--", lw=0.8, label="1e-12")
-    lg.set(title="Fig. %d (log scale): |Y(t)|, the constraint violation" % number,
-           xlabel="t [s]", ylabel="|Y|")
+    lg.set(
+        title="Fig. %d (log scale): |Y(t)|, the constraint violation" % number,
+        xlabel="t [s]",
+        ylabel="|Y|",
+    )
     lg.legend()
     lg.grid(True, which="major")
     return save(fig, outdir, number)
@@ -80,8 +84,7 @@ def fig_path(data, d, number, outdir):
     ax.plot(data["X"], data["Y"], lw=0.8)
     ax.plot(data["X"][0], data["Y"][0], "o", color="C3", label="start (0.1, 0.6)")
     ax.plot(data["X"][-1], data["Y"][-1], "s", color="C2", label="t = %g" % data["t"][-1])
-    ax.set(title="Fig. %d: path in the X-Y plane, d = %g" % (number, d), xlabel="X",
-           ylabel="Y")
+    ax.set(title="Fig. %d: path in the X-Y plane, d = %g" % (number, d), xlabel="X", ylabel="Y")
     ax.legend()
     ax.grid(True)
     return save(fig, outdir, number)
@@ -90,22 +93,31 @@ def fig_path(data, d, number, outdir):
 def fig_energy(data, d, number, outdir):
     """E(t), and E on the manifold: dissipated (log scale) for d > 0, constant for d = 0."""
     fig, (ax, zm) = plt.subplots(1, 2, figsize=(11, 4))
-    t, E, W = data["t"], data["E"], data["W"]
+    t, E = data["t"], data["E"]
     ax.plot(t, E, label="E (total mechanical energy)")
-    ax.set(title="Fig. %d: total mechanical energy E(t), d = %g" % (number, d),
-           xlabel="t [s]", ylabel="E")
+    ax.set(
+        title="Fig. %d: total mechanical energy E(t), d = %g" % (number, d),
+        xlabel="t [s]",
+        ylabel="E",
+    )
     ax.legend()
     ax.grid(True)
     late = t >= 5.0  # on the manifold: |Y| < 1e-12 there
     if d > 0:
         zm.semilogy(t[late], E[late])
-        zm.set(title="Fig. %d: E for t >= 5 (log scale), dissipated by friction" % number,
-               xlabel="t [s]", ylabel="E")
+        zm.set(
+            title="Fig. %d: E for t >= 5 (log scale), dissipated by friction" % number,
+            xlabel="t [s]",
+            ylabel="E",
+        )
     else:
         E5 = E[late][0]
         zm.plot(t[late], (E[late] - E5) / abs(E5))
-        zm.set(title="Fig. %d: (E(t) - E(5)) / E(5) for t >= 5: conserved" % number,
-               xlabel="t [s]", ylabel="relative change of E")
+        zm.set(
+            title="Fig. %d: (E(t) - E(5)) / E(5) for t >= 5: conserved" % number,
+            xlabel="t [s]",
+            ylabel="relative change of E",
+        )
         zm.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
     zm.grid(True)
     return save(fig, outdir, number)

@@ -26,8 +26,10 @@ def main(argv):
         ok = False
     if got != expected:
         print('standard output differs from ' + expected_file + ':')
-        sys.stdout.writelines(line + '\n' for line in difflib.unified_diff(
-            expected, got, 'expected', 'got', lineterm=''))
+        sys.stdout.writelines(
+            line + '\n'
+            for line in difflib.unified_diff(expected, got, 'expected', 'got', lineterm='')
+        )
         ok = False
     if run.stderr:
         print('standard error:\n' + run.stderr, end='')

@@ -3,6 +3,7 @@
 from comments, string or character literals and preprocessor lines, so that no mutant ever
 lands there. It only has to be right for well-formed C; a token it gets wrong costs one
 mutant that does not compile (counted invalid), never a wrong verdict."""
+
 import bisect
 import re
 from dataclasses import dataclass
@@ -10,22 +11,25 @@ from dataclasses import dataclass
 PUNCTUATORS = sorted(
     """<<= >>= ... -> ++ -- << >> <= >= == != && || += -= *= /= %= &= ^= |= ##
     { } [ ] ( ) ; , : ? . + - * / % & | ^ ! ~ < > =""".split(),
-    key=len, reverse=True)
+    key=len,
+    reverse=True,
+)
 
 _NUMBER = re.compile(
     r"0[xX][0-9a-fA-F]+[uUlL]*"
-    r"|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?[uUlLfF]*")
+    r"|(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?[uUlLfF]*"
+)
 _IDENT = re.compile(r"[A-Za-z_]\w*")
 _SPACE = re.compile(r"\s+")
 
 
 @dataclass
 class Token:
-    kind: str   # ident, number, punct
+    kind: str  # ident, number, punct
     text: str
     start: int  # offset in the file's text
     end: int
-    line: int   # 1-based
+    line: int  # 1-based
 
 
 def _skip_preprocessor(text, i):
@@ -82,8 +86,9 @@ def _code_token(text, i, tokens):
     line = 0  # filled in by tokenize
     for kind, rx in (("number", _NUMBER), ("ident", _IDENT)):
         m = rx.match(text, i)
-        if m and (kind == "ident" or text[i].isdigit() or text[i] == "."
-                  and text[i + 1:i + 2].isdigit()):
+        if m and (
+            kind == "ident" or text[i].isdigit() or text[i] == "." and text[i + 1 : i + 2].isdigit()
+        ):
             tokens.append(Token(kind, m.group(), i, m.end(), line))
             return m.end()
     for p in PUNCTUATORS:

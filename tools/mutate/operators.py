@@ -3,6 +3,7 @@
 (clex.py) and proposes a change: a span of the text and its replacement. A mutant's id is
 file:operator:sha1(stripped original line)[:8]:occurrence, so it survives edits elsewhere in
 the file and the list of equivalent mutants stays valid while the code moves."""
+
 import hashlib
 import math
 import re
@@ -15,65 +16,78 @@ from .clex import match_brackets, tokenize
 ONE_PER_LINE = {"not", "rel", "arith", "const", "digits"}
 
 # in the order in which a change proposed by two classes is attributed (the first wins)
-OPERATORS = ("time", "status", "guard", "loop", "not", "rel", "arith", "const", "digits",
-             "carve", "tol")
+OPERATORS = (
+    "time",
+    "status",
+    "guard",
+    "loop",
+    "not",
+    "rel",
+    "arith",
+    "const",
+    "digits",
+    "carve",
+    "tol",
+)
 # a campaign's classes unless --ops names others: carve's mutants are judged under
 # AddressSanitizer alone (--sanitize), where the arena's redzones make an overrun fail
 DEFAULT_OPERATORS = tuple(op for op in OPERATORS if op != "carve")
 
 DESCRIPTIONS = {
-    "time": "time arguments: a bare t/tm/t0 argument -> t + 1.0, t +/- x flipped, "
-            "t += x dropped",
+    "time": "time arguments: a bare t/tm/t0 argument -> t + 1.0, t +/- x flipped, t += x dropped",
     "status": "a failure status made success: return/assign SDAE_ERR_x -> SDAE_OK, "
-              "rc != SDAE_OK -> 0, rc == SDAE_OK -> 1",
+    "rc != SDAE_OK -> 0, rc == SDAE_OK -> 1",
     "guard": "a guard dropped: if (c) return x; (or a block that returns) -> never taken",
     "loop": "loop bounds: i < n -> i < n - 1, i > n -> i > n + 1 (for and while)",
     "not": "a logical ! removed",
     "rel": "relational flips: < <=, > >=, == !=",
     "arith": "arithmetic swaps: + -, * /, += -=, *= /=",
     "const": "constants: 0 -> 1, 1 -> 0, n -> n + 1, x.0 -> x - 1, other reals "
-             "* (1 - 1e-4), tiny reals * 10",
+    "* (1 - 1e-4), tiny reals * 10",
     "digits": "a coefficient of 10 or more significant digits moved two units in its last "
-              "place (the next double up, twice)",
+    "place (the next double up, twice)",
     "carve": "a carve one element short: sdae__take*(a, n, ...) -> n - 1, and a map's "
-             "scratch size one double short",
+    "scratch size one double short",
     "tol": "a tolerance made zero: #define *TOL*/*SMALL*/*ROUNDING* x -> 0.0, and tol = x "
-           "or *_tol = x -> 0.0",
+    "or *_tol = x -> 0.0",
 }
 
 TIME_NAMES = {"t", "tm", "t0"}
 # t + 1.0 is finite exactly when t is: a time argument there is not worth a mutant
 FINITENESS_TESTS = {"isfinite", "isnan", "isinf"}
-KEYWORDS = set("""auto break case char const continue default do double else enum extern float
+KEYWORDS = set(
+    """auto break case char const continue default do double else enum extern float
     for goto if inline int long register restrict return short signed sizeof static struct switch
-    typedef union unsigned void volatile while _Bool _Alignof alignof""".split())
-TYPE_WORDS = set("""char double float int long short signed unsigned void size_t uintptr_t
-    uint8_t uint32_t uint64_t int64_t ptrdiff_t bool _Bool const struct FILE""".split())
+    typedef union unsigned void volatile while _Bool _Alignof alignof""".split()
+)
+TYPE_WORDS = set(
+    """char double float int long short signed unsigned void size_t uintptr_t
+    uint8_t uint32_t uint64_t int64_t ptrdiff_t bool _Bool const struct FILE""".split()
+)
 RELATIONAL = {"<": "<=", "<=": "<", ">": ">=", ">=": ">", "==": "!=", "!=": "=="}
-ARITH = {"+": "-", "-": "+", "*": "/", "/": "*", "+=": "-=", "-=": "+=", "*=": "/=",
-         "/=": "*="}
+ARITH = {"+": "-", "-": "+", "*": "/", "/": "*", "+=": "-=", "-=": "+=", "*=": "/=", "/=": "*="}
 ASSIGN = {"=", "+=", "-=", "*=", "/=", "%=", "&=", "|=", "^=", "<<=", ">>=", "++", "--"}
 
 
 @dataclass
 class Mutant:
-    file: str         # path relative to the repository, e.g. src/core/lu.c
+    file: str  # path relative to the repository, e.g. src/core/lu.c
     op: str
-    key: str          # sha1 of the stripped original line, 8 hex digits
-    occurrence: int   # index among the file's mutants of the same (line, op)
-    line: int         # current line number (for the report only, never in the id)
+    key: str  # sha1 of the stripped original line, 8 hex digits
+    occurrence: int  # index among the file's mutants of the same (line, op)
+    line: int  # current line number (for the report only, never in the id)
     start: int
     end: int
     replacement: str
-    original: str     # the original line(s), stripped
-    mutated: str      # the same line(s) with the change
+    original: str  # the original line(s), stripped
+    mutated: str  # the same line(s) with the change
 
     @property
     def id(self):
         return f"{self.file}:{self.op}:{self.key}:{self.occurrence}"
 
     def apply(self, text):
-        return text[:self.start] + self.replacement + text[self.end:]
+        return text[: self.start] + self.replacement + text[self.end :]
 
 
 class FileContext:
@@ -143,8 +157,9 @@ class FileContext:
             if self.t(j) in (")", "]") and self.partner[j] is not None:
                 j = self.partner[j]
                 callee = self.tok[j - 1] if j > 0 else None
-                if self.t(j) == "[" or (callee and callee.kind == "ident"
-                                        and callee.text not in KEYWORDS):
+                if self.t(j) == "[" or (
+                    callee and callee.kind == "ident" and callee.text not in KEYWORDS
+                ):
                     j -= 1
                     continue
             if j >= 2 and self.t(j - 1) in ("->", "."):
@@ -154,15 +169,19 @@ class FileContext:
 
     def span(self, i, j):
         """The text of tokens i..j inclusive."""
-        return self.text[self.tok[i].start:self.tok[j].end]
+        return self.text[self.tok[i].start : self.tok[j].end]
 
     def has_side_effects(self, i, j):
         """Whether tokens i..j hold an assignment or a call (kept when a check is dropped)."""
         for k in range(i, j + 1):
             if self.t(k) in ASSIGN:
                 return True
-            if self.t(k) == "(" and k > 0 and self.tok[k - 1].kind == "ident" \
-                    and self.t(k - 1) not in KEYWORDS:
+            if (
+                self.t(k) == "("
+                and k > 0
+                and self.tok[k - 1].kind == "ident"
+                and self.t(k - 1) not in KEYWORDS
+            ):
                 return True
         return False
 
@@ -174,8 +193,9 @@ class FileContext:
         close = self.partner[open_]
         if self.t(kw_index) == "while":
             return (open_ + 1, close - 1) if close - 1 >= open_ + 1 else None
-        semis = [k for k in range(open_ + 1, close) if self.t(k) == ";"
-                 and self.enclosing[k] == open_]
+        semis = [
+            k for k in range(open_ + 1, close) if self.t(k) == ";" and self.enclosing[k] == open_
+        ]
         if len(semis) != 2 or semis[1] - 1 < semis[0] + 1:
             return None
         return semis[0] + 1, semis[1] - 1
@@ -214,8 +234,11 @@ def _declarators(ctx, i):
     names, depth = [], ctx.enclosing[i]
     j = i + 1
     while j < len(ctx.tok) and ctx.t(j) not in (";", "{") and ctx.enclosing[j] == depth:
-        if ctx.tok[j].kind == "ident" and ctx.t(j - 1) in (ctx.t(i), ",", "*") \
-                and ctx.t(j + 1) in ("=", ",", ";", ")", "["):
+        if (
+            ctx.tok[j].kind == "ident"
+            and ctx.t(j - 1) in (ctx.t(i), ",", "*")
+            and ctx.t(j + 1) in ("=", ",", ";", ")", "[")
+        ):
             names.append(ctx.t(j))
         j = ctx.partner[j] + 1 if ctx.t(j) in "([" and ctx.partner[j] else j + 1
     return names
@@ -231,9 +254,13 @@ def integer_and_pointer_names(texts):
             cast = ctx.t(i - 1) == "(" and ctx.t(i + 1) == ")"
             if tk.text in INT_TYPES and not cast:
                 names.update(_declarators(ctx, i))
-            if tk.text == "*" and not ctx.operand_end(i - 1) and tk.kind == "punct" \
-                    and ctx.tok[i + 1].kind == "ident" \
-                    and ctx.t(i + 2) in ("=", ",", ";", ")", "["):
+            if (
+                tk.text == "*"
+                and not ctx.operand_end(i - 1)
+                and tk.kind == "punct"
+                and ctx.tok[i + 1].kind == "ident"
+                and ctx.t(i + 2) in ("=", ",", ";", ")", "[")
+            ):
                 names.add(ctx.t(i + 1))
     return names - KEYWORDS
 
@@ -250,8 +277,13 @@ def op_time(ctx):
             continue
         prev, nxt = ctx.t(i - 1), ctx.t(i + 1)
         call = ctx.enclosing[i]
-        if prev in ("(", ",") and nxt in (",", ")") and call is not None \
-                and ctx.operand_end(call - 1) and ctx.t(call - 1) not in FINITENESS_TESTS:
+        if (
+            prev in ("(", ",")
+            and nxt in (",", ")")
+            and call is not None
+            and ctx.operand_end(call - 1)
+            and ctx.t(call - 1) not in FINITENESS_TESTS
+        ):
             out.append(_change(ctx, i, i, tk.text + " + 1.0"))  # a call's time argument
         if nxt in ("+=", "-=") and prev in (";", "{", "}", ")"):
             end = next((k for k in range(i, len(ctx.tok)) if ctx.t(k) == ";"), None)
@@ -275,8 +307,11 @@ def op_status(ctx):
             guard_conditions.add((open_ + 1, close - 1))
     guards = _guard_bodies(ctx)
     for i, tk in enumerate(ctx.tok):
-        if tk.text.startswith("SDAE_ERR_") and ctx.t(i - 1) in ("return", "?", ":", "=") \
-                and i not in guards:  # a guard's own return: the guard operator's
+        if (
+            tk.text.startswith("SDAE_ERR_")
+            and ctx.t(i - 1) in ("return", "?", ":", "=")
+            and i not in guards
+        ):  # a guard's own return: the guard operator's
             out.append(_change(ctx, i, i, "SDAE_OK"))
         if tk.text in ("!=", "==") and _is_ok(ctx, i + 1):
             first = ctx.operand_start(i - 1)
@@ -313,13 +348,20 @@ def op_loop(ctx):
             continue
         first, last = cond
         depth = ctx.enclosing[first]
-        rel = next((k for k in range(first, last + 1) if ctx.enclosing[k] == depth
-                    and ctx.t(k) in ("<", "<=", ">", ">=")), None)
+        rel = next(
+            (
+                k
+                for k in range(first, last + 1)
+                if ctx.enclosing[k] == depth and ctx.t(k) in ("<", "<=", ">", ">=")
+            ),
+            None,
+        )
         if rel is None:
             continue
         end = rel + 1
-        while end + 1 <= last and not (ctx.t(end + 1) in ("&&", "||")
-                                       and ctx.enclosing[end + 1] == depth):
+        while end + 1 <= last and not (
+            ctx.t(end + 1) in ("&&", "||") and ctx.enclosing[end + 1] == depth
+        ):
             end += 1
         bound = ctx.span(rel + 1, end)
         if end > rel + 1:
@@ -357,16 +399,20 @@ def _guard_bodies(ctx):
         g = ctx.t(i) == "if" and ctx.guard_if(i)
         if g:
             body = g[1] + 1
-            end = ctx.partner[body] if ctx.t(body) == "{" else \
-                next(k for k in range(body, len(ctx.tok)) if ctx.t(k) == ";")
+            end = (
+                ctx.partner[body]
+                if ctx.t(body) == "{"
+                else next(k for k in range(body, len(ctx.tok)) if ctx.t(k) == ";")
+            )
             inside.update(range(body, end + 1))
     return inside
 
 
 def op_not(ctx):
     guards = _guard_conditions(ctx)
-    return [_change(ctx, i, i, "") for i, tk in enumerate(ctx.tok)
-            if tk.text == "!" and i not in guards]
+    return [
+        _change(ctx, i, i, "") for i, tk in enumerate(ctx.tok) if tk.text == "!" and i not in guards
+    ]
 
 
 def op_rel(ctx):
@@ -396,7 +442,7 @@ def op_arith(ctx):
 def _number_change(text):
     """The changed literal, or None for one the operator leaves alone."""
     body = text.rstrip("uUlLfF")
-    suffix = text[len(body):]
+    suffix = text[len(body) :]
     if body.lower().startswith("0x"):
         return None
     if not any(c in body for c in ".eE"):
@@ -441,13 +487,17 @@ def op_digits(ctx):
     coefficient typed with its last digits wrong rounds to."""
     out = []
     for i, tk in enumerate(ctx.tok):
-        if tk.kind != "number" or not any(c in tk.text for c in ".eE") \
-                or tk.text.lower().startswith("0x") or _significant_digits(tk.text) < 10:
+        if (
+            tk.kind != "number"
+            or not any(c in tk.text for c in ".eE")
+            or tk.text.lower().startswith("0x")
+            or _significant_digits(tk.text) < 10
+        ):
             continue
         body = tk.text.rstrip("uUlLfF")
         v = float(body)
         new = math.nextafter(math.nextafter(v, math.inf), math.inf)
-        out.append(_change(ctx, i, i, repr(new) + tk.text[len(body):]))
+        out.append(_change(ctx, i, i, repr(new) + tk.text[len(body) :]))
     return out
 
 
@@ -472,8 +522,13 @@ def op_carve(ctx):
     a function (the carving functions' own definitions are at file scope)."""
     out = []
     for i, tk in enumerate(ctx.tok):
-        if tk.kind == "ident" and tk.text in TAKES and ctx.t(i + 1) == "(" \
-                and ctx.partner[i + 1] is not None and ctx.enclosing[i] is not None:
+        if (
+            tk.kind == "ident"
+            and tk.text in TAKES
+            and ctx.t(i + 1) == "("
+            and ctx.partner[i + 1] is not None
+            and ctx.enclosing[i] is not None
+        ):
             args = _arguments(ctx, i + 1)
             if len(args) >= 2:
                 a, b = args[1]
@@ -501,8 +556,11 @@ def _in_function_named(ctx, i, suffix):
     return name.endswith(suffix)
 
 
-TOL_MACRO = re.compile(r"^[ \t]*#[ \t]*define[ \t]+(\w*(?:TOL|SMALL|ROUNDING)\w*)[ \t]+"
-                       r"(\(?[-+]?[0-9][0-9.eE+-]*\)?[ \t]*(?:\*[^\n/]*)?)", re.M)
+TOL_MACRO = re.compile(
+    r"^[ \t]*#[ \t]*define[ \t]+(\w*(?:TOL|SMALL|ROUNDING)\w*)[ \t]+"
+    r"(\(?[-+]?[0-9][0-9.eE+-]*\)?[ \t]*(?:\*[^\n/]*)?)",
+    re.M,
+)
 
 
 def op_tol(ctx):
@@ -513,8 +571,12 @@ def op_tol(ctx):
         line = ctx.text.count("\n", 0, m.start(2)) + 1
         out.append((m.start(2), m.end(2), "0.0", line))
     for i, tk in enumerate(ctx.tok):
-        if tk.kind == "ident" and (tk.text == "tol" or tk.text.endswith("_tol")) \
-                and ctx.t(i + 1) == "=" and ctx.t(i - 1) not in (".", "->"):
+        if (
+            tk.kind == "ident"
+            and (tk.text == "tol" or tk.text.endswith("_tol"))
+            and ctx.t(i + 1) == "="
+            and ctx.t(i - 1) not in (".", "->")
+        ):
             end = i + 2
             while end < len(ctx.tok) and ctx.t(end) not in (";", ","):
                 end = ctx.partner[end] + 1 if ctx.t(end) in "([" and ctx.partner[end] else end + 1
@@ -523,9 +585,19 @@ def op_tol(ctx):
     return out
 
 
-GENERATORS = {"time": op_time, "status": op_status, "guard": op_guard, "loop": op_loop,
-              "not": op_not, "rel": op_rel, "arith": op_arith, "const": op_const,
-              "digits": op_digits, "carve": op_carve, "tol": op_tol}
+GENERATORS = {
+    "time": op_time,
+    "status": op_status,
+    "guard": op_guard,
+    "loop": op_loop,
+    "not": op_not,
+    "rel": op_rel,
+    "arith": op_arith,
+    "const": op_const,
+    "digits": op_digits,
+    "carve": op_carve,
+    "tol": op_tol,
+}
 
 
 def _line_bounds(text, start, end):
@@ -552,12 +624,24 @@ def generate(relpath, text, extra_types=(), index_names=(), operators=OPERATORS)
             seen.add((start, end, repl))
             lines.add(line)
             a, b = _line_bounds(text, start, end)
-            first_line = text[a:_line_bounds(text, start, start)[1]]
+            first_line = text[a : _line_bounds(text, start, start)[1]]
             key = hashlib.sha1(first_line.strip().encode()).hexdigest()[:8]
             occ = counts.get((op, key), 0)
             counts[(op, key)] = occ + 1
             original = text[a:b]
-            mutated = original[:start - a] + repl + original[end - a:]
-            mutants.append(Mutant(relpath, op, key, occ, line, start, end, repl,
-                                  _squash(original), _squash(mutated)))
+            mutated = original[: start - a] + repl + original[end - a :]
+            mutants.append(
+                Mutant(
+                    relpath,
+                    op,
+                    key,
+                    occ,
+                    line,
+                    start,
+                    end,
+                    repl,
+                    _squash(original),
+                    _squash(mutated),
+                )
+            )
     return mutants

@@ -3,6 +3,7 @@
 dir of its own (build/mutate/build). The working tree is only read, once, at the start; each
 mutant rewrites one file of the copy, rebuilds incrementally and runs the tests until the first
 failure, then the file is restored."""
+
 import json
 import os
 import re
@@ -13,8 +14,11 @@ import threading
 import time
 from dataclasses import dataclass, field
 
-CMAKE_OPTIONS = ["-DSTABDAE_BUILD_TOOLS=OFF", "-DCMAKE_BUILD_TYPE=RelWithDebInfo",
-                 "-DSTABDAE_WERROR=OFF"]
+CMAKE_OPTIONS = [
+    "-DSTABDAE_BUILD_TOOLS=OFF",
+    "-DCMAKE_BUILD_TYPE=RelWithDebInfo",
+    "-DSTABDAE_WERROR=OFF",
+]
 
 
 def python_option(root):
@@ -27,9 +31,12 @@ def python_option(root):
 def source_files(root):
     """The working tree's files (tracked and untracked, not ignored), relative to root."""
     try:
-        out = subprocess.run(["git", "ls-files", "-z", "--cached", "--others",
-                              "--exclude-standard"], cwd=root, capture_output=True,
-                             check=True).stdout
+        out = subprocess.run(
+            ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+            cwd=root,
+            capture_output=True,
+            check=True,
+        ).stdout
         files = [f for f in out.decode().split("\0") if f]
     except (OSError, subprocess.CalledProcessError):
         files = []
@@ -117,8 +124,9 @@ def run_quiet(cmd, cwd=None, timeout=None, env=None, log=None, output=True):
     (exit status or None on timeout, output). Without output, nothing is read from the
     process: no stray descendant can then hold a pipe open and block the wait."""
     sink = subprocess.PIPE if output else subprocess.DEVNULL
-    proc = subprocess.Popen(cmd, cwd=cwd, env=env, stdout=sink,
-                            stderr=subprocess.STDOUT, start_new_session=True)
+    proc = subprocess.Popen(
+        cmd, cwd=cwd, env=env, stdout=sink, stderr=subprocess.STDOUT, start_new_session=True
+    )
     with _LIVE_LOCK:
         _LIVE.add(proc)
     try:
@@ -149,21 +157,28 @@ class Test:
     cwd: str
     env: dict
     will_fail: bool = False
-    baseline: float = 0.0   # seconds on the unmutated build
+    baseline: float = 0.0  # seconds on the unmutated build
 
 
 def load_tests(build, labels):
     """The ctest tests carrying one of labels, from ctest's own JSON description."""
     _, out = run_quiet(["ctest", "--show-only=json-v1"], cwd=build)
     tests = []
-    for t in json.loads(out[out.index("{"):])["tests"]:
+    for t in json.loads(out[out.index("{") :])["tests"]:
         props = {p["name"]: p["value"] for p in t.get("properties", [])}
         if not set(props.get("LABELS", [])) & set(labels) or props.get("DISABLED"):
             continue
         env = dict(os.environ)
         env.update(dict(kv.split("=", 1) for kv in props.get("ENVIRONMENT", [])))
-        tests.append(Test(t["name"], t["command"], props.get("WORKING_DIRECTORY", build), env,
-                          bool(props.get("WILL_FAIL"))))
+        tests.append(
+            Test(
+                t["name"],
+                t["command"],
+                props.get("WORKING_DIRECTORY", build),
+                env,
+                bool(props.get("WILL_FAIL")),
+            )
+        )
     return tests
 
 
@@ -180,8 +195,9 @@ class TestRunner:
     def run_one(self, test):
         """(passed, timed_out, seconds)."""
         t0 = time.monotonic()
-        rc, _ = run_quiet(test.command, cwd=test.cwd, env=test.env, timeout=self.timeout(test),
-                          output=False)
+        rc, _ = run_quiet(
+            test.command, cwd=test.cwd, env=test.env, timeout=self.timeout(test), output=False
+        )
         secs = time.monotonic() - t0
         if rc is None:
             return False, True, secs
@@ -218,9 +234,9 @@ class TestRunner:
 
 @dataclass
 class Outcome:
-    verdict: str            # killed, survived, timeout, invalid, same-object
+    verdict: str  # killed, survived, timeout, invalid, same-object
     seconds: float
-    killer: str = ""        # the first failing test
+    killer: str = ""  # the first failing test
     build_seconds: float = 0.0
     tests_run: int = 0
     detail: str = ""
@@ -236,7 +252,7 @@ class Workspace:
     timeout_floor: float = 10.0
     timeout_factor: float = 10.0
     tests: list = field(default_factory=list)
-    history: dict = field(default_factory=dict)   # file -> test names that killed, newest first
+    history: dict = field(default_factory=dict)  # file -> test names that killed, newest first
     original_objects: dict = field(default_factory=dict)  # file -> its unmutated object
 
     @property
@@ -256,16 +272,21 @@ class Workspace:
         if not os.path.exists(os.path.join(self.build, "CMakeCache.txt")):
             say(f"configuring {os.path.relpath(self.build, self.root)}")
             gen = ["-G", "Ninja"] if shutil.which("ninja") else []
-            rc, out = run_quiet(["cmake", "-S", self.tree, "-B", self.build] + gen +
-                                CMAKE_OPTIONS + python_option(self.root) +
-                                (["-DSTABDAE_SANITIZE=ON"] if self.sanitize else []),
-                                log=os.path.join(self.work, "configure.log"))
+            rc, out = run_quiet(
+                ["cmake", "-S", self.tree, "-B", self.build]
+                + gen
+                + CMAKE_OPTIONS
+                + python_option(self.root)
+                + (["-DSTABDAE_SANITIZE=ON"] if self.sanitize else []),
+                log=os.path.join(self.work, "configure.log"),
+            )
             if rc != 0:
                 raise SystemExit(f"mutate: cmake configure failed, see {self.work}/configure.log")
         t0 = time.monotonic()
         if self.compile() != 0:
-            raise SystemExit("mutate: the unmutated tree does not build, see "
-                             f"{self.work}/build.log")
+            raise SystemExit(
+                f"mutate: the unmutated tree does not build, see {self.work}/build.log"
+            )
         say(f"built in {time.monotonic() - t0:.1f} s")
         self.original_objects = {}
         for f in source_files(self.root):
@@ -288,8 +309,11 @@ class Workspace:
         return False
 
     def compile(self):
-        rc, _ = run_quiet(["cmake", "--build", self.build, "-j", str(self.jobs)], timeout=600,
-                          log=os.path.join(self.work, "build.log"))
+        rc, _ = run_quiet(
+            ["cmake", "--build", self.build, "-j", str(self.jobs)],
+            timeout=600,
+            log=os.path.join(self.work, "build.log"),
+        )
         return rc
 
     def baseline(self, say):
@@ -304,8 +328,10 @@ class Workspace:
             if not ok:
                 broken.append(test.name)
         self.tests = [t for t in self.tests if t.name not in broken]
-        say(f"baseline: {len(self.tests)} tests pass ({time.monotonic() - t0:.1f} s serial)"
-            + (f"; left out, failing unmutated: {', '.join(broken)}" if broken else ""))
+        say(
+            f"baseline: {len(self.tests)} tests pass ({time.monotonic() - t0:.1f} s serial)"
+            + (f"; left out, failing unmutated: {', '.join(broken)}" if broken else "")
+        )
         return broken
 
     def order(self, relfile):
@@ -321,8 +347,10 @@ class Workspace:
             names = re.split(r"[^a-z0-9]+", test.name.lower())
             return any(n.startswith(w) for n in names for w in words)
 
-        rest = sorted((t for t in self.tests if t.name not in killers),
-                      key=lambda t: (not related(t), t.baseline))
+        rest = sorted(
+            (t for t in self.tests if t.name not in killers),
+            key=lambda t: (not related(t), t.baseline),
+        )
         return first + rest
 
     @property
@@ -362,11 +390,19 @@ class Workspace:
             rc = self.compile()
             build_secs = time.monotonic() - t0
             if rc != 0:
-                return Outcome("invalid", time.monotonic() - t0, build_seconds=build_secs,
-                               detail="does not compile")
+                return Outcome(
+                    "invalid",
+                    time.monotonic() - t0,
+                    build_seconds=build_secs,
+                    detail="does not compile",
+                )
             if before is not None and _read(obj) == before:
-                return Outcome("same-object", time.monotonic() - t0, build_seconds=build_secs,
-                               detail="the compiled object is identical to the original's")
+                return Outcome(
+                    "same-object",
+                    time.monotonic() - t0,
+                    build_seconds=build_secs,
+                    detail="the compiled object is identical to the original's",
+                )
             runner = TestRunner(self.jobs, self.timeout_floor, self.timeout_factor)
             failed, timed_out, times = runner.run(self.order(mutant.file))
         finally:
@@ -378,8 +414,9 @@ class Workspace:
         if failed.name in hist:
             hist.remove(failed.name)
         hist.insert(0, failed.name)
-        return Outcome("timeout" if timed_out else "killed", secs, failed.name, build_secs,
-                       len(times))
+        return Outcome(
+            "timeout" if timed_out else "killed", secs, failed.name, build_secs, len(times)
+        )
 
     def restore_build(self):
         """Rebuilds the unmutated copy, so that the next run starts from it, and keeps the

@@ -68,8 +68,9 @@ class _Printer(C99CodePrinter):
     def _print_NumberSymbol(self, expr):
         return _c_double(expr)
 
-    _print_Pi = _print_Exp1 = _print_GoldenRatio = _print_EulerGamma = _print_Catalan = \
+    _print_Pi = _print_Exp1 = _print_GoldenRatio = _print_EulerGamma = _print_Catalan = (
         _print_NumberSymbol
+    )
 
 
 def _name_bases(temps, reduced, symbols):
@@ -84,8 +85,11 @@ def _name_bases(temps, reduced, symbols):
                 named[p.base] = next(symbols)
                 out.append((named[p.base], p.base))
             return named[p.base] ** p.exp
-        return expr.replace(lambda x: x.is_Pow and x.exp in PRODUCT_POWERS and
-                            not x.base.is_Atom, base_of)
+
+        return expr.replace(
+            lambda x: x.is_Pow and x.exp in PRODUCT_POWERS and not x.base.is_Atom, base_of
+        )
+
     for sym, e in temps:
         e = name(e)
         out.append((sym, e))
@@ -130,8 +134,9 @@ def _body(printer, names, targets, exprs, what):
         for target, e in zip(targets, reduced):
             lines.append(f"  {target} = {printer.doprint(e)};")
     except PrintMethodNotImplementedError as err:
-        raise ModelError(f"the {what}: {str(err).splitlines()[0]} (a function sympy cannot "
-                         "print in C)") from None
+        raise ModelError(
+            f"the {what}: {str(err).splitlines()[0]} (a function sympy cannot print in C)"
+        ) from None
     except (ValueError, TypeError) as err:  # a Piecewise without a default, say
         raise ModelError(f"the {what} cannot be printed in C: {err}") from None
     return lines, uses
@@ -168,8 +173,7 @@ def _callback(mech, printer, names, field, spec, pattern=None):
         targets, exprs = [targets[k] for k in kept], [exprs[k] for k in kept]
     lines, uses = _body(printer, names, targets, exprs, field.replace("_", " "))
     lines = fill + lines
-    signature = (f"static int {mech.name}_{field}({ARGUMENTS[args]}, double *{out}, "
-                 "void *params)")
+    signature = f"static int {mech.name}_{field}({ARGUMENTS[args]}, double *{out}, void *params)"
     head = [f"/* {CALLBACKS[field]} */", signature + " {"]
     head += _prologue(mech.name, uses, ["t", "q"] + (["v"] if args == "tqv" else []))
     return "\n".join(head + lines + ["  return 0;", "}"])
@@ -207,8 +211,10 @@ def _coordinate_name(mech):
 def _numbers(values):
     """Numbers as the lines of a C initializer, a few to a line."""
     per = 16
-    return [" " * 4 + ", ".join(str(x) for x in values[k:k + per]) + ","
-            for k in range(0, len(values), per)] or ["    0,"]
+    return [
+        " " * 4 + ", ".join(str(x) for x in values[k : k + per]) + ","
+        for k in range(0, len(values), per)
+    ] or ["    0,"]
 
 
 def _pattern(mech, what, rows, description):
@@ -218,27 +224,31 @@ def _pattern(mech, what, rows, description):
     for r in rows:
         cols += r
         starts.append(len(cols))
-    return "\n".join([
-        f"/* {description}: row i's columns are {name}_col[{name}_row_start[i]] .. "
-        f"{name}_col[{name}_row_start[i + 1] - 1] */",
-        f"static const size_t {name}_row_start[{len(starts)}] = {{",
-        *_numbers(starts),
-        "};",
-        f"static const size_t {name}_col[{max(1, len(cols))}] = {{",
-        *_numbers(cols),
-        "};",
-        f"static const sdae_pattern {name}_pattern = {{{len(cols)}, {name}_row_start, {name}_col}};",
-    ])
+    return "\n".join(
+        [
+            f"/* {description}: row i's columns are {name}_col[{name}_row_start[i]] .. "
+            f"{name}_col[{name}_row_start[i + 1] - 1] */",
+            f"static const size_t {name}_row_start[{len(starts)}] = {{",
+            *_numbers(starts),
+            "};",
+            f"static const size_t {name}_col[{max(1, len(cols))}] = {{",
+            *_numbers(cols),
+            "};",
+            f"static const sdae_pattern {name}_pattern = {{{len(cols)}, {name}_row_start, {name}_col}};",
+        ]
+    )
 
 
 def _system(mech, fields):
     """name_mbs: the struct by designated initializers, every callback named (NULL where the
     description has none), so that a reader sees which the library gets; a sparse mechanism's
     patterns."""
-    lines = [f"sdae_mbs {mech.name}_mbs({mech.name}_params *p) {{",
-             "  sdae_mbs sys = {",
-             f"      .n_q = {mech.n},",
-             f"      .n_c = {len(mech.c)},"]
+    lines = [
+        f"sdae_mbs {mech.name}_mbs({mech.name}_params *p) {{",
+        "  sdae_mbs sys = {",
+        f"      .n_q = {mech.n},",
+        f"      .n_c = {len(mech.c)},",
+    ]
     for field in CALLBACKS:
         value = f"{mech.name}_{field}" if field in fields else "NULL"
         lines.append(f"      .{field} = {value},")
@@ -272,70 +282,81 @@ def _tables(mech):
     The macro's own parameter is SDAE_X, a name no parameter may have (the prefix is the
     library's): one named X would be replaced by the caller's macro in X(X, ...)."""
     N = mech.name.upper()
-    rows = [f"  SDAE_X({s.name}, {_c_double(mech.defaults[s])}, "
-            f"{_c_string(mech.descriptions[s])}, {_c_string(mech.units[s])})"
-            for s in mech.params]
-    lines = ["/* the parameters: X(field, default, \"description\", \"unit\") for each field of "
-             f"{mech.name}_params (\"\": no unit) */",
-             f"#define {N}_PARAMETERS(SDAE_X)" + (" \\" if rows else "")]
+    rows = [
+        f"  SDAE_X({s.name}, {_c_double(mech.defaults[s])}, "
+        f"{_c_string(mech.descriptions[s])}, {_c_string(mech.units[s])})"
+        for s in mech.params
+    ]
+    lines = [
+        "/* the parameters: X(field, default, \"description\", \"unit\") for each field of "
+        f"{mech.name}_params (\"\": no unit) */",
+        f"#define {N}_PARAMETERS(SDAE_X)" + (" \\" if rows else ""),
+    ]
     lines += [r + " \\" for r in rows[:-1]] + rows[-1:]
     names = ", ".join(_c_string(s) for s in mech.coordinate_names)
     units = ", ".join(_c_string(s) for s in mech.coordinate_units)
-    lines += ["/* the coordinates' names and units, initializers of n_q strings (\"\": no unit) */",
-              f"#define {N}_COORDINATE_NAMES {{{names}}}",
-              f"#define {N}_COORDINATE_UNITS {{{units}}}"]
+    lines += [
+        "/* the coordinates' names and units, initializers of n_q strings (\"\": no unit) */",
+        f"#define {N}_COORDINATE_NAMES {{{names}}}",
+        f"#define {N}_COORDINATE_UNITS {{{units}}}",
+    ]
     return lines
 
 
 def header(mech, banner):
     N = mech.name.upper()
     guard = f"{N}_H"
-    fields = [f"  double {s.name};" + (f" /* {_comment(mech.descriptions[s])} */"
-                                        if mech.descriptions[s] else "") for s in mech.params]
+    fields = [
+        f"  double {s.name};"
+        + (f" /* {_comment(mech.descriptions[s])} */" if mech.descriptions[s] else "")
+        for s in mech.params
+    ]
     if not fields:
         fields = ["  int none; /* the mechanism has no parameters */"]
-    return "\n".join([
-        banner,
-        f"#ifndef {guard}",
-        f"#define {guard}",
-        "",
-        "#include <stddef.h>",
-        "",
-        "#include <stabdae/mbs.h>",
-        "",
-        "#ifdef __cplusplus",
-        'extern "C" {',
-        "#endif",
-        "",
-        f"#define {N}_N_Q {mech.n} /* coordinates */",
-        f"#define {N}_N_C {len(mech.c)} /* constraints */",
-        f"#define {N}_N_PARAMS {len(mech.params)} /* parameters, the fields of {mech.name}_params */",
-        f"/* 1: M, D, G and dG/ds are written by their nonzeros in the patterns of {mech.name}_mbs's "
-        "mass_pattern and jacobian_pattern; 0: dense */",
-        f"#define {N}_SPARSE {int(mech.sparse)}",
-        "",
-        *_tables(mech),
-        "",
-        f"typedef struct {mech.name}_params {{",
-        *fields,
-        f"}} {mech.name}_params;",
-        "",
-        "/* the defaults of the description */",
-        f"void {mech.name}_params_default({mech.name}_params *p);",
-        "/* the mechanism with its callbacks; p must outlive its use */",
-        f"sdae_mbs {mech.name}_mbs({mech.name}_params *p);",
-        "/* the start state at t = 0, n_q values each */",
-        f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0);",
-        "/* the name of coordinate i < n_q; NULL beyond */",
-        f"const char *{mech.name}_coordinate_name(size_t i);",
-        "",
-        "#ifdef __cplusplus",
-        "}",
-        "#endif",
-        "",
-        f"#endif /* {guard} */",
-        "",
-    ])
+    return "\n".join(
+        [
+            banner,
+            f"#ifndef {guard}",
+            f"#define {guard}",
+            "",
+            "#include <stddef.h>",
+            "",
+            "#include <stabdae/mbs.h>",
+            "",
+            "#ifdef __cplusplus",
+            'extern "C" {',
+            "#endif",
+            "",
+            f"#define {N}_N_Q {mech.n} /* coordinates */",
+            f"#define {N}_N_C {len(mech.c)} /* constraints */",
+            f"#define {N}_N_PARAMS {len(mech.params)} /* parameters, the fields of {mech.name}_params */",
+            f"/* 1: M, D, G and dG/ds are written by their nonzeros in the patterns of {mech.name}_mbs's "
+            "mass_pattern and jacobian_pattern; 0: dense */",
+            f"#define {N}_SPARSE {int(mech.sparse)}",
+            "",
+            *_tables(mech),
+            "",
+            f"typedef struct {mech.name}_params {{",
+            *fields,
+            f"}} {mech.name}_params;",
+            "",
+            "/* the defaults of the description */",
+            f"void {mech.name}_params_default({mech.name}_params *p);",
+            "/* the mechanism with its callbacks; p must outlive its use */",
+            f"sdae_mbs {mech.name}_mbs({mech.name}_params *p);",
+            "/* the start state at t = 0, n_q values each */",
+            f"void {mech.name}_start(const {mech.name}_params *p, double *q0, double *v0);",
+            "/* the name of coordinate i < n_q; NULL beyond */",
+            f"const char *{mech.name}_coordinate_name(size_t i);",
+            "",
+            "#ifdef __cplusplus",
+            "}",
+            "#endif",
+            "",
+            f"#endif /* {guard} */",
+            "",
+        ]
+    )
 
 
 def source(mech, banner):

@@ -40,6 +40,7 @@ def _plain(coordinates):
 
     def plain(expr):
         return sp.sympify(expr).subs(derivatives).subs(coordinates).subs(time)
+
     return t, q, v, plain
 
 
@@ -73,23 +74,37 @@ def _split(L, t, v):
 def from_lagranges_method(lm, name, params=None, q0=None, v0=None, coordinate_names=None):
     """A Mechanism from a LagrangesMethod(L, q, hol_coneqs=..., forcelist=..., frame=...)."""
     if not isinstance(lm, LagrangesMethod):
-        raise ModelError(f"{type(lm).__name__} is not a sympy.physics.mechanics "
-                         "LagrangesMethod")
+        raise ModelError(f"{type(lm).__name__} is not a sympy.physics.mechanics LagrangesMethod")
     n_hol = len(lm._hol_coneqs)
     if len(lm.coneqs) > n_hol:
-        raise ModelError("nonholonomic constraints are refused: the library's constraints "
-                         "are holonomic, c(t, q) = 0")
+        raise ModelError(
+            "nonholonomic constraints are refused: the library's constraints "
+            "are holonomic, c(t, q) = 0"
+        )
     t, q, v, plain = _plain(lm.q)
     kinetic, potential = _split(plain(lm._L[0]), t, v)
     force = None
     if lm._forcelist:
         if lm.inertial is None:
-            raise ModelError("the LagrangesMethod has forces but no frame: give frame= (the "
-                             "inertial frame) so that their generalized forces can be formed")
+            raise ModelError(
+                "the LagrangesMethod has forces but no frame: give frame= (the "
+                "inertial frame) so that their generalized forces can be formed"
+            )
         force = _generalized_forces(lm._forcelist, lm.inertial, list(lm._qdots), plain)
-    return Mechanism(name, t, q, v, kinetic=kinetic, potential=potential, force=force,
-                     constraints=[plain(c) for c in lm._hol_coneqs], params=params, q0=q0,
-                     v0=v0, coordinate_names=coordinate_names)
+    return Mechanism(
+        name,
+        t,
+        q,
+        v,
+        kinetic=kinetic,
+        potential=potential,
+        force=force,
+        constraints=[plain(c) for c in lm._hol_coneqs],
+        params=params,
+        q0=q0,
+        v0=v0,
+        coordinate_names=coordinate_names,
+    )
 
 
 def _speeds(system, qdots):
@@ -101,10 +116,11 @@ def _speeds(system, qdots):
         solved = sp.solve(list(system.kdes), u, dict=True)
     except NotImplementedError:
         solved = []
-    if len(solved) != 1 or set(solved[0]) != set(u) or \
-            any(e.has(*u) for e in solved[0].values()):
-        raise ModelError("the kinematic differential equations do not give the speeds u as "
-                         "functions of q and q' (kdes such as u - q' = 0 are needed)")
+    if len(solved) != 1 or set(solved[0]) != set(u) or any(e.has(*u) for e in solved[0].values()):
+        raise ModelError(
+            "the kinematic differential equations do not give the speeds u as "
+            "functions of q and q' (kdes such as u - q' = 0 are needed)"
+        )
     return solved[0]
 
 
@@ -113,8 +129,10 @@ def from_system(system, name, params=None, q0=None, v0=None, coordinate_names=No
     if not isinstance(system, System):
         raise ModelError(f"{type(system).__name__} is not a sympy.physics.mechanics System")
     if len(system.nonholonomic_constraints):
-        raise ModelError("nonholonomic constraints are refused: the library's constraints "
-                         "are holonomic, c(t, q) = 0")
+        raise ModelError(
+            "nonholonomic constraints are refused: the library's constraints "
+            "are holonomic, c(t, q) = 0"
+        )
     if len(system.u_aux):
         raise ModelError("auxiliary speeds are refused: the library's velocities are q'")
     qs = list(system.q)
@@ -126,9 +144,23 @@ def from_system(system, name, params=None, q0=None, v0=None, coordinate_names=No
     L -= sum((body.potential_energy for body in system.bodies), sp.S.Zero)
     kinetic, potential = _split(plain(sp.sympify(L).subs(speeds)), t, v)
     loads = [(load.location, load.vector) for load in system.loads]
-    loads += [(load.location, load.vector) for actuator in system.actuators
-              for load in actuator.to_loads()]
+    loads += [
+        (load.location, load.vector)
+        for actuator in system.actuators
+        for load in actuator.to_loads()
+    ]
     force = _generalized_forces(loads, frame, qdots, plain, speeds) if loads else None
-    return Mechanism(name, t, q, v, kinetic=kinetic, potential=potential, force=force,
-                     constraints=[plain(c) for c in system.holonomic_constraints],
-                     params=params, q0=q0, v0=v0, coordinate_names=coordinate_names)
+    return Mechanism(
+        name,
+        t,
+        q,
+        v,
+        kinetic=kinetic,
+        potential=potential,
+        force=force,
+        constraints=[plain(c) for c in system.holonomic_constraints],
+        params=params,
+        q0=q0,
+        v0=v0,
+        coordinate_names=coordinate_names,
+    )

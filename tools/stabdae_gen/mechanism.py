@@ -29,20 +29,23 @@ C_KEYWORDS = frozenset(
     union unsigned void volatile while _Alignas _Alignof _Atomic _Bool _Complex _Generic
     _Imaginary _Noreturn _Static_assert _Thread_local alignas alignof bool constexpr false
     nullptr static_assert thread_local true typeof typeof_unqual _BitInt _Decimal32 _Decimal64
-    _Decimal128 asm""".split())
+    _Decimal128 asm""".split()
+)
 # C++20's keywords and alternative tokens beyond C's: the header is included from C++ too
 CPP_KEYWORDS = frozenset(
     """and and_eq bitand bitor catch char8_t char16_t char32_t class co_await co_return co_yield
     compl concept const_cast consteval constinit decltype delete dynamic_cast explicit export
     friend mutable namespace new noexcept not not_eq operator or or_eq private protected public
     reinterpret_cast requires static_cast template this throw try typeid typename using virtual
-    wchar_t xor xor_eq""".split())
+    wchar_t xor xor_eq""".split()
+)
 # the system-specific macros GCC predefines outside the reserved namespace in its GNU modes (the
 # default, -std=gnu17): linux and unix on Linux, i386 on 32-bit x86, the others on other
 # targets; `double linux;` is `double 1;` there
 SYSTEM_MACROS = frozenset(
     """linux unix i386 sun sparc mips MIPSEB MIPSEL R3000 R4000 vax mc68000 m68k PPC powerpc
-    AVR BSD""".split())
+    AVR BSD""".split()
+)
 # a mechanism of this many coordinates or more is written sparse unless its description says
 # (sparse=False): its M and G by their structural nonzeros in patterns, the generated file
 # growing with them and not with n^2 (a 32-rod chain's dense file held 8000 zero stores)
@@ -53,14 +56,16 @@ C_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 C_HEADERS = frozenset(
     """assert complex ctype errno fenv float inttypes iso646 limits locale math setjmp signal
     stdalign stdarg stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath
-    threads time uchar wchar wctype""".split())
+    threads time uchar wchar wctype""".split()
+)
 # names a generated file cannot use: object-like macros of the headers it includes (<stddef.h>,
 # <math.h>, and the M_ constants of POSIX and GNU) would replace a field p->NAME, and the
 # library's own prefixes would clash with <stabdae/mbs.h>
 C_MACROS = frozenset(
     """NULL NAN INFINITY HUGE_VAL HUGE_VALF HUGE_VALL FP_INFINITE FP_NAN FP_NORMAL FP_SUBNORMAL
     FP_ZERO FP_ILOGB0 FP_ILOGBNAN FP_FAST_FMA FP_FAST_FMAF FP_FAST_FMAL MATH_ERRNO
-    MATH_ERREXCEPT math_errhandling errno EDOM ERANGE EILSEQ""".split())
+    MATH_ERREXCEPT math_errhandling errno EDOM ERANGE EILSEQ""".split()
+)
 RESERVED_PREFIXES = ("M_", "sdae", "SDAE", "stabdae", "STABDAE")
 # the start state may violate the constraints by this much at most (absolute)
 START_TOL = 1e-10
@@ -79,14 +84,18 @@ def check_identifier(name, what):
     if name in CPP_KEYWORDS:
         raise ModelError(f"{what} {name!r} is a C++ keyword (the header is included from C++)")
     if name.startswith("__") or re.match(r"_[A-Z]", name) or "__" in name:
-        raise ModelError(f"{what} {name!r} is reserved in C (a name beginning with two "
-                         "underscores or an underscore and a capital letter) or in C++ (one "
-                         "holding two underscores)")
+        raise ModelError(
+            f"{what} {name!r} is reserved in C (a name beginning with two "
+            "underscores or an underscore and a capital letter) or in C++ (one "
+            "holding two underscores)"
+        )
     if name in SYSTEM_MACROS:
         raise ModelError(f"{what} {name!r} is a macro GCC predefines (as linux, unix, i386)")
     if name in C_MACROS or name.startswith(RESERVED_PREFIXES):
-        raise ModelError(f"{what} {name!r} is reserved (a macro of <math.h> or <stddef.h>, or "
-                         "the prefix M_, sdae or stabdae)")
+        raise ModelError(
+            f"{what} {name!r} is reserved (a macro of <math.h> or <stddef.h>, or "
+            "the prefix M_, sdae or stabdae)"
+        )
     return name
 
 
@@ -98,8 +107,9 @@ UNIT = re.compile(r"^[A-Za-z0-9/.*^-]{0,32}$")
 def check_unit(unit, what):
     """A unit (UNIT), or ModelError naming `what`."""
     if not isinstance(unit, str) or not UNIT.match(unit):
-        raise ModelError(f"{what} {unit!r} is not a unit (at most 32 of the characters "
-                         "A-Z a-z 0-9 / . * ^ -)")
+        raise ModelError(
+            f"{what} {unit!r} is not a unit (at most 32 of the characters A-Z a-z 0-9 / . * ^ -)"
+        )
     return unit
 
 
@@ -133,8 +143,10 @@ def _vector(expr, n, what):
     except (TypeError, ValueError, sp.SympifyError):
         raise ModelError(f"{what} must be a list or Matrix of {n} expressions") from None
     if m.shape not in ((n, 1), (1, n)):
-        raise ModelError(f"{what} has {len(m)} entries ({m.shape[0]} x {m.shape[1]}), "
-                         f"not {n} (one per coordinate)")
+        raise ModelError(
+            f"{what} has {len(m)} entries ({m.shape[0]} x {m.shape[1]}), "
+            f"not {n} (one per coordinate)"
+        )
     return m.reshape(n, 1)
 
 
@@ -195,13 +207,32 @@ class Mechanism:
     declare.
     """
 
-    def __init__(self, name, t, q, v, kinetic=None, potential=0, force=None, damping=None,
-                 constraints=(), params=None, q0=None, v0=None, coordinate_names=None,
-                 mass=None, units=None, coordinate_units=None, sparse=None):
+    def __init__(
+        self,
+        name,
+        t,
+        q,
+        v,
+        kinetic=None,
+        potential=0,
+        force=None,
+        damping=None,
+        constraints=(),
+        params=None,
+        q0=None,
+        v0=None,
+        coordinate_names=None,
+        mass=None,
+        units=None,
+        coordinate_units=None,
+        sparse=None,
+    ):
         self.name = check_identifier(name, "the name")
         if name in C_HEADERS:
-            raise ModelError(f"the name {name!r} would make {name}.h, which hides the C "
-                             f"standard header <{name}.h>")
+            raise ModelError(
+                f"the name {name!r} would make {name}.h, which hides the C "
+                f"standard header <{name}.h>"
+            )
         if not isinstance(t, sp.Symbol):
             raise ModelError(f"t: {t!r} is not a sympy Symbol")
         self.t = t
@@ -234,8 +265,11 @@ class Mechanism:
         self.sparse = self.n >= SPARSE_FROM if sparse is None else sparse
         self._check_symbols()
         # the class's docstring says why
-        self.declares_potential = self.homogeneous and not self.M.has(t) and (
-            self.Q is None or self.V != 0 or self.D is not None)
+        self.declares_potential = (
+            self.homogeneous
+            and not self.M.has(t)
+            and (self.Q is None or self.V != 0 or self.D is not None)
+        )
         self._check_start()
 
     # ---- the description, checked ---------------------------------------------------------
@@ -244,8 +278,9 @@ class Mechanism:
         """t, q, v and the params as real Symbols of their names, in every expression from here
         on (a symbol of the same name is the same variable in C): derivatives of Abs or sign
         then stay real functions that C can print."""
-        self._by_name = {s.name: sp.Symbol(s.name, real=True)
-                         for s in [self.t, *self.q, *self.v, *self.params]}
+        self._by_name = {
+            s.name: sp.Symbol(s.name, real=True) for s in [self.t, *self.q, *self.v, *self.params]
+        }
         self.t = self._by_name[self.t.name]
         self.q = [self._by_name[s.name] for s in self.q]
         self.v = [self._by_name[s.name] for s in self.v]
@@ -256,8 +291,11 @@ class Mechanism:
 
     def _real(self, expr):
         """expr in the real Symbols of _make_real."""
-        swap = {s: self._by_name[s.name] for s in expr.free_symbols
-                if isinstance(s, sp.Symbol) and s.name in self._by_name}
+        swap = {
+            s: self._by_name[s.name]
+            for s in expr.free_symbols
+            if isinstance(s, sp.Symbol) and s.name in self._by_name
+        }
         return expr.xreplace(swap)
 
     def _params(self, params):
@@ -270,16 +308,17 @@ class Mechanism:
                 raise ModelError(f"params: key {sym!r} is not a sympy Symbol")
             check_identifier(sym.name, "the parameter")
             if sym.name.startswith(self.name.upper() + "_"):
-                raise ModelError(f"the parameter {sym.name!r} is reserved (the prefix "
-                                 f"{self.name.upper()}_ of the generated header's macros)")
+                raise ModelError(
+                    f"the parameter {sym.name!r} is reserved (the prefix "
+                    f"{self.name.upper()}_ of the generated header's macros)"
+                )
             if sym.name in seen:
                 raise ModelError(f"params: two parameters are named {sym.name!r}")
             seen.add(sym.name)
             description = ""
             if isinstance(value, tuple):
                 if len(value) != 2 or not isinstance(value[1], str):
-                    raise ModelError(f"params: {sym.name} must be a value or (value, "
-                                     "description)")
+                    raise ModelError(f"params: {sym.name} must be a value or (value, description)")
                 value, description = value
                 check_text(description, f"the description of {sym.name}")
             number = _sympify(value, f"the value of {sym.name}")
@@ -309,10 +348,11 @@ class Mechanism:
             poly = sp.Poly(T, *v)
         except sp.PolynomialError:
             poly = None
-        if poly is None or poly.total_degree() > 2 or any(
-                c.has(*v) for c in poly.coeffs()):
-            raise ModelError("the kinetic energy is not quadratic in v (a polynomial of degree "
-                             "at most 2 in the velocities)")
+        if poly is None or poly.total_degree() > 2 or any(c.has(*v) for c in poly.coeffs()):
+            raise ModelError(
+                "the kinetic energy is not quadratic in v (a polynomial of degree "
+                "at most 2 in the velocities)"
+            )
         self.T = T
         # p = dT/dv once, and M = dp/dv from it: sympy's hessian differentiates all of T n^2
         # times (seconds at 64 coordinates)
@@ -322,34 +362,44 @@ class Mechanism:
 
     def _forces(self, force, damping):
         if self.V.has(*self.v) or self.V.has(self.t):
-            raise ModelError("the potential depends on " +
-                             ("v" if self.V.has(*self.v) else "t") +
-                             ": V(q) only (give such forces as force=)")
+            raise ModelError(
+                "the potential depends on "
+                + ("v" if self.V.has(*self.v) else "t")
+                + ": V(q) only (give such forces as force=)"
+            )
         self.Q = None if force is None else self._real(_vector(force, self.n, "force"))
         if damping is None:
             self.D = None
             return
         D = self._real(_square(damping, self.n, "damping"))
         if D.has(*self.v) or D.has(self.t):
-            raise ModelError("damping depends on " + ("v" if D.has(*self.v) else "t") +
-                             ": D(q) only")
+            raise ModelError(
+                "damping depends on " + ("v" if D.has(*self.v) else "t") + ": D(q) only"
+            )
         self._symmetric(D, "damping")
         self.D = D
 
     def _symmetric(self, A, what):
         """A = A^T, by expansion, else at random points (expand misses identities such as
         sin^2 + cos^2 = 1)."""
-        pairs = [(i, j) for i in range(self.n) for j in range(i + 1, self.n)
-                 if sp.expand(A[i, j] - A[j, i]) != 0]
+        pairs = [
+            (i, j)
+            for i in range(self.n)
+            for j in range(i + 1, self.n)
+            if sp.expand(A[i, j] - A[j, i]) != 0
+        ]
         rng = random.Random(1)
         for i, j in pairs:
             for _ in range(3):
-                point = {s: sp.Float(rng.uniform(0.5, 1.5), CHECK_DPS)
-                         for s in (A[i, j] - A[j, i]).free_symbols}
+                point = {
+                    s: sp.Float(rng.uniform(0.5, 1.5), CHECK_DPS)
+                    for s in (A[i, j] - A[j, i]).free_symbols
+                }
                 a, b = (A[i, j].evalf(CHECK_DPS, subs=point), A[j, i].evalf(CHECK_DPS, subs=point))
                 if abs(a - b) > 1e-20 * (1 + abs(a)):
-                    raise ModelError(f"{what} is not symmetric (entries {i + 1},{j + 1} and "
-                                     f"{j + 1},{i + 1})")
+                    raise ModelError(
+                        f"{what} is not symmetric (entries {i + 1},{j + 1} and {j + 1},{i + 1})"
+                    )
 
     def _constraints(self, constraints):
         try:
@@ -357,8 +407,9 @@ class Mechanism:
         except TypeError:
             raise ModelError("constraints must be a list of expressions") from None
         if not 1 <= len(c) < self.n:
-            raise ModelError(f"{len(c)} constraints for {self.n} coordinates: the library "
-                             "needs 1 <= n_c < n_q")
+            raise ModelError(
+                f"{len(c)} constraints for {self.n} coordinates: the library needs 1 <= n_c < n_q"
+            )
         for j, cj in enumerate(c):
             if not cj.has(*self.q):
                 raise ModelError(f"constraint {j + 1} ({cj}) does not depend on q")
@@ -395,22 +446,26 @@ class Mechanism:
             for sym, unit in coordinate_units.items():
                 if not isinstance(sym, sp.Symbol) or sym.name not in index:
                     raise ModelError(f"coordinate_units: {sym!r} is not a coordinate")
-                self.coordinate_units[index[sym.name]] = check_unit(
-                    unit, f"the unit of {sym.name}")
+                self.coordinate_units[index[sym.name]] = check_unit(unit, f"the unit of {sym.name}")
         else:
             if isinstance(coordinate_units, str):
-                raise ModelError(f"coordinate_units must be {self.n} units or a dict "
-                                 "coordinate Symbol -> unit, not one string")
+                raise ModelError(
+                    f"coordinate_units must be {self.n} units or a dict "
+                    "coordinate Symbol -> unit, not one string"
+                )
             try:
                 units = list(coordinate_units)
             except TypeError:
-                raise ModelError(f"coordinate_units must be {self.n} units or a dict "
-                                 "coordinate Symbol -> unit") from None
+                raise ModelError(
+                    f"coordinate_units must be {self.n} units or a dict coordinate Symbol -> unit"
+                ) from None
             if len(units) != self.n:
-                raise ModelError(f"coordinate_units has {len(units)} entries, not {self.n} "
-                                 "(one per coordinate)")
-            self.coordinate_units = [check_unit(u, f"the unit of {s.name}")
-                                     for u, s in zip(units, self.q)]
+                raise ModelError(
+                    f"coordinate_units has {len(units)} entries, not {self.n} (one per coordinate)"
+                )
+            self.coordinate_units = [
+                check_unit(u, f"the unit of {s.name}") for u, s in zip(units, self.q)
+            ]
 
     def _start(self, value, what):
         if value is None:
@@ -418,14 +473,19 @@ class Mechanism:
         m = self._real(_vector(value, self.n, what))
         stray = m.free_symbols - set(self.params)
         if stray:
-            raise ModelError(f"{what} depends on {_listing(stray)}: numbers or expressions of "
-                             "the params only")
+            raise ModelError(
+                f"{what} depends on {_listing(stray)}: numbers or expressions of the params only"
+            )
         return m
 
     def _check_symbols(self):
         known = set(self.q) | set(self.v) | {self.t} | set(self.params)
-        parts = [("kinetic energy", self.T), ("potential", self.V), ("constraints", self.c),
-                 ("start state", self.q0.col_join(self.v0))]
+        parts = [
+            ("kinetic energy", self.T),
+            ("potential", self.V),
+            ("constraints", self.c),
+            ("start state", self.q0.col_join(self.v0)),
+        ]
         if self.Q is not None:
             parts.append(("force", self.Q))
         if self.D is not None:
@@ -436,8 +496,10 @@ class Mechanism:
                 raise ModelError(f"{_listing(stray)} in the {what} has no value in params")
             undefined = list(expr.atoms(AppliedUndef))
             if undefined:
-                raise ModelError(f"the {what} calls {undefined[0].func}, a function with no "
-                                 "definition (sympy cannot print it in C)")
+                raise ModelError(
+                    f"the {what} calls {undefined[0].func}, a function with no "
+                    "definition (sympy cannot print it in C)"
+                )
 
     def _numeric(self, expr):
         """expr at t = 0, the start state and the defaults, to CHECK_DPS digits."""
@@ -457,8 +519,9 @@ class Mechanism:
             try:
                 mpmath.cholesky(mpmath.matrix(M.tolist()))
             except (ValueError, ZeroDivisionError, TypeError):
-                raise ModelError("the mass matrix is not positive definite at the start state") \
-                    from None
+                raise ModelError(
+                    "the mass matrix is not positive definite at the start state"
+                ) from None
             for what, expr in (("c", self.c), ("G v + dc/dt", self.velocity_constraint())):
                 values = self._numeric(expr)
                 worst = max(range(len(values)), key=lambda j: abs(values[j]))
@@ -466,15 +529,18 @@ class Mechanism:
                     raise ModelError(
                         f"the start state violates the constraints: {what} = "
                         f"{_float(values[worst]):.3g} at constraint {worst + 1} (more than "
-                        f"{START_TOL:g})")
+                        f"{START_TOL:g})"
+                    )
             G = self._numeric(self.jacobian())
             # the threshold once: sympy calls iszerofunc for every entry it visits, and a max
             # over G there made the check quadratic in G's size (a minute at 64 coordinates)
             zero = 1e-20 * (1 + max(abs(g) for g in G))
             rank = G.rank(iszerofunc=lambda x: abs(x) < zero)
             if rank < len(self.c):
-                raise ModelError(f"the constraints are redundant at the start state: their "
-                                 f"jacobian has rank {rank}, not {len(self.c)}")
+                raise ModelError(
+                    f"the constraints are redundant at the start state: their "
+                    f"jacobian has rank {rank}, not {len(self.c)}"
+                )
 
     # ---- the callbacks' expressions ----------------------------------------------------------
 
@@ -518,14 +584,21 @@ class Mechanism:
         """The structural nonzeros, each pattern as its rows' ascending columns: M's and D's,
         both triangles, made symmetric (the library's mass pattern, which damping shares), and
         G's and dG/ds's (the Jacobian's pattern, which jacobian_dot shares)."""
-        mass = {(i, j) for i in range(self.n) for j in range(self.n)
-                if any(m is not None and (m[i, j] != 0 or m[j, i] != 0) for m in (self.M, self.D))}
+        mass = {
+            (i, j)
+            for i in range(self.n)
+            for j in range(self.n)
+            if any(m is not None and (m[i, j] != 0 or m[j, i] != 0) for m in (self.M, self.D))
+        }
         G = self.jacobian()
         Gdot = self.along(G)
-        jac = {(i, j) for i in range(G.rows) for j in range(self.n)
-               if G[i, j] != 0 or Gdot[i, j] != 0}
-        return ([sorted(j for r, j in mass if r == i) for i in range(self.n)],
-                [sorted(j for r, j in jac if r == i) for i in range(G.rows)])
+        jac = {
+            (i, j) for i in range(G.rows) for j in range(self.n) if G[i, j] != 0 or Gdot[i, j] != 0
+        }
+        return (
+            [sorted(j for r, j in mass if r == i) for i in range(self.n)],
+            [sorted(j for r, j in jac if r == i) for i in range(G.rows)],
+        )
 
     def callbacks(self):
         """The callbacks of sdae_mbs this description determines: field -> (arguments, output
@@ -535,8 +608,11 @@ class Mechanism:
         ct = self.constraint_t()
         out = {
             "mass": ("tq", "M", self.M),
-            "force": ("tqv", "F",
-                      self.lagrangian_force() if self.declares_potential else self.force()),
+            "force": (
+                "tqv",
+                "F",
+                self.lagrangian_force() if self.declares_potential else self.force(),
+            ),
             "constraint": ("tq", "c", self.c),
             "jacobian": ("tq", "G", G),
             "constraint_t": ("tq", "ct", ct),

@@ -30,6 +30,7 @@ and dgrad otherwise. `expected` writes the answers of the C examples' regression
 exact.pendulum_exact (Jacobi sn), and exact.manifold_reference (mpmath's Taylor ODE solver on
 mu' = q0(mu), any model and d). Tests: python -m pytest tools/stabdae_ref/tests.
 """
+
 from .api import Result, simulate
 from .stepper import StepFailure
 

@@ -9,6 +9,7 @@ tests (expected.py).
 Bad input: one line on stderr, exit 2, no output file. A step that fails: the rows computed so
 far stay written, one line on stderr says where it stopped, exit 1.
 """
+
 import argparse
 import math
 import sys
@@ -45,20 +46,27 @@ def number_list(text):
 
 
 def parser():
-    p = Parser(prog="python -m stabdae_ref", description="stabdae reference run, CSV out "
-                                 "(python -m stabdae_ref expected: the examples' answers).")
+    p = Parser(
+        prog="python -m stabdae_ref",
+        description="stabdae reference run, CSV out "
+        "(python -m stabdae_ref expected: the examples' answers).",
+    )
     p.add_argument("model", choices=sorted(MODEL_OPTIONS))
     for name in ("k", "d", "m", "ga", "L", "kc", "delta", "eps", "T", "tf"):
         p.add_argument("--" + name, type=float)
     p.add_argument("--N", type=int)
-    p.add_argument("--seed", type=int,
-                   help="the chain's random start of the C program's --seed (without --x0)")
+    p.add_argument(
+        "--seed", type=int, help="the chain's random start of the C program's --seed (without --x0)"
+    )
     p.add_argument("--steps", type=int)
     p.add_argument("--x0", type=number_list, help="X,Y,Xdot,Ydot (4 N values for the chain)")
     p.add_argument("--alpha", type=number_list, help="Baumgarte gains (default 1,2)")
     p.add_argument("--scheme", type=int, choices=stepper.SCHEMES, default=15)
-    p.add_argument("--map", choices=("euler", "midpoint", "dgrad", "user", "rk4", "rk8"),
-                   help="default user for the oscillator, dgrad otherwise")
+    p.add_argument(
+        "--map",
+        choices=("euler", "midpoint", "dgrad", "user", "rk4", "rk8"),
+        help="default user for the oscillator, dgrad otherwise",
+    )
     p.add_argument("--q", choices=("corrected", "paper"))
     p.add_argument("--stabilizer", choices=stepper.STABILIZERS, default="paper")
     p.add_argument("--every", type=int, default=1)
@@ -112,9 +120,17 @@ def main(argv=None):
         api.check_steps(T, nsteps)
         if args.every < 1:
             raise BadInput("--every must be >= 1")
-        mdl, st, xi, mu = api.setup(args.model, params_of(args), args.x0, args.scheme,
-                                    args.map or DEFAULT_MAP[args.model], args.stabilizer,
-                                    args.arith, args.dps, args.seed)
+        mdl, st, xi, mu = api.setup(
+            args.model,
+            params_of(args),
+            args.x0,
+            args.scheme,
+            args.map or DEFAULT_MAP[args.model],
+            args.stabilizer,
+            args.arith,
+            args.dps,
+            args.seed,
+        )
     except (BadInput, ValueError, ArithmeticError) as exc:
         print("stabdae_ref: %s" % exc, file=sys.stderr)
         return 2
@@ -125,11 +141,13 @@ def main(argv=None):
         return 2
     try:
         out.write(",".join(mdl.header) + "\n")
-        write_rows(out, mdl.a, api.rows(mdl, st, xi, mu, mdl.a.num(T), nsteps,
-                                                  args.every))
+        write_rows(out, mdl.a, api.rows(mdl, st, xi, mu, mdl.a.num(T), nsteps, args.every))
     except stepper.StepFailure as failure:
-        print("stabdae_ref: stopped at step %d of %d (t = %s): %s"
-              % (failure.step, nsteps, mdl.a.fmt(failure.t), failure.reason), file=sys.stderr)
+        print(
+            "stabdae_ref: stopped at step %d of %d (t = %s): %s"
+            % (failure.step, nsteps, mdl.a.fmt(failure.t), failure.reason),
+            file=sys.stderr,
+        )
         return 1
     finally:
         if out is not sys.stdout:

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """simulate(): a whole run in one call, rows in the columns of the C examples' CSV."""
+
 import math
 
 from . import arith, models, rng, stepper
@@ -39,8 +40,17 @@ def start(mdl, x0=None, seed=None):
     return mdl.default_x0()
 
 
-def setup(model, params=None, x0=None, scheme=15, map="dgrad", stabilizer="paper",
-          arithmetic="float64", dps=40, seed=None):
+def setup(
+    model,
+    params=None,
+    x0=None,
+    scheme=15,
+    map="dgrad",
+    stabilizer="paper",
+    arithmetic="float64",
+    dps=40,
+    seed=None,
+):
     """(model object, Stepper, xi0, mu0): everything checked before the first step."""
     a = arith.make(arithmetic, dps)
     model_params, method = split_params(params)
@@ -68,8 +78,21 @@ def rows(mdl, st, xi, mu, T, nsteps, every=1):
         yield tuple([t] + mdl.row(xi_n, mu_n) + [iters])
 
 
-def simulate(model, params=None, x0=None, T=0.001, nsteps=1000, scheme=15, map="dgrad",
-             stabilizer="paper", arithmetic="float64", dps=40, every=1, z0=None, seed=None):
+def simulate(
+    model,
+    params=None,
+    x0=None,
+    T=0.001,
+    nsteps=1000,
+    scheme=15,
+    map="dgrad",
+    stabilizer="paper",
+    arithmetic="float64",
+    dps=40,
+    every=1,
+    z0=None,
+    seed=None,
+):
     """Runs `nsteps` steps of size T and returns a Result.
 
     model       'oscillator', 'pendulum' or 'chain'

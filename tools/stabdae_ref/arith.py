@@ -13,6 +13,7 @@ Newton stopping rules (the only place where the arithmetics differ on purpose):
   mpmath   stop when the residual ||R(mu+)||_inf <= 10^-(dps - 10) (1e-30 at dps 40), at most
            50 updates.
 """
+
 import math
 
 import mpmath
@@ -27,7 +28,7 @@ class Float64:
 
     def __init__(self):
         # |v|^2 below eps_machine (1 + |m|^2): Gonzalez's quotient is rounding noise
-        self.eps = 2.0 ** -52
+        self.eps = 2.0**-52
         self.newton_tol = 1e-14
         self.pi = math.pi
         self.sin, self.cos, self.sqrt, self.atan2 = math.sin, math.cos, math.sqrt, math.atan2

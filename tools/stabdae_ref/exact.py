@@ -11,6 +11,7 @@
 
 Each returns one mu (a list of mpf) per time in `times`.
 """
+
 import mpmath
 
 from . import arith, models

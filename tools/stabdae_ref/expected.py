@@ -12,6 +12,7 @@ numbers in the program's CSV columns; the C programs must agree with them to a r
 (examples/tests/cli_test.sh; newton_iters, the last column, is the reference's own count and
 is not compared).
 """
+
 import argparse
 import os
 import sys
@@ -23,12 +24,14 @@ OUTDIR = os.path.normpath(os.path.join(HERE, "..", "..", "examples", "expected")
 RUNS = (
     ("oscillator_default", "oscillator", "--tf 0.2 --every 10"),
     ("oscillator_s11_euler", "oscillator", "--tf 0.2 --every 10 --scheme 11 --map euler"),
-    ("oscillator_midpoint_qpaper", "oscillator",
-     "--tf 0.2 --every 10 --map midpoint --q paper"),
+    ("oscillator_midpoint_qpaper", "oscillator", "--tf 0.2 --every 10 --map midpoint --q paper"),
     ("oscillator_dgrad_d0_m2", "oscillator", "--tf 0.2 --every 10 --map dgrad --d 0 --m 2"),
     ("pendulum_dgrad", "pendulum", "--tf 0.2 --every 10 --x0 0.5,-0.9,0.1,0.2"),
-    ("pendulum_s11_euler", "pendulum",
-     "--tf 0.2 --every 10 --x0 0.5,-0.9,0.1,0.2 --scheme 11 --map euler"),
+    (
+        "pendulum_s11_euler",
+        "pendulum",
+        "--tf 0.2 --every 10 --x0 0.5,-0.9,0.1,0.2 --scheme 11 --map euler",
+    ),
     ("pendulum_midpoint_L2", "pendulum", "--tf 0.2 --every 10 --L 2 --m 0.5 --map midpoint"),
     ("chain_euler", "chain", "--tf 0.2 --every 10 --N 5 --seed 3"),
     ("chain_midpoint", "chain", "--tf 0.2 --every 10 --N 3 --map midpoint --kc 2"),
@@ -81,8 +84,10 @@ def write(outdir, names=None):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m stabdae_ref expected",
-                                 description="Writes the examples' regression answers.")
+    ap = argparse.ArgumentParser(
+        prog="python -m stabdae_ref expected",
+        description="Writes the examples' regression answers.",
+    )
     ap.add_argument("--outdir", default=OUTDIR, help="default examples/expected")
     args = ap.parse_args(argv)
     try:

@@ -15,6 +15,7 @@ Gonzalez: gradbar H(x, y) = grad H(m) + [(H(y) - H(x) - grad H(m).v)/|v|^2] v wi
 m = (x + y)/2, v = y - x, and grad H(m) alone when |v|^2 <= eps (1 + |m|^2), eps the
 arithmetic's resolution; it satisfies gradbar H . v = H(y) - H(x).
 """
+
 from . import tableaus, vec
 
 
@@ -61,24 +62,32 @@ def gonzalez(model, x, y):
     s = (model.H(y) - model.H(x) - vec.dot(g, v)) / vv
     gbar = [gi + s * vi for gi, vi in zip(g, v)]
     # d s / dy = (grad H(y) - Hess(m) v / 2 - grad H(m) - 2 s v) / |v|^2
-    ds = [(gy - hv - gi - 2 * s * vi) / vv
-          for gy, hv, gi, vi in zip(model.grad_H(y), vec.matvec(half_hess, v), g, v)]
+    ds = [
+        (gy - hv - gi - 2 * s * vi) / vv
+        for gy, hv, gi, vi in zip(model.grad_H(y), vec.matvec(half_hess, v), g, v)
+    ]
     n = len(x)
-    J = [[half_hess[i][j] + v[i] * ds[j] + (s if i == j else 0) for j in range(n)]
-         for i in range(n)]
+    J = [
+        [half_hess[i][j] + v[i] * ds[j] + (s if i == j else 0) for j in range(n)] for i in range(n)
+    ]
     return gbar, J
 
 
 def discrete_gradient(model):
     """phi = S(m) gradbar H; the Jacobian treats S as constant (true for the three models;
     it only steers Newton, never changes the solution)."""
+
     def phi_jac(mu, mu_next):
         S = model.S([(u + w) / 2 for u, w in zip(mu, mu_next)])
         gbar, J = gonzalez(model, mu, mu_next)
         return vec.matvec(S, gbar), vec.matmul(S, J)
 
-    return Map("dgrad", lambda mu, mu_next: phi_jac(mu, mu_next)[0],
-               lambda mu, mu_next: phi_jac(mu, mu_next)[1], phi_jac)
+    return Map(
+        "dgrad",
+        lambda mu, mu_next: phi_jac(mu, mu_next)[0],
+        lambda mu, mu_next: phi_jac(mu, mu_next)[1],
+        phi_jac,
+    )
 
 
 def runge_kutta(name):
@@ -86,6 +95,7 @@ def runge_kutta(name):
     k_i = q0(mu + T sum_{j<i} a_ij k_j) (the models here are autonomous: the nodes c_i are not
     needed). The sums run over the nonzero coefficients in the order of j, as in the C
     library, so that float64 rounds the same way."""
+
     def make(model):
         A, b, _ = tableaus.tableau(name, model.a)
         zero = model.a.num(0)
@@ -105,11 +115,17 @@ def runge_kutta(name):
             return combination(b, ks)
 
         return Map(name, None, phi_T=phi_T)
+
     return make
 
 
-BUILTIN = {"euler": euler, "midpoint": midpoint, "dgrad": discrete_gradient,
-           "rk4": runge_kutta("rk4"), "rk8": runge_kutta("rk8")}
+BUILTIN = {
+    "euler": euler,
+    "midpoint": midpoint,
+    "dgrad": discrete_gradient,
+    "rk4": runge_kutta("rk4"),
+    "rk8": runge_kutta("rk8"),
+}
 
 
 def make(name, model):
@@ -119,5 +135,6 @@ def make(name, model):
     if name == "user" and model.user_map is not None:
         return Map("user", *model.user_map)
     known = sorted(BUILTIN) + (["user"] if model.user_map is not None else [])
-    raise ValueError("map %r is not available for model %s (%s)"
-                     % (name, model.name, ", ".join(known)))
+    raise ValueError(
+        "map %r is not available for model %s (%s)" % (name, model.name, ", ".join(known))
+    )

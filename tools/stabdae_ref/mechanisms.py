@@ -14,6 +14,7 @@ returns one state per time in `times`: [q..., v...] in the examples' Cartesian c
                        same solver (the four-bar, and a second reference for the others)
   energy               m |v|^2 / 2 + m ga y summed over the masses
 """
+
 from . import exact
 
 
@@ -106,13 +107,12 @@ def bars(masses, links, q0, v0, times, ga=9.81, dps=25):
         G, gamma = _bar_rows(ctx, links, n_q, q, v)
         F = [-mass[k] * ga if k % 2 else ctx.mpf(0) for k in range(n_q)]
         MinvF = [F[k] / mass[k] for k in range(n_q)]
-        A = ctx.matrix([[sum(Gi[k] * Gj[k] / mass[k] for k in range(n_q)) for Gj in G]
-                        for Gi in G])
-        rhs_l = ctx.matrix([sum(Gi[k] * MinvF[k] for k in range(n_q)) + g
-                            for Gi, g in zip(G, gamma)])
+        A = ctx.matrix([[sum(Gi[k] * Gj[k] / mass[k] for k in range(n_q)) for Gj in G] for Gi in G])
+        rhs_l = ctx.matrix(
+            [sum(Gi[k] * MinvF[k] for k in range(n_q)) + g for Gi, g in zip(G, gamma)]
+        )
         lam = ctx.lu_solve(A, rhs_l)
-        acc = [(F[k] - sum(G[j][k] * lam[j] for j in range(len(G)))) / mass[k]
-               for k in range(n_q)]
+        acc = [(F[k] - sum(G[j][k] * lam[j] for j in range(len(G)))) / mass[k] for k in range(n_q)]
         return list(v) + acc
 
     y0 = [ctx.mpf(x) for x in list(q0) + list(v0)]  # floats exactly, mpf kept
@@ -126,11 +126,13 @@ def constraint(links, q):
     for a, b, length in links:
         pa = (q[2 * a], q[2 * a + 1]) if isinstance(a, int) else a
         pb = (q[2 * b], q[2 * b + 1]) if isinstance(b, int) else b
-        out.append(((pa[0] - pb[0]) ** 2 + (pa[1] - pb[1]) ** 2 - length ** 2) / 2)
+        out.append(((pa[0] - pb[0]) ** 2 + (pa[1] - pb[1]) ** 2 - length**2) / 2)
     return out
 
 
 def energy(masses, q, v, ga=9.81):
     """sum_k m_k |v_k|^2 / 2 + m_k ga y_k."""
-    return sum(m * ((v[2 * k] ** 2 + v[2 * k + 1] ** 2) / 2 + ga * q[2 * k + 1])
-               for k, m in enumerate(masses))
+    return sum(
+        m * ((v[2 * k] ** 2 + v[2 * k + 1] ** 2) / 2 + ga * q[2 * k + 1])
+        for k, m in enumerate(masses)
+    )

@@ -15,7 +15,6 @@ The sign convention for the multiplier is Ydd = -ga - lambda/m (oscillator, chai
 Xdd = -lambda X/m, Ydd = -ga - lambda Y/m (pendulum).
 """
 
-
 import math
 
 
@@ -49,8 +48,7 @@ class Oscillator:
     """
 
     name = "oscillator"
-    header = ("t", "X", "Y", "Xdot", "Ydot", "xi1", "xi2", "mu1", "mu2", "E", "W",
-              "newton_iters")
+    header = ("t", "X", "Y", "Xdot", "Ydot", "xi1", "xi2", "mu1", "mu2", "E", "W", "newton_iters")
     defaults = {"k": 2.0, "d": 0.03, "m": 1.0, "ga": 9.81, "q": "corrected"}
     n_xi, n_mu, rel_degree = 2, 2, (2,)
 
@@ -177,8 +175,10 @@ class Pendulum:
 
     def Q(self, xi, mu):
         L, r2 = self.L, self.radius2(xi[0])
-        return [[-2 * mu[1] / (L * L * r2), 0],
-                [-2 * self.ga * self.a.sin(mu[0]) / (L + self.a.sqrt(r2)), 0]]
+        return [
+            [-2 * mu[1] / (L * L * r2), 0],
+            [-2 * self.ga * self.a.sin(mu[0]) / (L + self.a.sqrt(r2)), 0],
+        ]
 
     def H(self, mu):
         L, m = self.L, self.m
@@ -232,7 +232,7 @@ class Chain:
             raise ValueError("chain: x0 needs 4 N = %d values, got %d" % (4 * self.N, len(x)))
         xi, mu = [], []
         for i in range(self.N):
-            X, Y, Xd, Yd = x[4 * i:4 * i + 4]
+            X, Y, Xd, Yd = x[4 * i : 4 * i + 4]
             xi += [Y, Yd]
             mu += [X + Y, Y + Xd]  # eq. 21 per mass
         return xi, mu
@@ -344,8 +344,11 @@ class Chain:
         return kinetic + self.potential(X) + sum(self.m * self.ga * Yi for Yi in Y)
 
     def row(self, xi, mu):
-        return [max(abs(v) for v in xi[0::2]), max(abs(v) for v in xi[1::2]),
-                self.energy(self.to_x(xi, mu))]
+        return [
+            max(abs(v) for v in xi[0::2]),
+            max(abs(v) for v in xi[1::2]),
+            self.energy(self.to_x(xi, mu)),
+        ]
 
 
 MODELS = {cls.name: cls for cls in (Oscillator, Pendulum, Chain)}

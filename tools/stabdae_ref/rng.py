@@ -5,6 +5,7 @@ its 32-bit output over 2^32 and gsl_ran_flat(a, b) is a (1 - u) + b u. numpy's R
 the same generator with the same seeding, and randint over [0, 2^32) returns its raw outputs, so
 the C program `chain --seed S` and chain_x0(N, S) start from the same state.
 """
+
 import numpy as np
 
 

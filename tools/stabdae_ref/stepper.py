@@ -13,6 +13,7 @@ constraint, xi_j' = xi_{j+1} with the last derivative 0 ('none', index reduction
 xi_1(t) = xi_1(0) + t xi_2(0)) or -sum_j alpha_j xi_j ('baumgarte'): xi' = A xi, discretized as
 xi+ = xi + T A xi (scheme 11) or (I - T A) xi+ = xi (scheme 15). The mu update is the same.
 """
+
 import math
 
 from . import maps, vec
@@ -32,8 +33,16 @@ class StepFailure(Exception):
 class Stepper:
     """The step of one model with one scheme, map and stabilizer (see the module docstring)."""
 
-    def __init__(self, model, scheme=15, map="dgrad", stabilizer="paper", delta=2.0, eps=1.0,
-                 alpha=(1.0, 2.0)):
+    def __init__(
+        self,
+        model,
+        scheme=15,
+        map="dgrad",
+        stabilizer="paper",
+        delta=2.0,
+        eps=1.0,
+        alpha=(1.0, 2.0),
+    ):
         a = model.a
         if scheme not in SCHEMES:
             raise ValueError("scheme must be 11 or 15, got %r" % (scheme,))
@@ -47,15 +56,15 @@ class Stepper:
         self.delta, self.eps = a.num(float(delta)), a.num(float(eps))
         self.alpha = [a.num(float(v)) for v in alpha]
         if stabilizer == "baumgarte" and any(r != len(self.alpha) for r in model.rel_degree):
-            raise ValueError("baumgarte needs one alpha per derivative (%d)"
-                             % model.rel_degree[0])
+            raise ValueError("baumgarte needs one alpha per derivative (%d)" % model.rel_degree[0])
         self.map = maps.make(map, model)
 
     def gains(self, Qm):
         """eq. 6 from the columns of Q."""
         half_d2 = self.delta * self.delta / 2
-        return [-half_d2 * sum(row[i] * row[i] for row in Qm) - self.eps
-                for i in range(self.model.n_xi)]
+        return [
+            -half_d2 * sum(row[i] * row[i] for row in Qm) - self.eps for i in range(self.model.n_xi)
+        ]
 
     def xi_paper(self, xi, Qm, T):
         k = self.gains(Qm)
@@ -73,7 +82,7 @@ class Stepper:
     def xi_baseline(self, xi, T):
         out, start = [], 0
         for r in self.model.rel_degree:
-            block, A = xi[start:start + r], self.chain_matrix(r)
+            block, A = xi[start : start + r], self.chain_matrix(r)
             if self.scheme == 11:
                 out += vec.add(block, vec.scale(T, vec.matvec(A, block)))
             else:

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The runner's pieces that decide what runs: the sample's spread over the files, the tests'
 order for a mutant, the copy of the tree and the build's Python."""
+
 import os
 
 from mutate.main import spread
@@ -52,7 +53,8 @@ def test_the_build_takes_the_harness_python_when_there_is_one(tmp_path):
     venv.mkdir(parents=True)
     (venv / "python").write_text("")
     assert python_option(str(tmp_path)) == [
-        "-DPython3_EXECUTABLE=" + os.path.join(str(tmp_path), "build", "venv", "bin", "python")]
+        "-DPython3_EXECUTABLE=" + os.path.join(str(tmp_path), "build", "venv", "bin", "python")
+    ]
 
 
 def test_a_sanitized_campaign_builds_apart(tmp_path):

@@ -23,24 +23,32 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 # every description in the tree: examples/models/sym/, the tutorial's examples/generator/, and
 # tests/models/ (names and functions hard to print, the large chains); a helper module beside
 # them defines no mechanism()
-MODELS = sorted(glob.glob(os.path.join(SYM, "*.py")) +
-                glob.glob(os.path.join(ROOT, "examples", "generator", "*.py")) +
-                glob.glob(os.path.join(HERE, "models", "*.py")))
+MODELS = sorted(
+    glob.glob(os.path.join(SYM, "*.py"))
+    + glob.glob(os.path.join(ROOT, "examples", "generator", "*.py"))
+    + glob.glob(os.path.join(HERE, "models", "*.py"))
+)
 MODELS = [m for m in MODELS if "def mechanism(" in open(m).read()]
 COMPILERS = [c for c in ("gcc", "clang") if shutil.which(c)]
 INCLUDES = ["-I" + os.path.join(ROOT, "include"), "-I" + os.path.join(BUILD, "include")]
 FLAGS = ["-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-c", *INCLUDES]
 HAVE_BUILD = os.path.exists(os.path.join(BUILD, "include", "stabdae", "version.h"))
-needs_build = pytest.mark.skipif(not COMPILERS or not HAVE_BUILD,
-                                 reason="needs a compiler and a configured build tree "
-                                        "(STABDAE_BUILD)")
+needs_build = pytest.mark.skipif(
+    not COMPILERS or not HAVE_BUILD,
+    reason="needs a compiler and a configured build tree (STABDAE_BUILD)",
+)
 
 
 def run_mbsgen(*args):
     """python -m stabdae_gen ARGS: (exit status, stdout, stderr)."""
     env = dict(os.environ, PYTHONPATH=TOOLS)
-    p = subprocess.run([sys.executable, "-m", "stabdae_gen", *args], env=env,
-                       capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        [sys.executable, "-m", "stabdae_gen", *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     return p.returncode, p.stdout, p.stderr
 
 
@@ -155,15 +163,25 @@ def evaluator(d, name, tmp_path):
     main = tmp_path / f"evaluate_{name}.c"
     main.write_text(EVALUATOR.replace("@U@", name.upper()).replace("@N@", name))
     exe = tmp_path / f"evaluate_{name}"
-    p = subprocess.run([COMPILERS[0], *[f for f in FLAGS if f != "-c"], "-I" + str(d),
-                        str(main), str(d / (name + ".c")), "-o", str(exe), "-lm"],
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [
+            COMPILERS[0],
+            *[f for f in FLAGS if f != "-c"],
+            "-I" + str(d),
+            str(main),
+            str(d / (name + ".c")),
+            "-o",
+            str(exe),
+            "-lm",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert p.returncode == 0, p.stderr
 
     def evaluate(points):
         text = "\n".join(" ".join(repr(float(x)) for x in point) for point in points) + "\n"
-        run = subprocess.run([str(exe)], input=text, capture_output=True, text=True,
-                             check=True)
+        run = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
         results, current = [], {}
         for line in run.stdout.splitlines():
             if line == "end":
@@ -174,17 +192,20 @@ def evaluator(d, name, tmp_path):
             assert values[:1] != ["FAILED"], f"{field} returned nonzero"
             current[field] = None if values == ["NULL"] else [float(x) for x in values]
         return results
+
     return evaluate
 
 
 @pytest.fixture
 def model(tmp_path):
     """model(body) writes a model file whose mechanism() is body (indented as a function's)."""
+
     def write(body, header="import sympy as sp\nfrom stabdae_gen import Mechanism\n"):
         path = tmp_path / "model.py"
         text = header + "\n\ndef mechanism():\n" + textwrap.indent(textwrap.dedent(body), "    ")
         path.write_text(text)
         return str(path)
+
     return write
 
 

@@ -15,8 +15,7 @@ import subprocess
 
 import pytest
 
-from conftest import (COMPILERS, FLAGS, HAVE_BUILD, INCLUDES, MODELS, ROOT, SYM,
-                      needs_build)
+from conftest import COMPILERS, FLAGS, HAVE_BUILD, INCLUDES, MODELS, ROOT, SYM, needs_build
 
 import stabdae_gen
 from stabdae_gen.cli import load
@@ -54,26 +53,32 @@ def test_compiles_warning_free(generated, model, compiler, std, tmp_path):
     d, name, _ = generated[model]
     obj = tmp_path / (name + ".o")
     flags = [std if f == "-std=c99" else f for f in FLAGS]
-    p = subprocess.run([compiler, *flags, str(d / (name + ".c")), "-o", str(obj)],
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [compiler, *flags, str(d / (name + ".c")), "-o", str(obj)], capture_output=True, text=True
+    )
     assert p.returncode == 0 and p.stderr == "", p.stderr
-    symbols = subprocess.run(["nm", str(obj)], capture_output=True, text=True,
-                             check=True).stdout.split("\n")
+    symbols = subprocess.run(
+        ["nm", str(obj)], capture_output=True, text=True, check=True
+    ).stdout.split("\n")
     kinds = {}
     for line in symbols:
         parts = line.split()
         if len(parts) >= 2:
             kinds[parts[-1]] = parts[-2]
     exported = sorted(s for s, k in kinds.items() if k == "T")
-    assert exported == sorted(f"{name}_{f}" for f in
-                              ("params_default", "mbs", "start", "coordinate_name"))
+    assert exported == sorted(
+        f"{name}_{f}" for f in ("params_default", "mbs", "start", "coordinate_name")
+    )
     # no state: the only data are constants (a sparse mechanism's patterns), in read-only
     # sections (.rodata, or .data.rel.ro for the patterns that point at their arrays)
-    table = subprocess.run(["objdump", "-t", str(obj)], capture_output=True, text=True,
-                           check=True).stdout.split("\n")
-    writable = [line.split()[-1] for line in table
-                if " O " in line and not any(f" {sec}" in line
-                                             for sec in (".rodata", ".data.rel.ro"))]
+    table = subprocess.run(
+        ["objdump", "-t", str(obj)], capture_output=True, text=True, check=True
+    ).stdout.split("\n")
+    writable = [
+        line.split()[-1]
+        for line in table
+        if " O " in line and not any(f" {sec}" in line for sec in (".rodata", ".data.rel.ro"))
+    ]
     assert writable == [], f"writable data in the object: {writable}"
     undefined = {s for s, k in kinds.items() if k == "U"}
     assert not undefined & {"malloc", "calloc", "realloc", "free"}, undefined
@@ -87,11 +92,26 @@ def test_header_compiles_as_cxx(generated, model, compiler, tmp_path):
     C++ reads as a name (no keyword such as new or class)."""
     d, name, _ = generated[model]
     main = tmp_path / "main.cpp"
-    main.write_text(f'#include "{name}.h"\n'
-                    f"int main() {{ {name}_params p; {name}_params_default(&p); "
-                    f"sdae_mbs s = {name}_mbs(&p); return s.n_q == {name.upper()}_N_Q ? 0 : 1; }}\n")
-    p = subprocess.run([compiler, "-fsyntax-only", "-Wall", "-Wextra", "-Wpedantic", "-Werror",
-                        *INCLUDES, "-I" + str(d), str(main)], capture_output=True, text=True)
+    main.write_text(
+        f'#include "{name}.h"\n'
+        f"int main() {{ {name}_params p; {name}_params_default(&p); "
+        f"sdae_mbs s = {name}_mbs(&p); return s.n_q == {name.upper()}_N_Q ? 0 : 1; }}\n"
+    )
+    p = subprocess.run(
+        [
+            compiler,
+            "-fsyntax-only",
+            "-Wall",
+            "-Wextra",
+            "-Wpedantic",
+            "-Werror",
+            *INCLUDES,
+            "-I" + str(d),
+            str(main),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert p.returncode == 0 and p.stderr == "", p.stderr
 
 
@@ -144,20 +164,31 @@ def test_tables_and_start(generated, model, std, tmp_path):
     main.write_text(PROGRAM.replace("@U@", name.upper()).replace("@N@", name))
     exe = tmp_path / "main"
     flags = [std if f == "-std=c99" else f for f in FLAGS if f != "-c"]
-    p = subprocess.run([COMPILERS[0], *flags, "-I" + str(d), str(main), str(d / (name + ".c")),
-                        "-o", str(exe), "-lm"], capture_output=True, text=True)
+    p = subprocess.run(
+        [
+            COMPILERS[0],
+            *flags,
+            "-I" + str(d),
+            str(main),
+            str(d / (name + ".c")),
+            "-o",
+            str(exe),
+            "-lm",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert p.returncode == 0, p.stderr
     run = subprocess.run([str(exe)], capture_output=True, text=True)
     assert run.returncode == 0, "the tables disagree with the functions"
     rows = run.stdout.split("\n")
-    params = [r[len("param "):] for r in rows if r.startswith("param ")]
+    params = [r[len("param ") :] for r in rows if r.startswith("param ")]
     assert params == [f"{s.name}|{mech.descriptions[s]}|{mech.units[s]}" for s in mech.params]
-    coordinates = [r[len("coordinate "):] for r in rows if r.startswith("coordinate ")]
-    assert coordinates == [f"{n}|{u}" for n, u in
-                           zip(mech.coordinate_names, mech.coordinate_units)]
-    rows = rows[len(params) + len(coordinates):]
+    coordinates = [r[len("coordinate ") :] for r in rows if r.startswith("coordinate ")]
+    assert coordinates == [f"{n}|{u}" for n, u in zip(mech.coordinate_names, mech.coordinate_units)]
+    rows = rows[len(params) + len(coordinates) :]
     start = [[float(x) for x in rows[i].split()] for i in range(mech.n)]
-    c = [float(x) for x in rows[mech.n:mech.n + len(mech.c)]]
+    c = [float(x) for x in rows[mech.n : mech.n + len(mech.c)]]
     exact_q = [mech._numeric(e) for e in mech.q0]
     exact_v = [mech._numeric(e) for e in mech.v0]
     for (q, v), eq, ev in zip(start, exact_q, exact_v):

@@ -40,7 +40,7 @@ def expected(closed, q, v):
     for (pa, va, ia), (pb, vb, ib) in zip(ends, ends[1:]):
         d = (pb[0] - pa[0], pb[1] - pa[1])
         w = (vb[0] - va[0], vb[1] - va[1])
-        c.append((d[0]**2 + d[1]**2 - L**2) / 2)
+        c.append((d[0] ** 2 + d[1] ** 2 - L**2) / 2)
         row, row_dot = [0.0] * n, [0.0] * n
         for index, sign in ((ia, -1), (ib, 1)):
             if index is not None:
@@ -72,11 +72,10 @@ def test_chain_generated_and_correct(generated, name, tmp_path):
     closed = CHAINS[name]
     n = 2 * (N - 1) if closed else 2 * N
     rng = random.Random(3)
-    points = [[rng.uniform(0, 1)] + [rng.uniform(-2, 2) for _ in range(2 * n)]
-              for _ in range(4)]
+    points = [[rng.uniform(0, 1)] + [rng.uniform(-2, 2) for _ in range(2 * n)] for _ in range(4)]
     evaluate = evaluator(d, name, tmp_path)
     for point, got in zip(points, evaluate(points)):
-        want = expected(closed, point[1:n + 1], point[n + 1:])
+        want = expected(closed, point[1 : n + 1], point[n + 1 :])
         assert sorted(got) == sorted(want)
         for field, values in want.items():
             if values is None:
@@ -114,9 +113,11 @@ def test_chain_written_by_its_nonzeros(generated, name):
 def chain_model(tmp_path, N, sparse):
     """A model file of the open chain of N rods, sparse or dense."""
     model = tmp_path / f"chain{N}_{sparse}.py"
-    model.write_text(f"import sys\nsys.path.insert(0, {os.path.join(HERE, 'models')!r})\n"
-                     "from chain import chain\n\n\ndef mechanism():\n"
-                     f"    return chain('chain{N}', closed=False, N={N}, sparse={sparse})\n")
+    model.write_text(
+        f"import sys\nsys.path.insert(0, {os.path.join(HERE, 'models')!r})\n"
+        "from chain import chain\n\n\ndef mechanism():\n"
+        f"    return chain('chain{N}', closed=False, N={N}, sparse={sparse})\n"
+    )
     return str(model)
 
 

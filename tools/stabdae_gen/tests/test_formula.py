@@ -8,8 +8,14 @@ import random
 
 import pytest
 import sympy as sp
-from sympy.physics.mechanics import (LagrangesMethod, Particle, Point, ReferenceFrame, System,
-                                     dynamicsymbols)
+from sympy.physics.mechanics import (
+    LagrangesMethod,
+    Particle,
+    Point,
+    ReferenceFrame,
+    System,
+    dynamicsymbols,
+)
 
 from stabdae_gen import Mechanism, ModelError, from_lagranges_method, from_system
 
@@ -31,8 +37,16 @@ def with_dummy_constraint(t, q, v, kinetic, potential=0, **kw):
     """The Mechanism of T and V on q plus a coordinate z held at 0: the first n rows of its M
     and F are those of T and V alone (z enters neither)."""
     z, vz = sp.symbols("z vz")
-    return Mechanism("m", t, list(q) + [z], list(v) + [vz], kinetic=kinetic + vz**2 / 2,
-                     potential=potential, constraints=[z], **kw)
+    return Mechanism(
+        "m",
+        t,
+        list(q) + [z],
+        list(v) + [vz],
+        kinetic=kinetic + vz**2 / 2,
+        potential=potential,
+        constraints=[z],
+        **kw,
+    )
 
 
 def lagranges_reference(L, qs):
@@ -51,10 +65,17 @@ def test_force_matches_lagranges_equations():
     t = dynamicsymbols._t
     da1, da2 = a1.diff(t), a2.diff(t)
     m1, m2, l1, l2, g = 1.3, 0.7, 1.1, 0.9, 9.81
-    T = (m1 + m2) * l1**2 * da1**2 / 2 + m2 * l2**2 * da2**2 / 2 \
-        + m2 * l1 * l2 * da1 * da2 * sp.cos(a1 - a2) + sp.sin(t) * a2 * da1
-    V = -(m1 + m2) * g * l1 * sp.cos(a1) - m2 * g * l2 * sp.cos(a2) \
+    T = (
+        (m1 + m2) * l1**2 * da1**2 / 2
+        + m2 * l2**2 * da2**2 / 2
+        + m2 * l1 * l2 * da1 * da2 * sp.cos(a1 - a2)
+        + sp.sin(t) * a2 * da1
+    )
+    V = (
+        -(m1 + m2) * g * l1 * sp.cos(a1)
+        - m2 * g * l2 * sp.cos(a2)
         + (1 + sp.cos(t) ** 2) * a1**2 / 2
+    )
     M_ref, F_ref, _ = lagranges_reference(T - V, [a1, a2])
 
     ts = sp.Symbol("t")
@@ -67,18 +88,30 @@ def test_force_matches_lagranges_equations():
     mech = with_dummy_constraint(ts, q, v, kinetic=to_plain(T - V))
     F = mech.force()
     symbols = [ts, *q, *v]
-    assert_same([mech.M[i, j] for i in range(2) for j in range(2)],
-                [to_plain(M_ref[i, j]) for i in range(2) for j in range(2)], symbols)
+    assert_same(
+        [mech.M[i, j] for i in range(2) for j in range(2)],
+        [to_plain(M_ref[i, j]) for i in range(2) for j in range(2)],
+        symbols,
+    )
     assert_same([F[0], F[1]], [to_plain(F_ref[0]), to_plain(F_ref[1])], symbols)
 
 
 def test_potential_and_damping_enter_the_force():
     """F = -dV/dq - D v for T = |v|^2 / 2: a spring V = k x^2 / 2 and D = c I."""
     t, x, y, z, vx, vy, vz = sp.symbols("t x y z vx vy vz", real=True)
-    mech = Mechanism("s", t, [x, y, z], [vx, vy, vz], kinetic=(vx**2 + vy**2 + vz**2) / 2,
-                     potential=3 * x**2 / 2, damping=sp.eye(3) / 4, constraints=[z])
-    assert sp.simplify(mech.force() - sp.Matrix([-3 * x - vx / 4, -vy / 4, -vz / 4])) == \
-        sp.zeros(3, 1)
+    mech = Mechanism(
+        "s",
+        t,
+        [x, y, z],
+        [vx, vy, vz],
+        kinetic=(vx**2 + vy**2 + vz**2) / 2,
+        potential=3 * x**2 / 2,
+        damping=sp.eye(3) / 4,
+        constraints=[z],
+    )
+    assert sp.simplify(mech.force() - sp.Matrix([-3 * x - vx / 4, -vy / 4, -vz / 4])) == sp.zeros(
+        3, 1
+    )
     assert "potential" in mech.callbacks() and "damping" in mech.callbacks()
 
 
@@ -86,10 +119,16 @@ def test_derivatives_along_the_motion():
     """mass_dot_v, jacobian_dot and constraint_t_dot against d/ds at s = 0 of M(t + s, q + s v) v,
     G(t + s, q + s v) and dc/dt(t + s, q + s v), formed by substitution."""
     t, s, x, y, vx, vy = sp.symbols("t s x y vx vy", real=True)
-    mech = Mechanism("d", t, [x, y], [vx, vy],
-                     mass=sp.Matrix([[2 + sp.sin(x * t), x * y], [x * y, 3 + y**2]]),
-                     constraints=[x**2 * sp.cos(t) + y - sp.sin(2 * t) - 1],
-                     q0=[0, 1 + 0], v0=[0, 2])
+    mech = Mechanism(
+        "d",
+        t,
+        [x, y],
+        [vx, vy],
+        mass=sp.Matrix([[2 + sp.sin(x * t), x * y], [x * y, 3 + y**2]]),
+        constraints=[x**2 * sp.cos(t) + y - sp.sin(2 * t) - 1],
+        q0=[0, 1 + 0],
+        v0=[0, 2],
+    )
     moved = {t: t + s, x: x + s * vx, y: y + s * vy}
     vv = sp.Matrix([vx, vy])
     cb = mech.callbacks()
@@ -97,6 +136,7 @@ def test_derivatives_along_the_motion():
 
     def along(expr):
         return (expr.xreplace(moved)).diff(s).subs(s, 0)
+
     assert_same(list(cb["mass_dot_v"][2]), list(along(mech.M) * vv), symbols)
     G = mech.c.jacobian([x, y])
     assert_same(list(cb["jacobian_dot"][2]), list(along(G)), symbols)
@@ -115,7 +155,7 @@ def cartesian_pendulum_lm(with_frame=True, nonholonomic=False):
     N = ReferenceFrame("N")
     P = Point("P")
     P.set_vel(N, x.diff(t) * N.x + y.diff(t) * N.y)
-    Lag = m * (x.diff(t)**2 + y.diff(t)**2) / 2 - m * g * y
+    Lag = m * (x.diff(t) ** 2 + y.diff(t) ** 2) / 2 - m * g * y
     forces = [(P, -c * (x.diff(t) * N.x + y.diff(t) * N.y))]
     kw = dict(hol_coneqs=[(x**2 + y**2 - L**2) / 2], forcelist=forces)
     if with_frame:
@@ -134,8 +174,17 @@ def direct_pendulum(adapted, params, start, potential=True):
         forces = dict(potential=m * g * y, force=[-c * vx, -c * vy])
     else:
         forces = dict(force=[-c * vx, -c * vy - m * g])
-    return Mechanism("pendulum", t, [x, y], [vx, vy], kinetic=m * (vx**2 + vy**2) / 2,
-                     constraints=[(x**2 + y**2 - L**2) / 2], params=params, **forces, **start)
+    return Mechanism(
+        "pendulum",
+        t,
+        [x, y],
+        [vx, vy],
+        kinetic=m * (vx**2 + vy**2) / 2,
+        constraints=[(x**2 + y**2 - L**2) / 2],
+        params=params,
+        **forces,
+        **start,
+    )
 
 
 def assert_same_callbacks(a, b):
@@ -189,16 +238,16 @@ def test_system_gravity_load_is_a_force():
     m, L, g, c = PENDULUM_PARAMS
     params = {m: 1.5, L: 2.0, g: 9.81, c: 0.3}
     start = dict(q0=[L * sp.sin(0.4), -L * sp.cos(0.4)], v0=[0, 0])
-    adapted = from_system(pendulum_system(gravity_load=True), "pendulum", params=params,
-                          **start)
+    adapted = from_system(pendulum_system(gravity_load=True), "pendulum", params=params, **start)
     assert_same_callbacks(adapted, direct_pendulum(adapted, params, start, potential=False))
 
 
 def test_system_refusals():
     m, L, g, c = PENDULUM_PARAMS
     with pytest.raises(ModelError, match="nonholonomic"):
-        from_system(pendulum_system(nonholonomic=True), "p", params={m: 1, L: 1, g: 1, c: 1},
-                    q0=[0, -L])
+        from_system(
+            pendulum_system(nonholonomic=True), "p", params={m: 1, L: 1, g: 1, c: 1}, q0=[0, -L]
+        )
     with pytest.raises(ModelError, match="not a sympy.physics.mechanics System"):
         from_system(object(), "p")
 

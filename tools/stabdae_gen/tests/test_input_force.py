@@ -35,7 +35,7 @@ def cone_reference(mech):
     A.set_pos(O, r * sp.cos(theta) * N.x + r * sp.sin(theta) * N.y + z * N.z)
     w = A.vel(N)
     e_theta = -sp.sin(theta) * N.x + sp.cos(theta) * N.y
-    lagrangian = m * w.dot(w) / 2 - k * (r - r0)**2 / 2 - m * g * z
+    lagrangian = m * w.dot(w) / 2 - k * (r - r0) ** 2 / 2 - m * g * z
     damper = -c * w
     loads = u * sp.sin(t) * e_theta - b * sp.sqrt(w.dot(w)) * w
     plain = {r.diff(t): mech.v[0], theta.diff(t): mech.v[1], z.diff(t): mech.v[2]}
@@ -43,6 +43,7 @@ def cone_reference(mech):
 
     def to_plain(e):
         return e.subs(plain).subs(plain2)
+
     out = []
     for force in (damper, damper + loads):
         lm = LagrangesMethod(lagrangian, [r, theta, z], forcelist=[(A, force)], frame=N)
@@ -67,26 +68,45 @@ def test_cone_callbacks_against_lagranges_method(generated, tmp_path):
         "potential": [mech.V],
         "damping": list(mech.D),
     }
-    functions = {key: sp.lambdify(symbols, [e.xreplace(defaults) for e in exprs], "math")
-                 for key, exprs in reference.items()}
+    functions = {
+        key: sp.lambdify(symbols, [e.xreplace(defaults) for e in exprs], "math")
+        for key, exprs in reference.items()
+    }
     rng = random.Random(11)
-    points = [[rng.uniform(0, 2), rng.uniform(0.5, 2), rng.uniform(-3, 3), rng.uniform(-1, 1),
-               rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2)] for _ in range(5)]
+    points = [
+        [
+            rng.uniform(0, 2),
+            rng.uniform(0.5, 2),
+            rng.uniform(-3, 3),
+            rng.uniform(-1, 1),
+            rng.uniform(-2, 2),
+            rng.uniform(-2, 2),
+            rng.uniform(-2, 2),
+        ]
+        for _ in range(5)
+    ]
     evaluate = evaluator(d, name, tmp_path)
 
     def close(got, want, what):
         assert len(got) == len(want), what
         for a, b in zip(got, want):
             assert abs(a - b) <= 1e-12 * max(1.0, abs(b)), (what, got, want)
+
     for point, got in zip(points, evaluate(points)):
         want = {key: f(*point) for key, f in functions.items()}
         close(got["mass"], want["mass"], "mass")
         close(got["force"], want["force"], "force: the Lagrangian's with the damper")
         close(got["input_force"], want["input_force"], "input_force: the model's Q")
-        close(got["input_force"], want["input_force_difference"],
-              "input_force: the loads' generalized forces")
-        close([a + b for a, b in zip(got["force"], got["input_force"])], want["sum"],
-              "force + input_force: the full equations")
+        close(
+            got["input_force"],
+            want["input_force_difference"],
+            "input_force: the loads' generalized forces",
+        )
+        close(
+            [a + b for a, b in zip(got["force"], got["input_force"])],
+            want["sum"],
+            "force + input_force: the full equations",
+        )
         close(got["potential"], want["potential"], "potential")
         close(got["damping"], want["damping"], "damping")
     source = (d / "cone.c").read_text()

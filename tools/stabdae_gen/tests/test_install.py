@@ -4,6 +4,7 @@ gives the command stabdae-gen, which writes the same files as `python -m stabdae
 module, whose version is the project's. Installed with pip into a folder of its own (no
 dependencies fetched: the harness's venv has sympy, setuptools and wheel), from a copy of the
 folder, since setuptools writes its build/ and egg-info beside the sources."""
+
 import os
 import shutil
 import subprocess
@@ -19,11 +20,25 @@ MODEL = os.path.join(PACKAGE, "..", "..", "examples", "generator", "cart_pendulu
 @pytest.fixture(scope="module")
 def installed(tmp_path_factory):
     target, source = tmp_path_factory.mktemp("site"), tmp_path_factory.mktemp("source")
-    copy = shutil.copytree(PACKAGE, source / "stabdae_gen",
-                           ignore=shutil.ignore_patterns("__pycache__"))
-    subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps",
-                    "--no-build-isolation", "--target", str(target), str(copy)],
-                   check=True, capture_output=True)
+    copy = shutil.copytree(
+        PACKAGE, source / "stabdae_gen", ignore=shutil.ignore_patterns("__pycache__")
+    )
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "-q",
+            "--no-deps",
+            "--no-build-isolation",
+            "--target",
+            str(target),
+            str(copy),
+        ],
+        check=True,
+        capture_output=True,
+    )
     return target
 
 
@@ -35,8 +50,11 @@ def run(cmd, target, cwd):
 def test_the_command_writes_what_the_module_writes(installed, tmp_path):
     command = os.path.join(str(installed), "bin", "stabdae-gen")
     by_command = run([command, MODEL, "--out", str(tmp_path / "a")], installed, tmp_path)
-    by_module = run([sys.executable, "-m", "stabdae_gen", MODEL, "--out", str(tmp_path / "b")],
-                    installed, tmp_path)
+    by_module = run(
+        [sys.executable, "-m", "stabdae_gen", MODEL, "--out", str(tmp_path / "b")],
+        installed,
+        tmp_path,
+    )
     assert by_command.returncode == 0, by_command.stderr
     assert by_module.returncode == 0, by_module.stderr
     for name in ("cart_pendulum.h", "cart_pendulum.c"):

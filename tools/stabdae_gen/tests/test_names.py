@@ -20,24 +20,36 @@ from stabdae_gen.mechanism import CPP_KEYWORDS, check_identifier
 # what a generated file includes: name.h (<stddef.h>, <stabdae/mbs.h>), then name.c <math.h>
 C_SOURCE = "#include <stddef.h>\n#include <stabdae/mbs.h>\n#include <math.h>\n"
 CXX_SOURCE = "#include <stddef.h>\n#include <stabdae/mbs.h>\n"
-MODES = [("gcc", "-std=c99", C_SOURCE), ("gcc", "-std=gnu17", C_SOURCE),
-         ("gcc", "-std=gnu17 -m32", ""), ("clang", "-std=gnu17", C_SOURCE),
-         ("g++", "-x c++", CXX_SOURCE), ("clang++", "-x c++", CXX_SOURCE)]
+MODES = [
+    ("gcc", "-std=c99", C_SOURCE),
+    ("gcc", "-std=gnu17", C_SOURCE),
+    ("gcc", "-std=gnu17 -m32", ""),
+    ("clang", "-std=gnu17", C_SOURCE),
+    ("g++", "-x c++", CXX_SOURCE),
+    ("clang++", "-x c++", CXX_SOURCE),
+]
 MODES = [m for m in MODES if shutil.which(m[0])]
 
 
 def object_macros(compiler, flags, source):
     """The object-like macros (no parameters) the compiler defines after source, by name."""
-    p = subprocess.run([compiler, *flags.split(), *INCLUDES, "-dM", "-E", "-"], input=source,
-                       capture_output=True, text=True)
+    p = subprocess.run(
+        [compiler, *flags.split(), *INCLUDES, "-dM", "-E", "-"],
+        input=source,
+        capture_output=True,
+        text=True,
+    )
     if p.returncode != 0:
         pytest.skip(f"{compiler} {flags} cannot preprocess here: {p.stderr.splitlines()[:1]}")
     return sorted(m.group(1) for m in re.finditer(r"^#define ([A-Za-z_]\w*) ", p.stdout, re.M))
 
 
 @pytest.mark.skipif(not HAVE_BUILD, reason="needs a configured build tree (STABDAE_BUILD)")
-@pytest.mark.parametrize("compiler,flags,source", MODES,
-                         ids=[f"{c} {f}{' (predefined)' if not s else ''}" for c, f, s in MODES])
+@pytest.mark.parametrize(
+    "compiler,flags,source",
+    MODES,
+    ids=[f"{c} {f}{' (predefined)' if not s else ''}" for c, f, s in MODES],
+)
 def test_every_macro_is_refused(compiler, flags, source):
     accepted = []
     for name in object_macros(compiler, flags, source):
@@ -53,10 +65,12 @@ def rejected_as_names(compiler, flags, names):
     """The names that do not compile as a variable declared and read, each on its own line
     (`double friend;` alone is a friend declaration to C++, `double restrict;` a qualifier to
     C)."""
-    source = "".join(f"void f{i}(void) {{ double {n} = 1; (void){n}; }}\n"
-                     for i, n in enumerate(names))
-    p = subprocess.run([compiler, *flags, "-fsyntax-only", "-"], input=source,
-                       capture_output=True, text=True)
+    source = "".join(
+        f"void f{i}(void) {{ double {n} = 1; (void){n}; }}\n" for i, n in enumerate(names)
+    )
+    p = subprocess.run(
+        [compiler, *flags, "-fsyntax-only", "-"], input=source, capture_output=True, text=True
+    )
     lines = {int(m.group(1)) for m in re.finditer(r"^<stdin>:(\d+):\d+: error", p.stderr, re.M)}
     return {names[i - 1] for i in lines}
 
@@ -79,11 +93,23 @@ def test_cxx_keywords_are_keywords_and_refused():
 def test_what_gcc_rejects_is_refused():
     """Names a C compiler rejects as names (C and GNU keywords, linux) are refused; the control:
     names it accepts pass."""
-    names = ["asm", "typeof", "inline", "restrict", "_Bool", "double", "linux", "unix",
-             "length", "mass", "sin", "final", "X"]
+    names = [
+        "asm",
+        "typeof",
+        "inline",
+        "restrict",
+        "_Bool",
+        "double",
+        "linux",
+        "unix",
+        "length",
+        "mass",
+        "sin",
+        "final",
+        "X",
+    ]
     rejected = rejected_as_names("gcc", ["-x", "c", "-std=gnu17"], names)
-    assert {"asm", "typeof", "double", "linux", "unix", "inline", "restrict",
-            "_Bool"} <= rejected
+    assert {"asm", "typeof", "double", "linux", "unix", "inline", "restrict", "_Bool"} <= rejected
     for name in names:
         if name in rejected:
             with pytest.raises(ModelError):

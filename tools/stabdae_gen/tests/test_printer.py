@@ -15,9 +15,17 @@ from stabdae_gen.cwriter import _Printer, _name_bases
 
 x, y, z = sp.symbols("x y z", positive=True)
 CASES = [
-    x / y**2, x / y**3, x / y**sp.Rational(3, 2), x * y**sp.Rational(-3, 2),
-    (x + y)**3 / (x - 2 * y)**2, 1 / sp.sqrt(x + y), (x * y + 1)**4, sp.pi * x / 2,
-    sp.E**2 * x, x**-2 + y**-4, z / (x + y)**sp.Rational(3, 2) - (x + z)**2,
+    x / y**2,
+    x / y**3,
+    x / y ** sp.Rational(3, 2),
+    x * y ** sp.Rational(-3, 2),
+    (x + y) ** 3 / (x - 2 * y) ** 2,
+    1 / sp.sqrt(x + y),
+    (x * y + 1) ** 4,
+    sp.pi * x / 2,
+    sp.E**2 * x,
+    x**-2 + y**-4,
+    z / (x + y) ** sp.Rational(3, 2) - (x + z) ** 2,
 ]
 
 
@@ -41,7 +49,7 @@ def test_printed_expression_has_its_value(expr):
 def test_named_bases_keep_the_value():
     """The bases named as temporaries, then the temporaries evaluated in order."""
     printer = _Printer()
-    exprs = [(x + y)**2 + 1 / (x + y)**2, (x * z - y)**sp.Rational(3, 2) * (x + y)**3]
+    exprs = [(x + y) ** 2 + 1 / (x + y) ** 2, (x * z - y) ** sp.Rational(3, 2) * (x + y) ** 3]
     symbols = sp.numbered_symbols("w")
     temps, reduced = _name_bases(*sp.cse(exprs, symbols=symbols), symbols)
     assert len(temps) >= 2  # x + y and x z - y named

@@ -2,6 +2,7 @@
 """float64 against mpmath (40 digits) over 1e3 steps: the two runs follow the same discrete
 map, so they differ by rounding only, at most 1e-12 relative. Compared per row: the state
 (xi, mu) normwise, the energies relative to their size."""
+
 import pytest
 
 from stabdae_ref import simulate
@@ -11,8 +12,9 @@ STATE = ("xi1", "xi2", "mu1", "mu2")
 
 def compare(model, params, x0, scheme, map_name, stabilizer="paper", nsteps=1000):
     rf = simulate(model, params, x0, 1e-3, nsteps, scheme, map_name, stabilizer, every=10)
-    rm = simulate(model, params, x0, 1e-3, nsteps, scheme, map_name, stabilizer,
-                  arithmetic="mpmath", every=10)
+    rm = simulate(
+        model, params, x0, 1e-3, nsteps, scheme, map_name, stabilizer, arithmetic="mpmath", every=10
+    )
     return rf, rm
 
 
@@ -26,12 +28,15 @@ def rel_norm(rf, rm, names):
     return worst
 
 
-@pytest.mark.parametrize("model, params, x0, scheme, map_name, stabilizer", [
-    ("oscillator", {}, None, 15, "dgrad", "paper"),
-    ("oscillator", {"q": "paper"}, None, 11, "user", "paper"),
-    ("oscillator", {}, None, 15, "midpoint", "baumgarte"),
-    ("pendulum", {}, (0.5, -0.8, 0.1, 0.2), 15, "dgrad", "paper"),
-])
+@pytest.mark.parametrize(
+    "model, params, x0, scheme, map_name, stabilizer",
+    [
+        ("oscillator", {}, None, 15, "dgrad", "paper"),
+        ("oscillator", {"q": "paper"}, None, 11, "user", "paper"),
+        ("oscillator", {}, None, 15, "midpoint", "baumgarte"),
+        ("pendulum", {}, (0.5, -0.8, 0.1, 0.2), 15, "dgrad", "paper"),
+    ],
+)
 def test_float64_matches_mpmath(model, params, x0, scheme, map_name, stabilizer):
     rf, rm = compare(model, params, x0, scheme, map_name, stabilizer)
     assert len(rf.rows) == len(rm.rows) == 101
@@ -40,7 +45,8 @@ def test_float64_matches_mpmath(model, params, x0, scheme, map_name, stabilizer)
 
 
 def test_chain_float64_matches_mpmath():
-    rf, rm = compare("chain", {"N": 2}, [0.1, 0.6, 0, 0, -0.2, 0.3, 0.1, 0], 15, "dgrad",
-                     nsteps=300)
+    rf, rm = compare(
+        "chain", {"N": 2}, [0.1, 0.6, 0, 0, -0.2, 0.3, 0.1, 0], 15, "dgrad", nsteps=300
+    )
     for name in ("max_abs_Y", "E"):
         assert rel_norm(rf, rm, (name,)) <= 1e-12

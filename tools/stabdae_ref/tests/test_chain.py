@@ -3,6 +3,7 @@
 oscillator's trajectories (a second code path for Q, gains and Newton). Uncoupled masses are
 independent under the separable maps (euler, midpoint) only: Gonzalez's discrete gradient
 divides by |v|^2 of the whole increment, which mixes the masses."""
+
 import pytest
 
 from stabdae_ref import simulate

@@ -2,6 +2,7 @@
 """Energy on the manifold with d = 0: the discrete gradient gives W(mu+) - W(mu) =
 gradbar W . (mu+ - mu) = T gradbar W . S gradbar W = 0 for a skew S, so W is conserved up to
 rounding and Newton's residual; with d > 0 the same identity gives a monotone decrease."""
+
 import pytest
 
 from stabdae_ref import simulate
@@ -21,8 +22,9 @@ def test_float64_conserves_W_over_1e4_steps(map_name):
 
 @pytest.mark.parametrize("map_name", ["dgrad", "user"])
 def test_mpmath_conserves_W(map_name):
-    res = simulate("oscillator", {"d": 0.0}, ON_MANIFOLD, 1e-3, 1000, 15, map_name,
-                   arithmetic="mpmath", dps=50)
+    res = simulate(
+        "oscillator", {"d": 0.0}, ON_MANIFOLD, 1e-3, 1000, 15, map_name, arithmetic="mpmath", dps=50
+    )
     assert drift(res.column("W")) <= 1e-35
 
 
@@ -34,8 +36,18 @@ def test_midpoint_does_not_conserve_the_quartic_W():
 
 def test_pendulum_dg_conserves_H():
     """On the manifold E = H(mu): the Gonzalez map conserves it for a non-polynomial H too."""
-    res = simulate("pendulum", {}, None, 1e-3, 1000, 15, "dgrad", arithmetic="mpmath", dps=50,
-                   z0=([0, 0], ["0.5", "0.3"]))
+    res = simulate(
+        "pendulum",
+        {},
+        None,
+        1e-3,
+        1000,
+        15,
+        "dgrad",
+        arithmetic="mpmath",
+        dps=50,
+        z0=([0, 0], ["0.5", "0.3"]),
+    )
     assert drift(res.column("E")) <= 1e-35
 
 

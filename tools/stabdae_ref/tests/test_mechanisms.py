@@ -2,6 +2,7 @@
 """The front-end's references (mechanisms.py): each conserves the energy and keeps its
 constraints, and the two independent constructions (angles or Jacobi functions against the
 Cartesian index-1 ODE of the bars) agree."""
+
 import math
 
 import mpmath
@@ -25,8 +26,10 @@ def test_pendulum_exact_against_bars():
         assert close(r, b, 1e-18)
         assert abs(mech.constraint([(0, (0, 0), mpmath.mpf(L))], r[:2])[0]) < 1e-25
         assert abs(r[0] * r[2] + r[1] * r[3]) < 1e-25  # G v = 0
-        assert abs(mech.energy([1.0], r[:2], r[2:]) - mech.energy([1.0], *[ref[0][:2],
-                                                                               ref[0][2:]])) < 1e-25
+        assert (
+            abs(mech.energy([1.0], r[:2], r[2:]) - mech.energy([1.0], *[ref[0][:2], ref[0][2:]]))
+            < 1e-25
+        )
 
 
 def test_pendulum_lambda_is_the_constraint_force():
@@ -45,8 +48,10 @@ def test_double_pendulum_angles_against_bars():
     links = [(0, (0.0, 0.0), L1), (1, 0, L2)]
     bars = mech.bars([m1, m2], links, ref[0][:4], ref[0][4:], TIMES)
     E0 = mech.energy([m1, m2], ref[0][:4], ref[0][4:])
-    assert abs(ref[0][0] - L1 * math.sin(0.5)) < 1e-15 and abs(ref[0][6] - ref[0][4]
-                                                               - L2 * -0.2 * math.cos(1.0)) < 1e-15
+    assert (
+        abs(ref[0][0] - L1 * math.sin(0.5)) < 1e-15
+        and abs(ref[0][6] - ref[0][4] - L2 * -0.2 * math.cos(1.0)) < 1e-15
+    )
     for r, b in zip(ref, bars):
         assert close(r, b, 1e-17)
         exact_links = [(a, b, mpmath.mpf(length)) for a, b, length in links]

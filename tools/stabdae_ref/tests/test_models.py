@@ -2,6 +2,7 @@
 """The models against their DAEs, computed here from x (not from the model code):
 q0(mu) + Q(xi, mu) xi must be mu' of the DAE, S grad H must be q0, the derivatives must be
 derivatives, and the oscillator's gains must give the paper's eq. 24."""
+
 import random
 
 import pytest
@@ -40,7 +41,7 @@ def test_oscillator_q_is_mu_dot_of_the_dae():
     k, d, m = 2, 0.03, 1.5
     mdl = models.make("oscillator", MP, {"k": k, "d": d, "m": m})
     for X, Y, Xd, Yd in rand_points(10, 4, 2):
-        xdd = (-k * X ** 3 - d * Xd) / m
+        xdd = (-k * X**3 - d * Xd) / m
         mu_dot = [Xd + Yd, Yd + xdd]  # mu = (X + Y, Y + Xdot), L_g mu = 0
         assert close(q_total(mdl, *mdl.to_z([X, Y, Xd, Yd])), mu_dot)
 
@@ -82,7 +83,7 @@ def test_chain_q_is_mu_dot_of_the_dae():
     k, d, m, kc, N = 2, 0.1, 1.2, 0.7, 4
     mdl = models.make("chain", MP, {"k": k, "d": d, "m": m, "kc": kc, "N": N})
     for x in rand_points(5, 4 * N, 4):
-        X, Y, Xd, Yd = x[0::4], x[1::4], x[2::4], x[3::4]
+        X, Xd, Yd = x[0::4], x[2::4], x[3::4]
         F = chain_forces(X, Xd, k, d, kc)
         mu_dot = [v for i in range(N) for v in (Xd[i] + Yd[i], Yd[i] + F[i] / m)]
         assert close(q_total(mdl, *mdl.to_z(x)), mu_dot)
@@ -99,25 +100,33 @@ def test_q0_is_S_grad_H_and_derivatives(name):
         for j in range(mdl.n_mu):
             up = [v + (h if i == j else 0) for i, v in enumerate(mu)]
             dn = [v - (h if i == j else 0) for i, v in enumerate(mu)]
-            fd = lambda f: [(a - b) / (2 * h) for a, b in zip(f(up), f(dn))]
+
+            def fd(f, up=up, dn=dn):
+                return [(a - b) / (2 * h) for a, b in zip(f(up), f(dn))]
+
             tol = MP.num(10) ** -20
             assert close(fd(lambda z: [mdl.H(z)]), [g[j]], tol)
             assert close(fd(mdl.grad_H), [row[j] for row in mdl.hess_H(mu)], tol)
             assert close(fd(mdl.q0), [row[j] for row in mdl.q0_jac(mu)], tol)
 
 
-@pytest.mark.parametrize("q, expected, where", [
-    ("paper", 188.9, (-0.7, 0.9)),
-    # corrected c = k (3 mu1^2 - 3 mu1 xi1 + xi1^2) + d = 9.65: 2 (1 + 9.65^2) + 1
-    ("corrected", 2 * (1 + 9.65 ** 2) + 1, (0.7, -0.9)),
-])
+@pytest.mark.parametrize(
+    "q, expected, where",
+    [
+        ("paper", 188.9, (-0.7, 0.9)),
+        # corrected c = k (3 mu1^2 - 3 mu1 xi1 + xi1^2) + d = 9.65: 2 (1 + 9.65^2) + 1
+        ("corrected", 2 * (1 + 9.65**2) + 1, (0.7, -0.9)),
+    ],
+)
 def test_eq24_bound_over_B(q, expected, where):
     """max_i sup_B (-k_i) of eq. 24 (delta 2, eps 1, k 2, d 0.03) on a grid of B."""
     a = arith.Float64()
     mdl = models.make("oscillator", a, {"q": q})
     st = stepper.Stepper(mdl, delta=2, eps=1)
-    best = max((-min(st.gains(mdl.Q([x1, 0.0], [m1, 0.0]))), x1, m1)
-               for x1 in [i / 20 - 0.7 for i in range(29)]
-               for m1 in [j / 20 - 0.9 for j in range(37)])
+    best = max(
+        (-min(st.gains(mdl.Q([x1, 0.0], [m1, 0.0]))), x1, m1)
+        for x1 in [i / 20 - 0.7 for i in range(29)]
+        for m1 in [j / 20 - 0.9 for j in range(37)]
+    )
     assert best[0] == pytest.approx(expected, abs=0.05)
     assert best[1:] == pytest.approx(where)

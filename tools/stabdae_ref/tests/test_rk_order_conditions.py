@@ -17,6 +17,7 @@ tenth digit 2e-8. Past the
 order, at least one condition fails by more than 1e-6. The nodes are the row sums,
 c_i = sum_j a_ij, to the rounding u (|c_i| + sum_j |a_ij|). The Python reference's tableaus
 (stabdae_ref/tableaus.py, typed from the same publications) round to the same doubles."""
+
 import ast
 import math
 import os
@@ -27,13 +28,12 @@ import pytest
 
 from stabdae_ref import arith, tableaus
 
-MAPS = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", "..", "..", "src",
-                                     "maps"))
-U = 2.0 ** -53               # the unit roundoff of a double
+MAPS = os.path.normpath(os.path.join(os.path.dirname(__file__), "..", "..", "..", "src", "maps"))
+U = 2.0**-53  # the unit roundoff of a double
 DPS = 50
-ROUNDING = 1e-15             # the doubles' residuals: about 9 U
-PUBLISHED = 1e-26            # the published decimals' (30 digits for DOP853)
-FAILS = 1e-6                 # a condition that fails, by far more than either
+ROUNDING = 1e-15  # the doubles' residuals: about 9 U
+PUBLISHED = 1e-26  # the published decimals' (30 digits for DOP853)
+FAILS = 1e-6  # a condition that fails, by far more than either
 TREE_COUNTS = (1, 1, 2, 4, 9, 20, 48, 115, 286)  # OEIS A000081, orders 1 to 9
 
 
@@ -44,6 +44,7 @@ def ctx():
 
 
 # ---- reading the C tables --------------------------------------------------------------------
+
 
 def c_double(node):
     """A C constant expression of literals, + - * / and parentheses, evaluated in double as the
@@ -57,8 +58,12 @@ def c_double(node):
         return -v if isinstance(node.op, ast.USub) else v
     if isinstance(node, ast.BinOp):
         x, y = c_double(node.left), c_double(node.right)
-        ops = {ast.Add: lambda: x + y, ast.Sub: lambda: x - y, ast.Mult: lambda: x * y,
-               ast.Div: lambda: x / y}
+        ops = {
+            ast.Add: lambda: x + y,
+            ast.Sub: lambda: x - y,
+            ast.Mult: lambda: x * y,
+            ast.Div: lambda: x / y,
+        }
         if type(node.op) in ops:
             return ops[type(node.op)]()
     raise ValueError("not a constant expression of the tables: %s" % ast.dump(node))
@@ -98,12 +103,13 @@ def c_tableau(name):
 
 # ---- rooted trees ----------------------------------------------------------------------------
 
+
 def grow(t):
     """Every tree made from t (a sorted tuple of its root's subtrees) by one more vertex."""
     out = {tuple(sorted(t + ((),)))}
     for i, u in enumerate(t):
         for g in grow(u):
-            out.add(tuple(sorted(t[:i] + (g,) + t[i + 1:])))
+            out.add(tuple(sorted(t[:i] + (g,) + t[i + 1 :])))
     return out
 
 
@@ -147,6 +153,7 @@ def test_trees_are_counted_by_a000081():
 
 # ---- the conditions --------------------------------------------------------------------------
 
+
 def residuals(A, b, q):
     """[(tree, sum_i b_i Phi_i(t) - 1/gamma(t))] for the trees of order q, in 50 digits."""
     c50 = ctx()
@@ -154,8 +161,10 @@ def residuals(A, b, q):
     bm = [c50.mpf(x) for x in b]
     one = c50.mpf(1)
     memo = {}
-    return [(t, c50.fsum(x * y for x, y in zip(bm, weights(t, Am, one, memo))) - one / density(t))
-            for t in TREES[q]]
+    return [
+        (t, c50.fsum(x * y for x, y in zip(bm, weights(t, Am, one, memo))) - one / density(t))
+        for t in TREES[q]
+    ]
 
 
 def worst(A, b, orders):
@@ -182,14 +191,17 @@ def test_every_condition_up_to_the_order_holds_to_rounding(name):
     for q in range(1, p + 1):
         for t, r in residuals(A, b, q):
             assert abs(r) < ROUNDING, "%s: tree %s of order %d: residual %s" % (
-                name, t, q, mpmath.nstr(r, 3))
+                name,
+                t,
+                q,
+                mpmath.nstr(r, 3),
+            )
 
 
 @pytest.mark.parametrize("name", ["rk4", "rk8"])
 def test_a_condition_of_the_next_order_fails(name):
     _, A, b, _, p = c_tableau(name)
-    assert worst(A, b, [p + 1]) > FAILS, "%s satisfies every condition of order %d" % (
-        name, p + 1)
+    assert worst(A, b, [p + 1]) > FAILS, "%s satisfies every condition of order %d" % (name, p + 1)
 
 
 @pytest.mark.parametrize("name", ["rk4", "rk8"])
@@ -212,13 +224,18 @@ def test_reference_tableau_is_the_c_one(name):
     Am, bm, cm = tableaus.tableau(name, arith.MP(DPS))
     Af, bf, cf = tableaus.tableau(name, arith.Float64())
     assert len(bm) == s
-    pairs = [(A[i][j], Am[i][j], Af[i][j], "a%d%d" % (i + 1, j + 1))
-             for i in range(s) for j in range(s)]
+    pairs = [
+        (A[i][j], Am[i][j], Af[i][j], "a%d%d" % (i + 1, j + 1)) for i in range(s) for j in range(s)
+    ]
     pairs += [(b[i], bm[i], bf[i], "b%d" % (i + 1)) for i in range(s)]
     pairs += [(c[i], cm[i], cf[i], "c%d" % (i + 1)) for i in range(s)]
     c50 = ctx()
     for x, ref, ref64, label in pairs:
         ref = c50.mpf(ref)
         assert abs(c50.mpf(x) - ref) <= U * abs(ref), "%s %s: C %r, reference %s" % (
-            name, label, x, ref)
+            name,
+            label,
+            x,
+            ref,
+        )
         assert x == ref64, "%s %s: C %r, reference in float64 %r" % (name, label, x, ref64)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The chain's random start: MT19937 against published outputs of the generator, and the
 uniform numbers and the start built from them."""
+
 import pytest
 
 from stabdae_ref import rng, simulate
@@ -25,7 +26,7 @@ def test_seed_zero_is_gsls_4357():
 def test_flat_is_affine_in_the_output():
     a, b = rng.MT19937(7), rng.MT19937(7)
     for _ in range(100):
-        u = b.next32() / 2.0 ** 32
+        u = b.next32() / 2.0**32
         v = a.flat(-0.2, 0.2)
         assert v == -0.2 * (1 - u) + 0.2 * u
         assert -0.2 <= v < 0.2
@@ -36,8 +37,12 @@ def test_chain_x0_draws_mass_by_mass_in_the_ranges():
     assert len(x) == 200
     r = rng.MT19937(3)
     assert x[:4] == [r.flat(-0.5, 0.5), r.flat(-0.2, 0.2), r.flat(-0.1, 0.1), r.flat(-0.1, 0.1)]
-    for lo, hi, values in ((-0.5, 0.5, x[0::4]), (-0.2, 0.2, x[1::4]), (-0.1, 0.1, x[2::4]),
-                           (-0.1, 0.1, x[3::4])):
+    for lo, hi, values in (
+        (-0.5, 0.5, x[0::4]),
+        (-0.2, 0.2, x[1::4]),
+        (-0.1, 0.1, x[2::4]),
+        (-0.1, 0.1, x[3::4]),
+    ):
         assert all(lo <= v < hi for v in values)
     assert rng.chain_x0(50, 3) == x and rng.chain_x0(50, 4) != x
 

@@ -28,8 +28,11 @@ def chain(name, closed, N=N, sparse=None):
     q = [s for k in range(joints) for s in (x[k], y[k])]
     v = sp.symbols(f"v1:{2 * joints + 1}")
     m, L, g = sp.symbols("m L g")
-    params = {m: (0.1, "mass of each joint"), L: (0.25, "length of each rod"),
-              g: (9.81, "gravitational acceleration")}
+    params = {
+        m: (0.1, "mass of each joint"),
+        L: (0.25, "length of each rod"),
+        g: (9.81, "gravitational acceleration"),
+    }
     px, py = [0, *x], [0, *y]  # the pivot (or the first anchor), then the joints
     if closed:
         span = sp.Symbol("span")
@@ -47,7 +50,17 @@ def chain(name, closed, N=N, sparse=None):
         s, c = sp.sin(theta0), sp.cos(theta0)
         q0 = [e for k in range(1, N + 1) for e in (k * L * s, -k * L * c)]
         v0 = [e for k in range(1, N + 1) for e in (k * L * omega0 * c, k * L * omega0 * s)]
-    rods = [((px[k + 1] - px[k])**2 + (py[k + 1] - py[k])**2 - L**2) / 2 for k in range(N)]
-    return Mechanism(name, t, q, v, kinetic=m * sum(e**2 for e in v) / 2,
-                     potential=m * g * sum(y), constraints=rods, params=params, q0=q0, v0=v0,
-                     sparse=sparse)
+    rods = [((px[k + 1] - px[k]) ** 2 + (py[k + 1] - py[k]) ** 2 - L**2) / 2 for k in range(N)]
+    return Mechanism(
+        name,
+        t,
+        q,
+        v,
+        kinetic=m * sum(e**2 for e in v) / 2,
+        potential=m * g * sum(y),
+        constraints=rods,
+        params=params,
+        q0=q0,
+        v0=v0,
+        sparse=sparse,
+    )

@@ -24,18 +24,27 @@ def mechanism():
     m, k, r0, g, c, b, u, a = sp.symbols("m k r0 g c b u a")
     speed = sp.sqrt(vr**2 + r**2 * vtheta**2 + vz**2)
     return Mechanism(
-        "cone", t, q, v,
+        "cone",
+        t,
+        q,
+        v,
         kinetic=m * (vr**2 + r**2 * vtheta**2 + vz**2) / 2,
-        potential=k * (r - r0)**2 / 2 + m * g * z,
+        potential=k * (r - r0) ** 2 / 2 + m * g * z,
         damping=c * sp.diag(1, r**2, 1),
-        force=[-b * speed * vr, u * sp.sin(t) * r - b * speed * r**2 * vtheta,
-               -b * speed * vz],
+        force=[-b * speed * vr, u * sp.sin(t) * r - b * speed * r**2 * vtheta, -b * speed * vz],
         constraints=[z - a * r],
-        params={m: (1.5, "mass"), k: (4.0, "radial spring stiffness"),
-                r0: (0.8, "radial spring rest radius"), g: (9.81, "gravity"),
-                c: (0.3, "viscous damping"), b: (0.2, "quadratic drag"),
-                u: (2.0, "thrust amplitude"), a: (0.5, "slope of the cone")},
-        units={m: "kg", k: "N/m", r0: "m", g: "m/s^2", c: "N.s/m", b: "kg/m", u: "N",
-               a: "1"},
+        params={
+            m: (1.5, "mass"),
+            k: (4.0, "radial spring stiffness"),
+            r0: (0.8, "radial spring rest radius"),
+            g: (9.81, "gravity"),
+            c: (0.3, "viscous damping"),
+            b: (0.2, "quadratic drag"),
+            u: (2.0, "thrust amplitude"),
+            a: (0.5, "slope of the cone"),
+        },
+        units={m: "kg", k: "N/m", r0: "m", g: "m/s^2", c: "N.s/m", b: "kg/m", u: "N", a: "1"},
         coordinate_units=["m", "rad", "m"],
-        q0=[1, 0, a], v0=[0.1, 1, a / 10])
+        q0=[1, 0, a],
+        v0=[0.1, 1, a / 10],
+    )

@@ -19,13 +19,26 @@ def mechanism():
     m, L, g, X = sp.symbols("m L g X", positive=True)
     p, w0, q_, sin, final = sp.symbols("p w0 q sin final")
     return Mechanism(
-        "tricky", t, q, v,
-        kinetic=m * (v[0]**2 + v[1]**2) / 2,
+        "tricky",
+        t,
+        q,
+        v,
+        kinetic=m * (v[0] ** 2 + v[1] ** 2) / 2,
         potential=m * g * y + X * sp.Abs(x) * sp.pi / 4 + (p + w0 + q_ + sin + final) * y,
         constraints=[sp.Eq(x**2 + y**2, L**2)],
-        params={m: (1.0, 'mass "m" */ in kg'), L: (2.0, "length \\ rod"),
-                g: (9.81, "trigraphs ??/ ??= ??( ??) ??' ??< ??! ??> ??- ???/ and ?? end??"),
-                X: (0.5, "a ??/"), p: 0.0, w0: 0.0, q_: 0.0, sin: 0.0, final: 0.0},
+        params={
+            m: (1.0, 'mass "m" */ in kg'),
+            L: (2.0, "length \\ rod"),
+            g: (9.81, "trigraphs ??/ ??= ??( ??) ??' ??< ??! ??> ??- ???/ and ?? end??"),
+            X: (0.5, "a ??/"),
+            p: 0.0,
+            w0: 0.0,
+            q_: 0.0,
+            sin: 0.0,
+            final: 0.0,
+        },
         units={m: "kg", L: "m", g: "m/s^2", X: "N.m"},
         coordinate_units={x: "m"},
-        q0=[L * sp.sin(sp.pi / 5), -L * sp.cos(sp.pi / 5)], v0=[0, 0])
+        q0=[L * sp.sin(sp.pi / 5), -L * sp.cos(sp.pi / 5)],
+        v0=[0, 0],
+    )
