@@ -6,7 +6,7 @@
 RUNS gives, for each file, the example program and its flags exactly as the test
 example_regress(NAME PROGRAM FLAGS...) in examples/tests/CMakeLists.txt gives them
 (tests/test_expected.py holds the two equal). Each run is this package's command line
-(__main__) for the program's model with those flags, after the C program's defaults where they
+(cli.py) for the program's model with those flags, after the C program's defaults where they
 differ from the reference's command line (C_DEFAULTS), so a file holds the reference's own
 numbers in the program's CSV columns; the C programs must agree with them to a relative 1e-10
 (examples/tests/cli_test.sh; newton_iters, the last column, is the reference's own count and
@@ -16,6 +16,8 @@ is not compared).
 import argparse
 import os
 import sys
+
+from . import cli
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUTDIR = os.path.normpath(os.path.join(HERE, "..", "..", "examples", "expected"))
@@ -69,15 +71,13 @@ def argv_of(program, flags):
 
 def write(outdir, names=None):
     """Writes outdir/NAME.csv for every run (or the runs in names); the paths written."""
-    from . import __main__  # the command line, imported here: it imports this module
-
     os.makedirs(outdir, exist_ok=True)
     paths = []
     for name, program, flags in RUNS:
         if names is not None and name not in names:
             continue
         path = os.path.join(outdir, name + ".csv")
-        if __main__.main(argv_of(program, flags) + ["--out", path]) != 0:
+        if cli.main(argv_of(program, flags) + ["--out", path]) != 0:
             raise RuntimeError("the reference failed on %s %s" % (program, flags))
         paths.append(path)
     return paths
