@@ -26,18 +26,18 @@ from .cwriter import header, source
 from .errors import ModelError
 from .mechanism import Mechanism
 
-USAGE = "mbsgen MODEL.py --out DIR [--name NAME]"
+ARGUMENTS = "MODEL.py --out DIR [--name NAME]"
 
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
-        raise ModelError(f"{message} (usage: {USAGE})")
+        raise ModelError(f"{message} (usage: {self.usage})")
 
 
-def _parse(argv):
+def _parse(argv, prog):
     parser = _Parser(
-        prog="mbsgen",
-        usage=USAGE,
+        prog=prog,
+        usage=f"{prog} {ARGUMENTS}",
         description=(
             "Writes DIR/name.h and DIR/name.c, a mechanism of <stabdae/mbs.h> with exact "
             "derivatives, from MODEL.py's mechanism() (a stabdae_gen.Mechanism)."
@@ -206,26 +206,29 @@ def write(out, files):
 
 
 def run():
-    """The command stabdae-gen (pyproject.toml's entry point): main on the command line."""
-    sys.exit(main(sys.argv[1:]))
+    """The command stabdae-gen (pyproject.toml's entry point): main on the command line, its
+    messages under that name."""
+    sys.exit(main(sys.argv[1:], prog="stabdae-gen"))
 
 
-def main(argv):
+def main(argv, prog="mbsgen"):
+    """The generator's command: prog names it in its messages (tools/mbsgen and python -m
+    stabdae_gen are mbsgen, the installed command stabdae-gen)."""
     try:
-        args = _parse(argv)
+        args = _parse(argv, prog)
         mech, files = generate(args.model)
         if args.name is not None and mech.name != args.name:
             raise ModelError(f"{args.model} names its mechanism {mech.name!r}, not {args.name!r}")
         write(args.out, files)
     except ModelError as err:
-        print(f"mbsgen: {one_line(err)}", file=sys.stderr)
+        print(f"{prog}: {one_line(err)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:  # the user's Ctrl-C (a model's own is a ModelError above)
-        print("mbsgen: interrupted", file=sys.stderr)
+        print(f"{prog}: interrupted", file=sys.stderr)
         return 130
     n_c = len(mech.c)
     print(
-        f"mbsgen: {mech.name}: {mech.n} coordinates, {n_c} constraint{'s' * (n_c != 1)} -> "
+        f"{prog}: {mech.name}: {mech.n} coordinates, {n_c} constraint{'s' * (n_c != 1)} -> "
         + ", ".join(os.path.join(args.out, name) for name in files)
     )
     return 0

@@ -66,6 +66,7 @@ def test_a_refusal_is_one_line_and_status_2(installed, tmp_path):
     out = run([command, "no_such_model.py", "--out", str(tmp_path)], installed, tmp_path)
     assert out.returncode == 2
     assert len(out.stderr.strip().splitlines()) == 1
+    assert out.stderr.startswith("stabdae-gen: ")  # under the command's own name
 
 
 def test_the_installed_module_is_the_package_alone(installed):
