@@ -148,8 +148,14 @@ static void measure(fmu_instance *fi) {
 
 static size_t work_len(const fmu_layout *L) { return 2 * (L->n_q + L->n_c) * sizeof(double); }
 
+void fmu_drop_stepper(fmu_instance *fi) {
+  sdae_mbs_stepper_free(fi->stepper); /* its block the instance's plain bytes again */
+  fi->stepper = NULL;
+}
+
 void fmu_free(fmu_instance *fi) {
   if (!fi) return;
+  fmu_drop_stepper(fi);
   sdae_allocator a = fi->alloc;
   if (fi->name) fmu_mem_put(&a, fi->name, strlen(fi->name) + 1);
   fmu_mem_put(&a, fi->values, fi->layout.count * sizeof *fi->values);
@@ -201,7 +207,7 @@ nomem:
 
 fmu_status fmu_reset(fmu_instance *fi) {
   /* the stepper's block stays allocated (its address with it) for the next initialization */
-  fi->stepper = NULL;
+  fmu_drop_stepper(fi);
   defaults(fi);
   return FMU_OK;
 }
@@ -268,16 +274,16 @@ fmu_status fmu_build(fmu_instance *fi, const char *call) {
   o.delta = fi->values[FMU_VR_DELTA];
   o.epsilon = fi->values[FMU_VR_EPSILON];
   o.map = fi->clock.map;
-  fi->stepper = NULL;
+  fmu_drop_stepper(fi);
   if ((rc = build_stepper(fi, &o)) != SDAE_OK) {
-    fi->stepper = NULL;
+    fmu_drop_stepper(fi);
     fmu_log(fi, FMU_ERROR,
             "%s: the mechanism or the solver's settings (map %s, delta %g, epsilon %g): %s", call,
             sdae_map_name(o.map), o.delta, o.epsilon, sdae_strerror(rc));
     return FMU_ERROR;
   }
   if ((rc = outputs(fi, fi->clock.t, fi->values + L->q, fi->values + L->v)) != SDAE_OK) {
-    fi->stepper = NULL;
+    fmu_drop_stepper(fi);
     fmu_log(fi, FMU_ERROR, "%s: the outputs at the state: %s", call, sdae_strerror(rc));
     return FMU_ERROR;
   }
@@ -496,7 +502,7 @@ fmu_status fmu_set_real(fmu_instance *fi, const unsigned *vr, size_t n, const do
     fi->values[vr[i]] = value[i];
   }
   /* outputs got in initialization mode came from the values before: computed anew when asked */
-  if (fi->clock.phase == FMU_INIT_MODE) fi->stepper = NULL;
+  if (fi->clock.phase == FMU_INIT_MODE) fmu_drop_stepper(fi);
   return FMU_OK;
 }
 
@@ -536,6 +542,6 @@ fmu_status fmu_set_string(fmu_instance *fi, const unsigned *vr, size_t n,
     }
   }
   for (size_t i = 0; i < n; i++) fi->clock.map = sdae_map_by_name(value[i]);
-  if (fi->clock.phase == FMU_INIT_MODE) fi->stepper = NULL; /* as in fmu_set_real */
+  if (fi->clock.phase == FMU_INIT_MODE) fmu_drop_stepper(fi); /* as in fmu_set_real */
   return FMU_OK;
 }

@@ -74,6 +74,9 @@ const char *fmu_instance_name(const char *name);
 fmu_instance *fmu_instantiate(const char *name, const char *token, const sdae_allocator *a,
                               fmu_logger log, void *env, int logging_on);
 void fmu_free(fmu_instance *fi); /* NULL is fine */
+/* the instance's stepper given up (sdae_mbs_stepper_free: its block, kept for the next one,
+ * plain bytes again), fi->stepper NULL */
+void fmu_drop_stepper(fmu_instance *fi);
 
 /* the message, through the logger: errors and warnings always, information when logging is on */
 void fmu_log(const fmu_instance *fi, fmu_status status, const char *fmt, ...)

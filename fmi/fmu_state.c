@@ -114,7 +114,7 @@ fmu_status fmu_state_set(fmu_instance *fi, const fmu_state *s) {
   memcpy(fi->values, values_of(s), s->count * sizeof(double));
   fi->clock = s->clock;
   fi->clock.map = sdae_map_by_name(s->map);
-  fi->stepper = NULL;
+  fmu_drop_stepper(fi);
   /* a state got after a set of u holds outputs of the u before: computed on the next get */
   fi->outputs_stale = 1;
   if (s->stepper_len == 0) return FMU_OK;
@@ -126,7 +126,7 @@ fmu_status fmu_state_set(fmu_instance *fi, const fmu_state *s) {
   }
   if ((rc = sdae_mbs_set_state(fi->stepper, stepper_bytes(s), s->stepper_len)) != SDAE_OK) {
     fmu_log(fi, FMU_ERROR, "setFMUState: the stepper's state: %s", sdae_strerror(rc));
-    fi->stepper = NULL;
+    fmu_drop_stepper(fi);
     fi->clock.phase = FMU_FAILED;
     return FMU_ERROR;
   }

@@ -18,6 +18,7 @@ void *sdae__alloc(const sdae_allocator *a, size_t size) {
 
 void sdae__free(const sdae_allocator *a, void *ptr, size_t size) {
   if (!ptr) return;
+  sdae__arena_release(ptr, size); /* carved or not, whole again for the allocator */
   if (custom(a))
     a->free(a->ud, ptr, size);
   else
@@ -50,7 +51,6 @@ void sdae__block_free(const sdae_block *b) {
     sdae__arena_release(copy.caller, copy.bytes);
     return;
   }
-  if (copy.mem) sdae__arena_release(copy.mem, copy.bytes);
   sdae__free(&copy.allocator, copy.mem, copy.bytes);
 }
 

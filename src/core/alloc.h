@@ -9,7 +9,8 @@
 
 /* size bytes (size > 0), or NULL; a NULL allocator, or one without alloc or free, is malloc */
 void *sdae__alloc(const sdae_allocator *a, size_t size);
-/* gives back what sdae__alloc returned with the same allocator and size; NULL is fine */
+/* gives back what sdae__alloc returned with the same allocator and size, its bytes unpoisoned
+ * first (core/arena.h: a block carved under AddressSanitizer); NULL is fine */
 void sdae__free(const sdae_allocator *a, void *ptr, size_t size);
 /* n elements of size bytes each, or NULL when n * size overflows or there is no room */
 void *sdae__alloc_array(const sdae_allocator *a, size_t n, size_t size);

@@ -69,11 +69,13 @@ static void state(void *p, sdae_bytes *b) {
   sdae__mbs_sparse_state(&((sdae_mbs_sparse_parts *)p)->sp, b);
 }
 
-/* the factors are not in the bytes: made anew at the next step's start */
+/* the factors are not in the bytes: made anew at the next step's start, once the bytes read
+ * are whole (a refused state leaves the stepper as it was, its factors' flag too) */
 static int state_read(void *p) {
   sdae_mbs_sparse *sp = &((sdae_mbs_sparse_parts *)p)->sp;
+  if (!sdae__mbs_sparse_valid(sp)) return 0;
   sdae__mbs_sparse_stale(sp);
-  return sdae__mbs_sparse_valid(sp);
+  return 1;
 }
 
 static int xi(void *p, double t, const double *q, const double *v, double *out) {

@@ -162,7 +162,7 @@ int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
    * hand: read, checked, and the stepper put back as it was when it is not whole */
   sdae__mbs_rollback_save(s);
   parts(s, &b);
-  if (!s->type->state_read(s->co) || !sdae__stepper_state_valid(s->inner)) {
+  if (!sdae__stepper_state_valid(s->inner) || !s->type->state_read(s->co)) {
     sdae__mbs_rollback(s);
     return SDAE_ERR_STATE_DAMAGED;
   }

@@ -51,7 +51,8 @@ typedef struct sdae_mbs_type {
   /* the dependent coordinates, ascending (SDAE_ERR_CHART before the first step) */
   int (*chart)(const void *co, size_t *dependent);
   /* what the next step depends on, counted, written or read (core/bytes.h); after a read,
-   * whether it is whole (indices in range), the factors not in the bytes marked stale */
+   * whether it is whole (indices in range), and when it is, the factors not in the bytes
+   * marked stale */
   void (*state)(void *co, sdae_bytes *b);
   int (*state_read)(void *co);
   /* the quantities at a state, on the parts' own scratch (sdae_mbs_xi, _energy, _lambda) */
