@@ -2,7 +2,7 @@
 """The race on the standard index-3 benchmarks: runs build/tools/benchmarks and writes
 build/report/benchmarks.md with build/report/benchmarks.png.
 
-  python tools/benchmarks/benchmarks.py [--build DIR] [--points CSV] [--reps N]
+  python -m benchmarks.benchmarks [--build DIR] [--points CSV] [--reps N]
                                         [--problems a,b]
 
 For each problem (slider crank, car axis, Andrews' squeezer) the final relative error in the
@@ -22,9 +22,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-from workprecision import (  # noqa: E402
+from benchmarks.workprecision import (
     arguments,
     cpu_at,
     fmt,

@@ -4,7 +4,7 @@ examples/models/sym/ (the median of --reps runs of the command, each a fresh pro
 build/tools/bench_generated (the generated callbacks against the hand-written ones, per step
 and per set of callbacks); writes build/report/generator.md.
 
-  python tools/benchmarks/generator.py [--build DIR] [--reps N]
+  python -m benchmarks.generator [--build DIR] [--reps N]
 """
 
 import argparse
@@ -16,14 +16,14 @@ import sys
 import tempfile
 import time
 
+from benchmarks.workprecision import provenance, tools_env
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-sys.path.insert(0, HERE)
-from workprecision import provenance  # noqa: E402
 
 
 def generation_seconds(model, reps):
-    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "tools"))
+    env = tools_env()
     times = []
     with tempfile.TemporaryDirectory() as out:
         for _ in range(reps):

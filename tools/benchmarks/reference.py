@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Exact final states of the oscillator on the manifold for the work-precision study.
 
-  python reference.py OUT.csv
+  python -m benchmarks.reference OUT.csv   (tools/ on PYTHONPATH)
 
 Start x0 = (X, Y, Xdot, Ydot) = (0.7, 0, 0.6, 0), k = 2, m = 1; writes d,tf,X,Xdot for
   d = 0,    tf = 1000: X = A cn(w (t - t0) | 1/2), w = A sqrt(k/m), with the amplitude A from the
@@ -18,8 +18,7 @@ import sys
 
 import mpmath
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from stabdae_ref import exact  # noqa: E402
+from stabdae_ref import exact
 
 X0 = (0.7, 0.0, 0.6, 0.0)
 K, M = 2.0, 1.0
@@ -48,14 +47,16 @@ def cn_solution(tf):
 
 def main(argv):
     if len(argv) != 2:
-        sys.stderr.write("usage: reference.py OUT.csv\n")
+        sys.stderr.write("usage: python -m benchmarks.reference OUT.csv\n")
         return 2
     at, final0 = cn_solution(1000.0)
     check = exact.manifold_reference("oscillator", {"k": K, "m": M, "d": 0.0}, X0, [10.0], DPS)[0]
     closed = at(10.0)
     for a, b in zip(check, closed):
         if abs(a - b) > 1e-20:
-            sys.stderr.write("reference.py: closed form and Taylor solver disagree at t = 10\n")
+            sys.stderr.write(
+                "benchmarks.reference: closed form and Taylor solver disagree at t = 10\n"
+            )
             return 1
     rows = [(0.0, 1000.0, final0)]
     damped = exact.manifold_reference("oscillator", {"k": K, "m": M, "d": 0.03}, X0, [100.0], DPS)

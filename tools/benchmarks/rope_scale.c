@@ -185,7 +185,7 @@ static int row(size_t N, int closed, size_t dense_max, int reps, double budget, 
   sdae_mbs sys, dense;
   sdae_options o;
   sdae_mbs_stepper *s = NULL, *sd = NULL, *sm = NULL;
-  index1 *w = NULL;
+  index1_rk4 *w = NULL;
   double c_sparse, c_other, us_dense = 0.0, us_mid = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
@@ -202,7 +202,7 @@ static int row(size_t N, int closed, size_t dense_max, int reps, double budget, 
     om.map = sdae_map_midpoint;
     if (rc == 0 && (rc = sdae_mbs_stepper_alloc(&sm, &sys, &om)) == 0)
       rc = timed(frontend, sm, &r, &sys, reps, budget, &us_mid, &c_other);
-    if (rc == 0 && !(w = index1_alloc(&dense))) rc = -1;
+    if (rc == 0 && !(w = index1_rk4_alloc(&dense))) rc = -1;
     if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other);
   }
   if (rc == 0) {
@@ -215,7 +215,7 @@ static int row(size_t N, int closed, size_t dense_max, int reps, double budget, 
   sdae_mbs_stepper_free(s);
   sdae_mbs_stepper_free(sd);
   sdae_mbs_stepper_free(sm);
-  index1_free(w);
+  index1_rk4_free(w);
   mech_rope_free(&r);
   mech_rope_free(&rd);
   return rc;

@@ -2,7 +2,7 @@
 """The rope's scaling: rope_scale's table with MuJoCo's RK4 on the same chain beside it, and the
 log-log plot of a step's cost against N.
 
-  python tools/benchmarks/scale.py --rope-scale build/tools/rope_scale [--max-n N]
+  python -m benchmarks.scale --rope-scale build/tools/rope_scale [--max-n N]
       [--dense-max N] [--reps R] [--budget S] [--mujoco-max N] [--table FILE] [--plot FILE]
 
 Runs rope_scale (its flags --max-n, --dense-max, --reps and --budget passed through; its
@@ -41,7 +41,7 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import Any, NoReturn
 
-PROG = "scale.py"
+PROG = "benchmarks.scale"
 MUJOCO_HEADER = "MuJoCo RK4, us/step"
 MUJOCO_PIN = "mujoco==4.0.0"
 T = 1e-3

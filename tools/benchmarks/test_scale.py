@@ -5,7 +5,7 @@ its chain is the rope of examples/models/rope.c: the start of mech_rope_start, t
 of the rope's index-1 form in Cartesian coordinates, the small pendulum's period, energy kept to
 RK4's order.
 
-  build/venv/bin/python tools/benchmarks/test_scale.py      (or python -m pytest on it)
+  build/venv/bin/python -m pytest tools/benchmarks/test_scale.py
 """
 
 from __future__ import annotations
@@ -23,8 +23,7 @@ from unittest import mock
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import scale
+from benchmarks import scale
 
 MJ = scale.load_mujoco()
 needs_mujoco = unittest.skipIf(MJ is None, f"MuJoCo missing (pip install {scale.MUJOCO_PIN})")

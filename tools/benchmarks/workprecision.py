@@ -2,7 +2,7 @@
 """Work-precision report: runs build/tools/workprecision and draws build/report/workprecision.png
 and build/report/workprecision.md.
 
-  python tools/benchmarks/workprecision.py [--build DIR] [--points CSV] [--reps N]
+  python -m benchmarks.workprecision [--build DIR] [--points CSV] [--reps N]
 
 The exact final states come from reference.py, computed once and cached in
 DIR/workprecision/reference.csv. --points re-draws from an existing CSV without running the
@@ -26,8 +26,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+TOOLS = os.path.dirname(HERE)
 TARGET_ERROR = 1e-6
 TARGET_RATIO = 5.0
+
+
+def tools_env():
+    """The environment of a child `python -m` of a package of tools/: tools/ on PYTHONPATH."""
+    path = os.environ.get("PYTHONPATH")
+    return dict(os.environ, PYTHONPATH=TOOLS + (os.pathsep + path if path else ""))
 
 
 def cpu_model():
@@ -221,7 +228,9 @@ def main(argv=None):
     os.makedirs(work, exist_ok=True)
     ref = os.path.join(work, "reference.csv")
     if not os.path.exists(ref):
-        subprocess.run([sys.executable, os.path.join(HERE, "reference.py"), ref], check=True)
+        subprocess.run(
+            [sys.executable, "-m", "benchmarks.reference", ref], check=True, env=tools_env()
+        )
     command = None
     points = args.points
     if not points:

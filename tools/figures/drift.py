@@ -9,7 +9,7 @@ and at a tight rtol, prints max_i |c_i(q)| of each at a few times and over the r
 against t on a log scale into OUTDIR/drift.png. Both programs compute the column max_abs_c
 from the same constraint function, so the two residuals are measured alike.
 
-    python tools/figures/drift.py [--build build] [--outdir build/figures] [--csvdir build/demo]
+    PYTHONPATH=tools python -m figures.drift [--build build] [--outdir build/figures] [--csvdir build/demo]
 """
 
 import argparse

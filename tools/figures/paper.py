@@ -9,7 +9,7 @@ for d = 0.03 and d = 0, and writes fig2.png ... fig9.png:
     d = 0.03: Fig 2 Y(t), Fig 3 X(t), Fig 4 the X-Y path, Fig 5 the energy E(t)
     d = 0:    Fig 6 X(t), Fig 7 Y(t), Fig 8 the X-Y path, Fig 9 the energy E(t)
 
-    python tools/figures/paper.py [--build build] [--outdir build/figures] [--every 10]
+    PYTHONPATH=tools python -m figures.paper [--build build] [--outdir build/figures] [--every 10]
 """
 
 import argparse

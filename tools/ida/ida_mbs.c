@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* The mechanism's residuals for IDA (ida_mbs.h), the consistent start (GSL's Cholesky, or KLU on
- * the saddle-point matrix), the KLU path's iteration matrix (its structure, the column groups, the
- * grouped differences), and the run: context, vectors, dense solver with IDA's difference-quotient
- * matrix or KLU with the grouped one, then one IDASolve per output time with tstop set to it.
- * Scratch is allocated once per run (a tool, not the library). */
+/* The mechanism's residuals for IDA (ida_mbs.h), the consistent start (index1.h's Cholesky, or KLU
+ * on the saddle-point matrix), the KLU path's iteration matrix (its structure, the column groups,
+ * the grouped differences), and the run: context, vectors, dense solver with IDA's
+ * difference-quotient matrix or KLU with the grouped one, then one IDASolve per output time with
+ * tstop set to it. Scratch is allocated once per run (a tool, not the library). */
 #include "ida_mbs.h"
 
 #include <ida/ida.h>
@@ -14,10 +14,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 #include <sunmatrix/sunmatrix_sparse.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
-
-#include "core/difference.h"
+#include "index1.h"
 
 #include <float.h>
 #include <math.h>
@@ -26,88 +23,54 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- the mechanism and its derivatives ------------------------------------------------------ */
+/* ---- the mechanism and its residual ---------------------------------------------------------- */
 
+/* The index-1 form's derivatives and saddle-point solve are tools/index1's (index1.h), shared
+ * with the RK4 baseline; the residual and the run are this reference's own. */
 typedef struct mech {
   const sdae_mbs *sys;
   idambs_form form;
   size_t n_q, n_c;
   const sdae_pattern *mp, *gp; /* M's and G's patterns (NULL: dense, row-major) */
   size_t m_len, g_len;         /* the values mass() and jacobian() write */
-  double *block;               /* every array below, one allocation */
-  double *M, *F, *G;           /* the residual's evaluations */
-  double *Gv;                  /* G where G v + dc/dt is evaluated (a point along (1, v)) */
-  double *qa, *fa;             /* a point along (1, v) and the values there */
-  double *qj, *cj;             /* a point of G's or dc/dt's differences and c there */
-  double *Md, *Gd;             /* the dense start's M and G: M and G themselves without patterns */
-  double *MiGT, *MiF, *A;      /* the dense start: M^-1 G^T, M^-1 F, G M^-1 G^T */
+  index1 *w;                   /* the index-1 form (with its dense solve: the dense start) */
+  double *block;               /* M, F, G: the residual's evaluations, one allocation */
+  double *M, *F, *G;
 } mech;
 
-/* The derivatives by differences are the library's one fourth-order central stencil
- * (src/core/difference.h), first and second derivative; the rest of this reference is its own. */
+/* The mechanism as this reference reads it: the derivatives along the motion that the library
+ * may take from the mechanism (jacobian_dot, constraint_t_dot) differenced instead, so that a
+ * wrong one shows as a difference between the two. */
+static sdae_mbs reference_view(const sdae_mbs *sys) {
+  sdae_mbs own = *sys;
+  own.jacobian_dot = NULL, own.constraint_t_dot = NULL;
+  return own;
+}
 
-/* The arrays of the residual, and with dense_start those of the dense consistent start (the KLU
+/* The arrays of the residual, and with dense_start the index-1 form's dense solve (the KLU
  * path has its own: no array of n_q^2 then). */
 static int mech_init(mech *m, const sdae_mbs *sys, idambs_form form, int dense_start) {
-  size_t nq = sys->n_q, nc = sys->n_c, d = dense_start ? 1 : 0;
+  size_t nq = sys->n_q, nc = sys->n_c;
   const sdae_pattern *mp = sys->mass_pattern, *gp = sys->jacobian_pattern;
   size_t m_len = mp ? mp->nnz : nq * nq, g_len = gp ? gp->nnz : nc * nq;
-  size_t md = mp ? d * nq * nq : 0, gd = gp ? d * nc * nq : 0; /* Md, Gd of their own */
-  size_t len[] = {m_len, nq, g_len, g_len, nq, nc, nq, nc, md, gd, d * nq * nc, nq, d * nc * nc};
-  double **dst[] = {&m->M,  &m->F,  &m->G,  &m->Gv,   &m->qa,  &m->fa, &m->qj,
-                    &m->cj, &m->Md, &m->Gd, &m->MiGT, &m->MiF, &m->A};
-  size_t total = 0;
+  sdae_mbs own = reference_view(sys);
   *m = (mech){.sys = sys, .form = form, .n_q = nq, .n_c = nc, .mp = mp, .gp = gp};
   m->m_len = m_len, m->g_len = g_len;
-  for (size_t i = 0; i < sizeof len / sizeof len[0]; i++) total += len[i];
-  if (!(m->block = calloc(total, sizeof *m->block))) return -1;
-  total = 0;
-  for (size_t i = 0; i < sizeof len / sizeof len[0]; i++) {
-    *dst[i] = m->block + total;
-    total += len[i];
+  if (!(m->block = calloc(m_len + nq + g_len + 1, sizeof *m->block)) ||
+      !(m->w = index1_alloc(&own, dense_start))) {
+    free(m->block);
+    return -1;
   }
-  if (!mp) m->Md = m->M;
-  if (!gp) m->Gd = m->G;
+  m->M = m->block, m->F = m->M + m_len, m->G = m->F + nq;
   return 0;
 }
 
-/* a pattern of rows x cols (pattern.h): row_start from 0 to nnz, columns ascending, below cols */
-static int pattern_ok(const sdae_pattern *p, size_t rows, size_t cols) {
-  if (!p->row_start || (p->nnz > 0 && !p->col) || p->row_start[0] != 0 ||
-      p->row_start[rows] != p->nnz)
-    return 0;
-  for (size_t i = 0; i < rows; i++) {
-    if (p->row_start[i + 1] < p->row_start[i]) return 0;
-    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++)
-      if (p->col[k] >= cols || (k > p->row_start[i] && p->col[k] <= p->col[k - 1])) return 0;
-  }
-  return 1;
+static void mech_free(mech *m) {
+  index1_free(m->w);
+  free(m->block);
 }
 
-/* What the patterns ask of the mechanism, before any run: NULL, or why not. */
-static const char *patterns_refused(const sdae_mbs *sys) {
-  if (sys->mass_pattern && !pattern_ok(sys->mass_pattern, sys->n_q, sys->n_q))
-    return "mass_pattern is not a pattern of n_q rows and columns (pattern.h)";
-  if (sys->jacobian_pattern && !pattern_ok(sys->jacobian_pattern, sys->n_c, sys->n_q))
-    return "jacobian_pattern is not a pattern of n_c rows and n_q columns (pattern.h)";
-  if (sys->jacobian_pattern && !sys->jacobian)
-    return "jacobian_pattern without jacobian: G's differences are dense";
-  return NULL;
-}
-
-/* y += A x (rows x cols): A row-major (p NULL) or its nonzeros in p's order */
-static void mul_add(const sdae_pattern *p, const double *a, size_t rows, size_t cols,
-                    const double *x, double *y) {
-  if (!p) {
-    for (size_t i = 0; i < rows; i++)
-      for (size_t j = 0; j < cols; j++) y[i] += a[i * cols + j] * x[j];
-    return;
-  }
-  for (size_t i = 0; i < rows; i++)
-    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) y[i] += a[k] * x[p->col[k]];
-}
-
-/* y += A^T x, A as in mul_add */
+/* y += A^T x (rows x cols): A row-major (p NULL) or its nonzeros in p's order */
 static void mul_t_add(const sdae_pattern *p, const double *a, size_t rows, size_t cols,
                       const double *x, double *y) {
   if (!p) {
@@ -119,140 +82,20 @@ static void mul_t_add(const sdae_pattern *p, const double *a, size_t rows, size_
     for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) y[p->col[k]] += a[k] * x[i];
 }
 
-/* the dense rows x cols matrix of A's nonzeros in p's order */
-static void expand(const sdae_pattern *p, const double *a, size_t rows, size_t cols, double *d) {
-  memset(d, 0, rows * cols * sizeof *d);
-  for (size_t i = 0; i < rows; i++)
-    for (size_t k = p->row_start[i]; k < p->row_start[i + 1]; k++) d[i * cols + p->col[k]] = a[k];
-}
-
-static void mech_free(mech *m) { free(m->block); }
-
-/* A callback's status as IDA reads it: < 0 fatal, > 0 (or a non-finite value) recoverable. */
-static int checked(int rc, const double *x, size_t n) {
-  if (rc != 0) return rc < 0 ? -1 : 1;
-  for (size_t i = 0; i < n; i++)
-    if (!isfinite(x[i])) return 1;
-  return 0;
-}
-
-static int constraint(mech *m, double t, const double *q, double *c) {
-  return checked(m->sys->constraint(t, q, c, m->sys->params), c, m->n_c);
-}
-
-/* G column by column: d/dh c(t, q + h e_j) */
-static int jacobian_fd(mech *m, double t, const double *q, double *G) {
-  size_t nq = m->n_q, nc = m->n_c;
-  memcpy(m->qj, q, nq * sizeof *q);
-  for (size_t j = 0; j < nq; j++) {
-    double h = sdae__fd_step(q[j], SDAE_FD_STEP * fmax(1.0, fabs(q[j])));
-    for (size_t i = 0; i < nc; i++) G[i * nq + j] = 0.0;
-    for (int k = 0; k < SDAE_FD_POINTS; k++) {
-      int rc;
-      m->qj[j] = q[j] + sdae__fd_offset[k] * h;
-      if ((rc = constraint(m, t, m->qj, m->cj)) != 0) return rc;
-      sdae__fd_add(G + j, nq, m->cj, nc, k);
-    }
-    sdae__fd_finish(G + j, nq, nc, h);
-    m->qj[j] = q[j];
-  }
-  return 0;
-}
-
-static int jacobian(mech *m, double t, const double *q, double *G) {
-  if (!m->sys->jacobian) return jacobian_fd(m, t, q, G);
-  return checked(m->sys->jacobian(t, q, G, m->sys->params), G, m->g_len);
-}
-
-/* dc/dt: the callback, or d/dh c(t + h, q) (exactly 0 when c does not depend on t) */
-static int constraint_t(mech *m, double t, const double *q, double *ct) {
-  double h = sdae__fd_step(t, SDAE_FD_STEP * fmax(1.0, fabs(t)));
-  if (m->sys->constraint_t)
-    return checked(m->sys->constraint_t(t, q, ct, m->sys->params), ct, m->n_c);
-  memset(ct, 0, m->n_c * sizeof *ct);
-  for (int k = 0; k < SDAE_FD_POINTS; k++) {
-    int rc = constraint(m, t + sdae__fd_offset[k] * h, q, m->cj);
-    if (rc != 0) return rc;
-    sdae__fd_add(ct, 1, m->cj, m->n_c, k);
-  }
-  sdae__fd_finish(ct, 1, m->n_c, h);
-  return 0;
-}
-
-static double inf_norm(const double *x, size_t n) {
-  double worst = 0.0;
-  for (size_t i = 0; i < n; i++) worst = fmax(worst, fabs(x[i]));
-  return worst;
-}
-
-/* A function of (t, q, v) with n_c values, differentiated along (1, v). */
-typedef int (*along_fn)(mech *m, double t, const double *q, const double *v, double *out);
-
-static int c_along(mech *m, double t, const double *q, const double *v, double *out) {
-  (void)v;
-  return constraint(m, t, q, out);
-}
-
-/* d^order/ds^order f(t + s, q + s v) at s = 0 (order 1 or 2), the step scaled so that the
- * displacement h |v| stays near h0 relative to |q|. f must not itself difference along (1, v)
- * (qa, fa are this function's). */
-static int derivative_along(mech *m, along_fn f, int order, double t, const double *q,
-                            const double *v, double *out) {
-  double nq = inf_norm(q, m->n_q), h0 = order == 1 ? SDAE_FD_STEP : SDAE_FD2_STEP;
-  double h = sdae__fd_step(t, h0 * (1.0 + nq) / (1.0 + nq + inf_norm(v, m->n_q)));
-  memset(out, 0, m->n_c * sizeof *out);
-  for (int k = 0; k < (order == 1 ? SDAE_FD_POINTS : SDAE_FD2_POINTS); k++) {
-    int rc;
-    for (size_t j = 0; j < m->n_q; j++) m->qa[j] = q[j] + sdae__fd_offset[k] * h * v[j];
-    if ((rc = f(m, t + sdae__fd_offset[k] * h, m->qa, v, m->fa)) != 0) return rc;
-    if (order == 1)
-      sdae__fd_add(out, 1, m->fa, m->n_c, k);
-    else
-      sdae__fd2_add(out, 1, m->fa, m->n_c, k);
-  }
-  if (order == 1)
-    sdae__fd_finish(out, 1, m->n_c, h);
-  else
-    sdae__fd2_finish(out, 1, m->n_c, h);
-  return 0;
-}
-
-/* G v + dc/dt with the callbacks (G into m->Gv, m->G being the residual's); without
- * jacobian, d/ds c along (1, v) */
-static int velocity_constraint(mech *m, double t, const double *q, const double *v, double *g) {
-  int rc;
-  if (!m->sys->jacobian) return derivative_along(m, c_along, 1, t, q, v, g);
-  if ((rc = jacobian(m, t, q, m->Gv)) != 0 || (rc = constraint_t(m, t, q, g)) != 0) return rc;
-  mul_add(m->gp, m->Gv, m->n_c, m->n_q, v, g);
-  return 0;
-}
-
-/* gamma = d/ds (G v + dc/dt)(t + s, q + s v) = d^2/ds^2 c(t + s, q + s v) at s = 0 */
-static int gamma_at(mech *m, double t, const double *q, const double *v, double *gamma) {
-  if (!m->sys->jacobian) return derivative_along(m, c_along, 2, t, q, v, gamma);
-  return derivative_along(m, velocity_constraint, 1, t, q, v, gamma);
-}
-
 /* M, F and G at (t, q, v) into m->M, m->F, m->G */
 static int dynamics(mech *m, double t, const double *q, const double *v) {
   const sdae_mbs *s = m->sys;
-  size_t nq = m->n_q;
-  int rc = checked(s->mass(t, q, m->M, s->params), m->M, m->m_len);
-  if (rc == 0) rc = checked(s->force(t, q, v, m->F, s->params), m->F, nq);
-  return rc != 0 ? rc : jacobian(m, t, q, m->G);
-}
-
-/* r += G^T x */
-static void add_GT(const mech *m, const double *x, double *r) {
-  mul_t_add(m->gp, m->G, m->n_c, m->n_q, x, r);
+  int rc = index1_status(s->mass(t, q, m->M, s->params), m->M, m->m_len);
+  if (rc == 0) rc = index1_force(m->w, t, q, v, m->F);
+  return rc != 0 ? rc : index1_jacobian(m->w, t, q, m->G);
 }
 
 /* r = M v' - F + G^T lambda */
 static void momentum_rows(const mech *m, const double *vp, const double *lambda, double *r) {
   size_t nq = m->n_q;
   for (size_t i = 0; i < nq; i++) r[i] = -m->F[i];
-  mul_add(m->mp, m->M, nq, nq, vp, r);
-  add_GT(m, lambda, r);
+  index1_mul_add(m->mp, m->M, nq, nq, vp, r);
+  mul_t_add(m->gp, m->G, m->n_c, nq, lambda, r);
 }
 
 /* The residual of the form (ida_mbs.h). */
@@ -265,66 +108,13 @@ static int residual(mech *m, double t, const double *y, const double *yp, double
   for (size_t i = 0; i < nq; i++) r[i] = yp[i] - v[i]; /* q' = v */
   momentum_rows(m, vp, lambda, r + nq);
   if (m->form == IDAMBS_INDEX1) {
-    if ((rc = gamma_at(m, t, q, v, rl)) != 0) return rc;
-    mul_add(m->gp, m->G, nc, nq, vp, rl); /* G v' + gamma = 0 */
+    if ((rc = index1_gamma(m->w, t, q, v, rl)) != 0) return rc;
+    index1_mul_add(m->gp, m->G, nc, nq, vp, rl); /* G v' + gamma = 0 */
     return 0;
   }
-  add_GT(m, y + 2 * nq + nc, r); /* q' = v - G^T nu */
-  if ((rc = constraint(m, t, q, rl)) != 0) return rc;
-  return velocity_constraint(m, t, q, v, rl + nc);
-}
-
-/* ---- the consistent start ------------------------------------------------------------------- */
-
-/* GSL's handler is off while factoring: a matrix that is not positive definite is a status
- * here, not an abort. */
-static int spd_factor(double *A, size_t n) {
-  gsl_error_handler_t *handler = gsl_set_error_handler_off();
-  gsl_matrix_view a = gsl_matrix_view_array(A, n, n);
-  int rc = gsl_linalg_cholesky_decomp1(&a.matrix);
-  gsl_set_error_handler(handler);
-  return rc == GSL_SUCCESS ? 0 : -1;
-}
-
-/* B = L^-T L^-1 B for each of the k columns of B (n x k, row-major), L from spd_factor */
-static void spd_solve(double *L, size_t n, double *B, size_t k) {
-  gsl_matrix_view a = gsl_matrix_view_array(L, n, n);
-  for (size_t j = 0; j < k; j++) {
-    gsl_vector_view col = gsl_vector_view_array_with_stride(B + j, k, n);
-    gsl_linalg_cholesky_svx(&a.matrix, &col.vector);
-  }
-}
-
-/* lambda and v' from (G M^-1 G^T) lambda = G M^-1 F + gamma, v' = M^-1 (F - G^T lambda), the
- * mechanism's patterns expanded into Md and Gd */
-static int start_lambda(mech *m, double t, const double *q, const double *v, double *lambda,
-                        double *vdot) {
-  size_t nq = m->n_q, nc = m->n_c;
-  const double *G = m->Gd;
-  if (dynamics(m, t, q, v) != 0 || gamma_at(m, t, q, v, lambda) != 0) return -1;
-  if (m->mp) expand(m->mp, m->M, nq, nq, m->Md);
-  if (m->gp) expand(m->gp, m->G, nc, nq, m->Gd);
-  for (size_t j = 0; j < nq; j++) {
-    m->MiF[j] = m->F[j];
-    for (size_t i = 0; i < nc; i++) m->MiGT[j * nc + i] = G[i * nq + j];
-  }
-  if (spd_factor(m->Md, nq) != 0) return -1;
-  spd_solve(m->Md, nq, m->MiGT, nc);
-  spd_solve(m->Md, nq, m->MiF, 1);
-  for (size_t i = 0; i < nc; i++) {
-    for (size_t j = 0; j < nq; j++) lambda[i] += G[i * nq + j] * m->MiF[j];
-    for (size_t l = 0; l < nc; l++) {
-      m->A[i * nc + l] = 0.0;
-      for (size_t j = 0; j < nq; j++) m->A[i * nc + l] += G[i * nq + j] * m->MiGT[j * nc + l];
-    }
-  }
-  if (spd_factor(m->A, nc) != 0) return -1;
-  spd_solve(m->A, nc, lambda, 1);
-  for (size_t j = 0; vdot && j < nq; j++) {
-    vdot[j] = m->MiF[j];
-    for (size_t i = 0; i < nc; i++) vdot[j] -= m->MiGT[j * nc + i] * lambda[i];
-  }
-  return 0;
+  mul_t_add(m->gp, m->G, nc, nq, y + 2 * nq + nc, r); /* q' = v - G^T nu */
+  if ((rc = index1_constraint(m->w, t, q, rl)) != 0) return rc;
+  return index1_velocity(m->w, t, q, v, rl + nc);
 }
 
 size_t idambs_dim(const sdae_mbs *sys, idambs_form form) {
@@ -334,10 +124,13 @@ size_t idambs_dim(const sdae_mbs *sys, idambs_form form) {
 int idambs_lambda(const sdae_mbs *sys, double t, const double *q, const double *v, double *lambda,
                   double *vdot) {
   mech m;
-  int rc;
-  if (patterns_refused(sys) || mech_init(&m, sys, IDAMBS_INDEX1, 1) != 0) return -1;
-  rc = start_lambda(&m, t, q, v, lambda, vdot);
-  mech_free(&m);
+  double *a = vdot ? vdot : malloc((sys->n_q ? sys->n_q : 1) * sizeof *a);
+  int rc = -1;
+  if (a && !index1_refused(sys) && mech_init(&m, sys, IDAMBS_INDEX1, 1) == 0) {
+    rc = index1_accel(m.w, t, q, v, a, lambda) == 0 ? 0 : -1;
+    mech_free(&m);
+  }
+  if (a != vdot) free(a);
   return rc;
 }
 
@@ -637,7 +430,7 @@ static int klu_start(run *r, double t, const double *q, const double *v, double 
   N_Vector x = NULL, b = NULL;
   csc a = {0};
   int rc = -1;
-  if (!ti || !tj || !slot || dynamics(m, t, q, v) != 0 || gamma_at(m, t, q, v, lambda) != 0)
+  if (!ti || !tj || !slot || dynamics(m, t, q, v) != 0 || index1_gamma(m->w, t, q, v, lambda) != 0)
     goto done;
   for (size_t i = 0; i < nq; i++)
     for (size_t p = m->mp->row_start[i]; p < m->mp->row_start[i + 1]; p++)
@@ -659,7 +452,7 @@ static int klu_start(run *r, double t, const double *q, const double *v, double 
   for (size_t c = 0; c < nc; c++) N_VGetArrayPointer(b)[nq + c] = -lambda[c];
   if (SUNLinSolInitialize(ls) == SUNLS_SUCCESS && SUNLinSolSetup(ls, A) == SUNLS_SUCCESS &&
       SUNLinSolSolve(ls, A, x, b, 0.0) == SUNLS_SUCCESS &&
-      checked(0, N_VGetArrayPointer(x), nq + nc) == 0) {
+      index1_status(0, N_VGetArrayPointer(x), nq + nc) == 0) {
     memcpy(vdot, N_VGetArrayPointer(x), nq * sizeof *vdot);
     memcpy(lambda, N_VGetArrayPointer(x) + nq, nc * sizeof *lambda);
     rc = 0;
@@ -705,7 +498,7 @@ static int consistent_start(run *r, double t0, const double *q0, const double *v
   memcpy(y + nq, v0, nq * sizeof *v0);
   memcpy(yp, v0, nq * sizeof *v0);
   if (r->jac ? klu_start(r, t0, q0, v0, y + 2 * nq, yp + nq) == 0
-             : start_lambda(&r->m, t0, q0, v0, y + 2 * nq, yp + nq) == 0)
+             : index1_accel(r->m.w, t0, q0, v0, yp + nq, y + 2 * nq) == 0)
     return 0;
   res->function = r->jac ? "klu_start" : "idambs_lambda";
   snprintf(res->flag_name, sizeof res->flag_name, "no consistent start");
@@ -780,7 +573,7 @@ static int emit(double t, const double *y, void *data) {
 
 /* Why the request is not served, or NULL. */
 static const char *refusal(const sdae_mbs *sys, idambs_form form, idambs_solver solver) {
-  const char *why = patterns_refused(sys);
+  const char *why = index1_refused(sys);
   if (why || solver == IDAMBS_DENSE) return why;
   if (solver != IDAMBS_KLU) return "unknown linear solver";
   if (form != IDAMBS_INDEX1) return "KLU serves the index1 form only (no GGL iteration matrix)";

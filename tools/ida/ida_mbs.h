@@ -3,15 +3,17 @@
  *
  *     q' = v,   M(t, q) v' = F(t, q, v) - G(t, q)^T lambda,   c(t, q) = 0,   G = dc/dq,
  *
- * from the mechanism's own callbacks and nothing of the stabdae library (only the struct type),
- * so that it stays an independent reference. Two index-reduced forms:
+ * from the mechanism's own callbacks and the index-1 form of tools/index1 (index1.h, over the
+ * library's difference stencil and Cholesky), nothing of the library's stepping, so that it stays
+ * an independent reference. Two index-reduced forms:
  *   index1: y = (q, v, lambda); the constraint at acceleration level G v' + gamma = 0, gamma the
  *           derivative of G v + dc/dt along (1, v) in (t, q) with v fixed (lambda algebraic);
  *   ggl:    y = (q, v, lambda, nu); Gear-Gupta-Leimkuhler: q' = v - G^T nu with c = 0 and
  *           G v + dc/dt = 0 (index 2; lambda and nu algebraic, nu = 0 on every solution).
  * Derivatives the mechanism leaves out are fourth-order central differences: G of c in q,
  * dc/dt of c in t, gamma of G v + dc/dt along (1, v), or, without jacobian, the second
- * derivative of c itself along (1, v). Matrices are the mechanism's: row-major, or their
+ * derivative of c itself along (1, v); jacobian_dot and constraint_t_dot are differenced too,
+ * even when given, so that a wrong one shows against the library. Matrices are the mechanism's: row-major, or their
  * nonzeros in pattern order where it gives mass_pattern, jacobian_pattern (<stabdae/mbs.h>).
  *
  * Two linear solvers for IDA's Newton iteration:

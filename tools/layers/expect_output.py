@@ -3,7 +3,7 @@
 expected ones: a checker shown to fail must fail for exactly the planted reasons, not for one
 more or one less.
 
-Usage: python3 expect_output.py STATUS EXPECTED_FILE -- COMMAND [ARG...]
+Usage: python3 -m layers.expect_output STATUS EXPECTED_FILE -- COMMAND [ARG...]
 """
 
 import difflib
