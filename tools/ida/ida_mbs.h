@@ -13,8 +13,9 @@
  * Derivatives the mechanism leaves out are fourth-order central differences: G of c in q,
  * dc/dt of c in t, gamma of G v + dc/dt along (1, v), or, without jacobian, the second
  * derivative of c itself along (1, v); jacobian_dot and constraint_t_dot are differenced too,
- * even when given, so that a wrong one shows against the library. Matrices are the mechanism's: row-major, or their
- * nonzeros in pattern order where it gives mass_pattern, jacobian_pattern (<stabdae/mbs.h>).
+ * even when given, so that a wrong one shows against the library. Matrices are the mechanism's:
+ * row-major, or their nonzeros in pattern order where it gives mass_pattern, jacobian_pattern
+ * (<stabdae/mbs.h>).
  *
  * Two linear solvers for IDA's Newton iteration:
  *   dense: SUNDIALS' dense LU on IDA's own difference-quotient matrix (n^2 memory, n^3 work);

@@ -4,12 +4,20 @@
 by sympy's cse). No globals, no allocation; every argument a callback does not use is cast to
 void."""
 
+from __future__ import annotations
+
+from collections.abc import Container, Iterator
+from typing import TYPE_CHECKING, cast
+
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.precedence import precedence
 
 from .errors import ModelError
+
+if TYPE_CHECKING:
+    from .mechanism import Expr, Matrix, Mechanism, Symbol
 
 ARGUMENTS = {
     "tq": "double t, const double *q",
@@ -42,14 +50,14 @@ PRODUCT_POWERS = frozenset(sp.Rational(k, 2) for k in (4, 6, 8, 3, -4, -6, -8, -
 ZERO_LOOP = 16
 
 
-class _Printer(C99CodePrinter):
+class _Printer(C99CodePrinter):  # type: ignore[misc]  # sympy ships no types: its class is Any
     """C99 with the powers of PRODUCT_POWERS as products, square roots as sqrt, and constants
     such as pi as their doubles (<math.h>'s M_PI is not C99)."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         super().__init__({"strict": True, "math_macros": {}})
 
-    def _print_Pow(self, expr):
+    def _print_Pow(self, expr: Expr) -> str:
         base, e = expr.base, expr.exp
         b = self.parenthesize(base, precedence(expr))
         if e in PRODUCT_POWERS:
@@ -63,9 +71,9 @@ class _Printer(C99CodePrinter):
             return f"sqrt({self._print(base)})"
         if e == -sp.Rational(1, 2):
             return f"1.0/sqrt({self._print(base)})"
-        return super()._print_Pow(expr)
+        return cast(str, super()._print_Pow(expr))
 
-    def _print_NumberSymbol(self, expr):
+    def _print_NumberSymbol(self, expr: Expr) -> str:
         return _c_double(expr)
 
     _print_Pi = _print_Exp1 = _print_GoldenRatio = _print_EulerGamma = _print_Catalan = (
@@ -73,14 +81,16 @@ class _Printer(C99CodePrinter):
     )
 
 
-def _name_bases(temps, reduced, symbols):
+def _name_bases(
+    temps: list[tuple[Symbol, Expr]], reduced: list[Expr], symbols: Iterator[Symbol]
+) -> tuple[list[tuple[Symbol, Expr]], list[Expr]]:
     """cse's result with the base of every power written as a product (PRODUCT_POWERS) a
     temporary of its own, unless it is a symbol: cse names only what occurs twice, and a
     product repeats its base."""
     named, out = {}, []
 
-    def name(expr):
-        def base_of(p):
+    def name(expr: Expr) -> Expr:
+        def base_of(p: Expr) -> Expr:
             if p.base not in named:
                 named[p.base] = next(symbols)
                 out.append((named[p.base], p.base))
@@ -99,7 +109,7 @@ def _name_bases(temps, reduced, symbols):
 class _Names:
     """The C spellings of t, q_i, v_i and the params, as Symbols whose names print as such."""
 
-    def __init__(self, mech):
+    def __init__(self, mech: Mechanism) -> None:
         self.t = sp.Symbol("t", real=True)
         self.map = {mech.t: self.t}
         self.q = [sp.Symbol(f"q[{i}]", real=True) for i in range(mech.n)]
@@ -109,7 +119,7 @@ class _Names:
         self.map.update(zip(mech.v, self.v))
         self.map.update(zip(mech.params, self.p))
 
-    def uses(self, exprs):
+    def uses(self, exprs: list[Expr]) -> dict[str, bool]:
         """Which of t, q, v, p the expressions read."""
         free = set().union(*(e.free_symbols for e in exprs)) if exprs else set()
         return {
@@ -120,7 +130,9 @@ class _Names:
         }
 
 
-def _body(printer, names, targets, exprs, what):
+def _body(
+    printer: _Printer, names: _Names, targets: list[str], exprs: list[Expr], what: str
+) -> tuple[list[str], dict[str, bool]]:
     """The statements computing targets[k] = exprs[k] after cse, and what they read."""
     exprs = [e.xreplace(names.map) for e in exprs]
     symbols = sp.numbered_symbols("w")
@@ -142,12 +154,12 @@ def _body(printer, names, targets, exprs, what):
     return lines, uses
 
 
-def _unused(names):
+def _unused(names: list[str]) -> list[str]:
     """The statement casting the unused arguments to void, if any."""
     return ["  " + ", ".join(f"(void){a}" for a in names) + ";"] if names else []
 
 
-def _prologue(name, uses, args):
+def _prologue(name: str, uses: dict[str, bool], args: list[str]) -> list[str]:
     """A callback's first lines: its params as the struct, its unused arguments cast to void."""
     lines = [f"  const {name}_params *p = params;"] if uses["p"] else []
     return lines + _unused([a for a in args if not uses[a]] + ([] if uses["p"] else ["params"]))
@@ -157,7 +169,14 @@ def _prologue(name, uses, args):
 PATTERN_OF = {"mass": "mass", "damping": "mass", "jacobian": "jacobian", "jacobian_dot": "jacobian"}
 
 
-def _callback(mech, printer, names, field, spec, pattern=None):
+def _callback(
+    mech: Mechanism,
+    printer: _Printer,
+    names: _Names,
+    field: str,
+    spec: tuple[str, str, Matrix],
+    pattern: list[list[int]] | None = None,
+) -> str:
     """The C function of a callback; with a pattern (its rows' columns), the matrix's entries
     there alone, in the pattern's order."""
     args, out, matrix = spec
@@ -179,7 +198,7 @@ def _callback(mech, printer, names, field, spec, pattern=None):
     return "\n".join(head + lines + ["  return 0;", "}"])
 
 
-def _start(mech, printer, names):
+def _start(mech: Mechanism, printer: _Printer, names: _Names) -> str:
     exprs = list(mech.q0) + list(mech.v0)
     targets = [f"q0[{k}]" for k in range(mech.n)] + [f"v0[{k}]" for k in range(mech.n)]
     body, uses = _body(printer, names, targets, exprs, "start state")
@@ -187,12 +206,12 @@ def _start(mech, printer, names):
     return "\n".join([head] + _unused([] if uses["p"] else ["p"]) + body + ["}"])
 
 
-def _c_double(value):
+def _c_double(value: Expr) -> str:
     """The double nearest the number, in the shortest digits that read back as it."""
     return repr(float(value))
 
 
-def _params_default(mech):
+def _params_default(mech: Mechanism) -> str:
     lines = [f"void {mech.name}_params_default({mech.name}_params *p) {{"]
     if not mech.params:
         lines.append("  p->none = 0;")
@@ -201,14 +220,14 @@ def _params_default(mech):
     return "\n".join(lines + ["}"])
 
 
-def _coordinate_name(mech):
+def _coordinate_name(mech: Mechanism) -> str:
     lines = [f"const char *{mech.name}_coordinate_name(size_t i) {{", "  switch (i) {"]
     for i, s in enumerate(mech.coordinate_names):
         lines.append(f"    case {i}: return {_c_string(s)};")
     return "\n".join(lines + ["    default: return NULL;", "  }", "}"])
 
 
-def _numbers(values):
+def _numbers(values: list[int]) -> list[str]:
     """Numbers as the lines of a C initializer, a few to a line."""
     per = 16
     return [
@@ -217,7 +236,7 @@ def _numbers(values):
     ] or ["    0,"]
 
 
-def _pattern(mech, what, rows, description):
+def _pattern(mech: Mechanism, what: str, rows: list[list[int]], description: str) -> str:
     """A pattern (rows' ascending columns) as the static arrays and sdae_pattern of name.c."""
     name = f"{mech.name}_{what}"
     starts, cols = [0], []
@@ -239,7 +258,7 @@ def _pattern(mech, what, rows, description):
     )
 
 
-def _system(mech, fields):
+def _system(mech: Mechanism, fields: Container[str]) -> str:
     """name_mbs: the struct by designated initializers, every callback named (NULL where the
     description has none), so that a reader sees which the library gets; a sparse mechanism's
     patterns."""
@@ -258,12 +277,12 @@ def _system(mech, fields):
     return "\n".join(lines + ["      .params = p,", "  };", "  return sys;", "}"])
 
 
-def _comment(text):
+def _comment(text: str) -> str:
     """One line of text inside a C comment: a */ in it would end the comment."""
     return text.replace("*/", "* /")
 
 
-def _c_string(text):
+def _c_string(text: str) -> str:
     """text as a C string literal: quotes and backslashes escaped, and every ? that follows a ?
     written \\? so that no trigraph (??/ is a backslash under -std=c99) forms."""
     out, previous = [], ""
@@ -275,7 +294,7 @@ def _c_string(text):
     return '"' + "".join(out) + '"'
 
 
-def _tables(mech):
+def _tables(mech: Mechanism) -> list[str]:
     """The parameters as an X-macro, X(field, default, "description", "unit") each, and the
     coordinates' names and units as initializers: tables for code that describes the mechanism
     generically (an FMU's variables, a command line's flags) without the generator knowing it.
@@ -303,7 +322,7 @@ def _tables(mech):
     return lines
 
 
-def header(mech, banner):
+def header(mech: Mechanism, banner: str) -> str:
     N = mech.name.upper()
     guard = f"{N}_H"
     fields = [
@@ -359,12 +378,13 @@ def header(mech, banner):
     )
 
 
-def source(mech, banner):
+def source(mech: Mechanism, banner: str) -> str:
     printer = _Printer()
     names = _Names(mech)
     callbacks = mech.callbacks()
     parts = [banner + f'#include "{mech.name}.h"\n\n#include <math.h>']
-    patterns = {}
+    # looked up by PATTERN_OF.get(field): None for a callback of no pattern
+    patterns: dict[str | None, list[list[int]]] = {}
     if mech.sparse:
         patterns["mass"], patterns["jacobian"] = mech.patterns()
         parts.append(_pattern(mech, "mass", patterns["mass"], "M's and D's nonzeros"))

@@ -20,15 +20,22 @@ Refused: nonholonomic constraints (the library's constraints are c(t, q) = 0), a
 without a frame, auxiliary speeds, and kinematic differential equations that do not determine
 the speeds u as functions of q and q'."""
 
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
 import sympy as sp
 from sympy.physics.mechanics import LagrangesMethod, System, dynamicsymbols
-from sympy.physics.vector import Point, ReferenceFrame, partial_velocity
+from sympy.physics.vector import Point, ReferenceFrame, Vector, partial_velocity
 
 from .errors import ModelError
-from .mechanism import Mechanism
+from .mechanism import Expr, Matrix, Mechanism, Symbol
 
 
-def _plain(coordinates):
+def _plain(
+    coordinates: Iterable[Expr],
+) -> tuple[Symbol, list[Symbol], list[Symbol], Callable[[Expr], Expr]]:
     """t, q, v as Symbols and the substitution from the dynamicsymbols to them."""
     t = sp.Symbol("t", real=True)
     qs = list(coordinates)
@@ -38,13 +45,19 @@ def _plain(coordinates):
     coordinates = dict(zip(qs, q))
     time = {dynamicsymbols._t: t}
 
-    def plain(expr):
+    def plain(expr: Expr) -> Expr:
         return sp.sympify(expr).subs(derivatives).subs(coordinates).subs(time)
 
     return t, q, v, plain
 
 
-def _generalized_forces(loads, frame, qdots, plain, speeds=None):
+def _generalized_forces(
+    loads: Iterable[tuple[Point | ReferenceFrame, Vector]],
+    frame: ReferenceFrame,
+    qdots: list[Expr],
+    plain: Callable[[Expr], Expr],
+    speeds: dict[Expr, Expr] | None = None,
+) -> Matrix:
     """Q_i = sum over the loads of F . d(vel P)/d(q_i') and T . d(omega)/d(q_i'), the speeds u
     (if any) replaced by their expressions in q' first."""
     Q = sp.zeros(len(qdots), 1)
@@ -63,7 +76,7 @@ def _generalized_forces(loads, frame, qdots, plain, speeds=None):
     return Q
 
 
-def _split(L, t, v):
+def _split(L: Expr, t: Symbol, v: list[Symbol]) -> tuple[Expr, Expr]:
     """(kinetic, potential): L's part without velocities is -V unless it depends on t."""
     rest = L.xreplace({vi: 0 for vi in v})
     if rest.has(t):
@@ -71,7 +84,14 @@ def _split(L, t, v):
     return L - rest, -rest
 
 
-def from_lagranges_method(lm, name, params=None, q0=None, v0=None, coordinate_names=None):
+def from_lagranges_method(
+    lm: LagrangesMethod,
+    name: str,
+    params: dict[Symbol, Any] | None = None,
+    q0: Expr | None = None,
+    v0: Expr | None = None,
+    coordinate_names: Iterable[str] | None = None,
+) -> Mechanism:
     """A Mechanism from a LagrangesMethod(L, q, hol_coneqs=..., forcelist=..., frame=...)."""
     if not isinstance(lm, LagrangesMethod):
         raise ModelError(f"{type(lm).__name__} is not a sympy.physics.mechanics LagrangesMethod")
@@ -107,13 +127,13 @@ def from_lagranges_method(lm, name, params=None, q0=None, v0=None, coordinate_na
     )
 
 
-def _speeds(system, qdots):
+def _speeds(system: System, qdots: list[Expr]) -> dict[Expr, Expr]:
     """The speeds u as expressions of q and q', from the kinematic differential equations."""
     u = list(system.u)
     if not u:
         return {}
     try:
-        solved = sp.solve(list(system.kdes), u, dict=True)
+        solved: list[dict[Expr, Expr]] = sp.solve(list(system.kdes), u, dict=True)
     except NotImplementedError:
         solved = []
     if len(solved) != 1 or set(solved[0]) != set(u) or any(e.has(*u) for e in solved[0].values()):
@@ -124,7 +144,14 @@ def _speeds(system, qdots):
     return solved[0]
 
 
-def from_system(system, name, params=None, q0=None, v0=None, coordinate_names=None):
+def from_system(
+    system: System,
+    name: str,
+    params: dict[Symbol, Any] | None = None,
+    q0: Expr | None = None,
+    v0: Expr | None = None,
+    coordinate_names: Iterable[str] | None = None,
+) -> Mechanism:
     """A Mechanism from a sympy.physics.mechanics System with holonomic constraints."""
     if not isinstance(system, System):
         raise ModelError(f"{type(system).__name__} is not a sympy.physics.mechanics System")

@@ -12,14 +12,23 @@ Q(t, q, v) and a damping D(q), with p = dT/dv:
 of (t + s, q + s v) at s = 0, v held fixed.
 """
 
+from __future__ import annotations
+
 import random
 import re
+from collections.abc import Iterable, Sequence
+from typing import Any
 
 import mpmath
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from .errors import ModelError
+
+# sympy ships no types: its expressions, Symbols and Matrices are Any to mypy, named for the reader
+Expr = Any
+Symbol = Any
+Matrix = Any
 
 # C99, C11 and C23 keywords (C23, gcc 15's default, makes bool, true, false, ... keywords), and
 # GNU C's asm and typeof (keywords under gcc's default -std=gnu17)
@@ -73,7 +82,7 @@ START_TOL = 1e-10
 CHECK_DPS = 30
 
 
-def check_identifier(name, what):
+def check_identifier(name: object, what: str) -> str:
     """A C identifier that compiles as a name of its own in C99, GNU C and C++: not a keyword of
     either, not reserved, not a macro the compiler predefines or the headers a generated file
     includes define, not of the library's prefixes; or ModelError naming `what`."""
@@ -104,7 +113,7 @@ def check_identifier(name, what):
 UNIT = re.compile(r"^[A-Za-z0-9/.*^-]{0,32}$")
 
 
-def check_unit(unit, what):
+def check_unit(unit: object, what: str) -> str:
     """A unit (UNIT), or ModelError naming `what`."""
     if not isinstance(unit, str) or not UNIT.match(unit):
         raise ModelError(
@@ -113,14 +122,14 @@ def check_unit(unit, what):
     return unit
 
 
-def check_text(text, what):
+def check_text(text: object, what: str) -> str:
     """One printable line (a description, a coordinate's name), or ModelError."""
     if not isinstance(text, str) or not text.isprintable():
         raise ModelError(f"{what} {text!r}: one line of printable characters")
     return text
 
 
-def _symbols(seq, what):
+def _symbols(seq: Iterable[Symbol], what: str) -> list[Symbol]:
     try:
         items = list(seq)
     except TypeError:
@@ -131,12 +140,12 @@ def _symbols(seq, what):
     return items
 
 
-def _equation(expr):
+def _equation(expr: Expr) -> Expr:
     """An Eq(lhs, rhs) as lhs - rhs, anything else as it is."""
     return expr.lhs - expr.rhs if isinstance(expr, sp.Equality) else expr
 
 
-def _vector(expr, n, what):
+def _vector(expr: Expr, n: int, what: str) -> Matrix:
     """expr as a column Matrix of n entries (a list, tuple or Matrix), or ModelError."""
     try:
         m = sp.Matrix(expr) if not isinstance(expr, sp.MatrixBase) else expr
@@ -150,7 +159,7 @@ def _vector(expr, n, what):
     return m.reshape(n, 1)
 
 
-def _square(expr, n, what):
+def _square(expr: Expr, n: int, what: str) -> Matrix:
     try:
         m = sp.Matrix(expr)
     except (TypeError, ValueError, sp.SympifyError):
@@ -160,7 +169,7 @@ def _square(expr, n, what):
     return m
 
 
-def _sympify(expr, what):
+def _sympify(expr: object, what: str) -> Expr:
     """One scalar expression, or ModelError."""
     try:
         e = sp.sympify(expr)
@@ -207,26 +216,53 @@ class Mechanism:
     declare.
     """
 
+    # the description as __init__ and its checks leave it
+    name: str
+    t: Symbol
+    q: list[Symbol]
+    v: list[Symbol]
+    n: int
+    params: list[Symbol]
+    defaults: dict[Symbol, Expr]
+    descriptions: dict[Symbol, str]
+    T: Expr
+    V: Expr
+    p: Matrix
+    M: Matrix
+    homogeneous: bool
+    Q: Matrix | None
+    D: Matrix | None
+    c: Matrix
+    coordinate_names: list[str]
+    units: dict[Symbol, str]
+    coordinate_units: list[str]
+    q0: Matrix
+    v0: Matrix
+    sparse: bool
+    declares_potential: bool
+    _G: Matrix | None
+    _by_name: dict[str, Symbol]
+
     def __init__(
         self,
-        name,
-        t,
-        q,
-        v,
-        kinetic=None,
-        potential=0,
-        force=None,
-        damping=None,
-        constraints=(),
-        params=None,
-        q0=None,
-        v0=None,
-        coordinate_names=None,
-        mass=None,
-        units=None,
-        coordinate_units=None,
-        sparse=None,
-    ):
+        name: str,
+        t: Symbol,
+        q: Iterable[Symbol],
+        v: Iterable[Symbol],
+        kinetic: Expr | None = None,
+        potential: Expr = 0,
+        force: Expr | None = None,
+        damping: Expr | None = None,
+        constraints: Iterable[Expr] = (),
+        params: dict[Symbol, Any] | None = None,
+        q0: Expr | None = None,
+        v0: Expr | None = None,
+        coordinate_names: Iterable[str] | None = None,
+        mass: Expr | None = None,
+        units: dict[Symbol, str] | None = None,
+        coordinate_units: Iterable[str] | dict[Symbol, str] | None = None,
+        sparse: bool | None = None,
+    ) -> None:
         self.name = check_identifier(name, "the name")
         if name in C_HEADERS:
             raise ModelError(
@@ -274,7 +310,7 @@ class Mechanism:
 
     # ---- the description, checked ---------------------------------------------------------
 
-    def _make_real(self):
+    def _make_real(self) -> None:
         """t, q, v and the params as real Symbols of their names, in every expression from here
         on (a symbol of the same name is the same variable in C): derivatives of Abs or sign
         then stay real functions that C can print."""
@@ -289,7 +325,7 @@ class Mechanism:
         self.descriptions = {r: self.descriptions[s] for r, s in zip(real, self.params)}
         self.params = real
 
-    def _real(self, expr):
+    def _real(self, expr: Expr) -> Expr:
         """expr in the real Symbols of _make_real."""
         swap = {
             s: self._by_name[s.name]
@@ -298,7 +334,7 @@ class Mechanism:
         }
         return expr.xreplace(swap)
 
-    def _params(self, params):
+    def _params(self, params: dict[Symbol, Any]) -> None:
         if not isinstance(params, dict):
             raise ModelError("params must be a dict Symbol -> value")
         self.params, self.defaults, self.descriptions = [], {}, {}
@@ -328,7 +364,7 @@ class Mechanism:
             self.defaults[sym] = number
             self.descriptions[sym] = description
 
-    def _energy(self, kinetic, mass):
+    def _energy(self, kinetic: Expr | None, mass: Expr | None) -> None:
         v = self.v
         if (kinetic is None) == (mass is None):
             raise ModelError("give exactly one of kinetic (T) and mass (M)")
@@ -360,7 +396,7 @@ class Mechanism:
         self.M = _jacobian(self.p, v)
         self.homogeneous = all(sum(m) == 2 for m in poly.monoms())
 
-    def _forces(self, force, damping):
+    def _forces(self, force: Expr | None, damping: Expr | None) -> None:
         if self.V.has(*self.v) or self.V.has(self.t):
             raise ModelError(
                 "the potential depends on "
@@ -379,7 +415,7 @@ class Mechanism:
         self._symmetric(D, "damping")
         self.D = D
 
-    def _symmetric(self, A, what):
+    def _symmetric(self, A: Matrix, what: str) -> None:
         """A = A^T, by expansion, else at random points (expand misses identities such as
         sin^2 + cos^2 = 1)."""
         pairs = [
@@ -401,7 +437,7 @@ class Mechanism:
                         f"{what} is not symmetric (entries {i + 1},{j + 1} and {j + 1},{i + 1})"
                     )
 
-    def _constraints(self, constraints):
+    def _constraints(self, constraints: Iterable[Expr]) -> None:
         try:
             c = [self._real(_sympify(_equation(e), "a constraint")) for e in constraints]
         except TypeError:
@@ -417,7 +453,7 @@ class Mechanism:
                 raise ModelError(f"constraint {j + 1} ({cj}) depends on v: c(t, q) only")
         self.c = sp.Matrix(c)
 
-    def _names(self, names):
+    def _names(self, names: Iterable[str] | None) -> list[str]:
         if names is None:
             names = [s.name for s in self.q]
         names = list(names)
@@ -427,7 +463,12 @@ class Mechanism:
             check_text(s, "the coordinate name")
         return names
 
-    def _units(self, units, coordinate_units):
+    def _units(
+        self,
+        # whatever was given, checked here; the name holds the coordinates' units further down
+        units: object,
+        coordinate_units: Iterable[str] | dict[Symbol, str] | None,
+    ) -> None:
         """self.units (param -> unit) and self.coordinate_units (n units), "" where none."""
         self.units = {s: "" for s in self.params}
         by_name = {s.name: s for s in self.params}
@@ -467,7 +508,7 @@ class Mechanism:
                 check_unit(u, f"the unit of {s.name}") for u, s in zip(units, self.q)
             ]
 
-    def _start(self, value, what):
+    def _start(self, value: Expr | None, what: str) -> Matrix:
         if value is None:
             return sp.zeros(self.n, 1)
         m = self._real(_vector(value, self.n, what))
@@ -478,7 +519,7 @@ class Mechanism:
             )
         return m
 
-    def _check_symbols(self):
+    def _check_symbols(self) -> None:
         known = set(self.q) | set(self.v) | {self.t} | set(self.params)
         parts = [
             ("kinetic energy", self.T),
@@ -501,7 +542,7 @@ class Mechanism:
                     "definition (sympy cannot print it in C)"
                 )
 
-    def _numeric(self, expr):
+    def _numeric(self, expr: Expr) -> Expr:
         """expr at t = 0, the start state and the defaults, to CHECK_DPS digits."""
         subs = dict(self.defaults)
         subs.update({self.t: 0})
@@ -510,7 +551,7 @@ class Mechanism:
             subs[vi] = b.xreplace(self.defaults)
         return expr.xreplace(subs).evalf(CHECK_DPS)
 
-    def _check_start(self):
+    def _check_start(self) -> None:
         with mpmath.workdps(CHECK_DPS):
             start = self._numeric(self.q0.col_join(self.v0))
             if not all(x.is_number and x.is_finite and x.is_real for x in start):
@@ -544,18 +585,18 @@ class Mechanism:
 
     # ---- the callbacks' expressions ----------------------------------------------------------
 
-    def jacobian(self):
+    def jacobian(self) -> Matrix:
         if self._G is None:  # the checks and the callbacks use it: formed once
             self._G = _jacobian(self.c, self.q)
         return self._G
 
-    def constraint_t(self):
+    def constraint_t(self) -> Matrix:
         return self.c.diff(self.t)
 
-    def velocity_constraint(self):
+    def velocity_constraint(self) -> Matrix:
         return self.jacobian() * sp.Matrix(self.v) + self.constraint_t()
 
-    def along(self, expr):
+    def along(self, expr: Expr) -> Expr:
         """d/ds expr(t + s, q + s v) at s = 0, v held fixed (of each entry of a Matrix)."""
         if isinstance(expr, sp.MatrixBase):
             return expr.applyfunc(self.along)
@@ -566,7 +607,7 @@ class Mechanism:
         terms += [expr.diff(qk) * vk for qk, vk in zip(self.q, self.v) if qk in free]
         return sp.Add(*terms)
 
-    def lagrangian_force(self):
+    def lagrangian_force(self) -> Matrix:
         """The Lagrangian's forces, -dV/dq + dT/dq - (dp/dq) v - dp/dt - D v, p = dT/dv."""
         vv = sp.Matrix(self.v)
         F = sp.Matrix([self.T.diff(qi) - self.V.diff(qi) for qi in self.q])
@@ -575,12 +616,12 @@ class Mechanism:
             F -= self.D * vv
         return F
 
-    def force(self):
+    def force(self) -> Matrix:
         """F = Q + lagrangian_force(): every force."""
         F = self.lagrangian_force()
         return F if self.Q is None else F + self.Q
 
-    def patterns(self):
+    def patterns(self) -> tuple[list[list[int]], list[list[int]]]:
         """The structural nonzeros, each pattern as its rows' ascending columns: M's and D's,
         both triangles, made symmetric (the library's mass pattern, which damping shares), and
         G's and dG/ds's (the Jacobian's pattern, which jacobian_dot shares)."""
@@ -600,7 +641,7 @@ class Mechanism:
             [sorted(j for r, j in jac if r == i) for i in range(G.rows)],
         )
 
-    def callbacks(self):
+    def callbacks(self) -> dict[str, tuple[str, str, Matrix]]:
         """The callbacks of sdae_mbs this description determines: field -> (arguments, output
         array, expressions (a Matrix, row-major))."""
         vv = sp.Matrix(self.v)
@@ -629,7 +670,7 @@ class Mechanism:
         return out
 
 
-def _jacobian(exprs, symbols):
+def _jacobian(exprs: Iterable[Expr], symbols: Sequence[Symbol]) -> Matrix:
     """d exprs_i / d symbols_j as a Matrix, differentiating each expression in the symbols it
     holds only: sympy's Matrix.jacobian differentiates every pair, and most are 0 in a large
     mechanism (its callbacks took seconds at 64 coordinates)."""
@@ -640,13 +681,13 @@ def _jacobian(exprs, symbols):
     return sp.Matrix(len(rows), len(symbols), [x for row in rows for x in row])
 
 
-def _float(value):
+def _float(value: Expr) -> float:
     try:
         return float(value)
     except TypeError:  # complex or not a number: say so
         return float("nan")
 
 
-def _listing(symbols):
+def _listing(symbols: Iterable[Symbol]) -> str:
     names = sorted(s.name for s in symbols)
     return ", ".join(names)

@@ -7,12 +7,15 @@ Bad input: one line on stderr, exit 2, no output file. A step that fails: the ro
 far stay written, one line on stderr says where it stopped, exit 1.
 """
 
+from __future__ import annotations
+
 import sys
+from collections.abc import Sequence
 
 from . import cli, expected
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["expected"]:
         return expected.main(argv[1:])

@@ -1,9 +1,17 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """simulate(): a whole run in one call, rows in the columns of the C examples' CSV."""
 
+from __future__ import annotations
+
 import math
+from collections.abc import Iterable, Iterator, Sequence
+from typing import Any, Tuple
 
 from . import arith, models, rng, stepper
+from .arith import Num, Vector
+
+# A CSV row: t, the model's columns (numbers of the arithmetic), newton_iters an int
+Row = Tuple[Any, ...]
 
 METHOD_DEFAULTS = {"delta": 2.0, "eps": 1.0, "alpha": (1.0, 2.0)}
 
@@ -12,23 +20,26 @@ class Result:
     """header: the CSV column names; rows: tuples (numbers of the arithmetic, newton_iters an
     int)."""
 
-    def __init__(self, header, rows):
+    def __init__(self, header: Iterable[str], rows: list[Row]) -> None:
         self.header, self.rows = tuple(header), rows
 
-    def column(self, name):
+    def column(self, name: str) -> list[Any]:
         i = self.header.index(name)
         return [row[i] for row in self.rows]
 
 
-def split_params(params):
+def split_params(params: models.Params | None) -> tuple[dict[str, Any], dict[str, Any]]:
     """(model parameters, method parameters) from one dict."""
+    model_params: dict[str, Any]
     model_params, method = {}, dict(METHOD_DEFAULTS)
     for key, value in (params or {}).items():
         (method if key in METHOD_DEFAULTS else model_params)[key] = value
     return model_params, method
 
 
-def start(mdl, x0=None, seed=None):
+def start(
+    mdl: models.Model, x0: Sequence[float] | None = None, seed: int | None = None
+) -> list[float]:
     """The physical start: x0, else the chain's random start of `seed` (as the C program's
     --seed), else the model's default."""
     if x0 is not None:
@@ -41,16 +52,16 @@ def start(mdl, x0=None, seed=None):
 
 
 def setup(
-    model,
-    params=None,
-    x0=None,
-    scheme=15,
-    map="dgrad",
-    stabilizer="paper",
-    arithmetic="float64",
-    dps=40,
-    seed=None,
-):
+    model: str,
+    params: models.Params | None = None,
+    x0: Sequence[float] | None = None,
+    scheme: int = 15,
+    map: str = "dgrad",
+    stabilizer: str = "paper",
+    arithmetic: str = "float64",
+    dps: int = 40,
+    seed: int | None = None,
+) -> tuple[models.Model, stepper.Stepper, Vector, Vector]:
     """(model object, Stepper, xi0, mu0): everything checked before the first step."""
     a = arith.make(arithmetic, dps)
     model_params, method = split_params(params)
@@ -65,34 +76,42 @@ def setup(
     return mdl, st, xi, mu
 
 
-def check_steps(T, nsteps):
+def check_steps(T: float, nsteps: int) -> None:
     if not (math.isfinite(float(T)) and float(T) > 0):
         raise ValueError("T must be finite and > 0, got %r" % (T,))
     if int(nsteps) != nsteps or nsteps < 1:
         raise ValueError("nsteps must be a positive integer, got %r" % (nsteps,))
 
 
-def rows(mdl, st, xi, mu, T, nsteps, every=1):
+def rows(
+    mdl: models.Model,
+    st: stepper.Stepper,
+    xi: Vector,
+    mu: Vector,
+    T: Num,
+    nsteps: int,
+    every: int = 1,
+) -> Iterator[Row]:
     """Yields the CSV rows of a run (see stepper.run for failures)."""
     for _, t, xi_n, mu_n, iters in stepper.run(st, xi, mu, T, int(nsteps), every):
         yield tuple([t] + mdl.row(xi_n, mu_n) + [iters])
 
 
 def simulate(
-    model,
-    params=None,
-    x0=None,
-    T=0.001,
-    nsteps=1000,
-    scheme=15,
-    map="dgrad",
-    stabilizer="paper",
-    arithmetic="float64",
-    dps=40,
-    every=1,
-    z0=None,
-    seed=None,
-):
+    model: str,
+    params: models.Params | None = None,
+    x0: Sequence[float] | None = None,
+    T: float = 0.001,
+    nsteps: int = 1000,
+    scheme: int = 15,
+    map: str = "dgrad",
+    stabilizer: str = "paper",
+    arithmetic: str = "float64",
+    dps: int = 40,
+    every: int = 1,
+    z0: Sequence[Sequence[float | str]] | None = None,
+    seed: int | None = None,
+) -> Result:
     """Runs `nsteps` steps of size T and returns a Result.
 
     model       'oscillator', 'pendulum' or 'chain'

@@ -7,11 +7,16 @@ Bad input: one line on stderr, exit 2, no output file. A step that fails: the ro
 far stay written, one line on stderr says where it stopped, exit 1.
 """
 
+from __future__ import annotations
+
 import argparse
 import math
 import sys
+from collections.abc import Iterable, Sequence
+from typing import Any, NoReturn, TextIO, cast
 
 from . import api, stepper
+from .arith import Arith
 
 # model -> options that apply to it (besides the method's)
 MODEL_OPTIONS = {
@@ -28,11 +33,11 @@ class BadInput(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    def error(self, message):
+    def error(self, message: str) -> NoReturn:
         raise BadInput(message)
 
 
-def number_list(text):
+def number_list(text: str) -> list[float]:
     try:
         values = [float(v) for v in text.split(",")]
     except ValueError:
@@ -42,7 +47,7 @@ def number_list(text):
     return values
 
 
-def parser():
+def parser() -> Parser:
     p = Parser(
         prog="python -m stabdae_ref",
         description="stabdae reference run, CSV out "
@@ -73,9 +78,9 @@ def parser():
     return p
 
 
-def params_of(args):
+def params_of(args: argparse.Namespace) -> dict[str, Any]:
     """The parameter dict for api.setup; options foreign to the model are an error."""
-    params = {}
+    params: dict[str, Any] = {}
     for name in ("k", "d", "m", "ga", "L", "N", "kc", "q"):
         value = getattr(args, name)
         if value is None:
@@ -89,24 +94,24 @@ def params_of(args):
     return params
 
 
-def step_count(args, T):
+def step_count(args: argparse.Namespace, T: float) -> int:
     if args.tf is not None and args.steps is not None:
         raise BadInput("give --tf or --steps, not both")
     if args.steps is not None:
-        return args.steps
+        return cast(int, args.steps)  # --steps is type=int
     tf = DEFAULT_TF[args.model] if args.tf is None else args.tf
     if not (math.isfinite(tf) and tf > 0):
         raise BadInput("--tf must be finite and > 0")
     return max(1, math.ceil(tf / T - 1e-9))
 
 
-def write_rows(out, a, rows):
+def write_rows(out: TextIO, a: Arith, rows: Iterable[api.Row]) -> None:
     """Writes rows as they come, so a failure keeps what was computed."""
     for row in rows:
         out.write(",".join([a.fmt(v) for v in row[:-1]] + [str(row[-1])]) + "\n")
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = parser().parse_args(argv)

@@ -12,18 +12,26 @@
 Each returns one mu (a list of mpf) per time in `times`.
 """
 
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import Any
+
 import mpmath
 
 from . import arith, models
+from .arith import Num, Vector
 
 
-def context(dps):
+def context(dps: int) -> Any:  # an mpmath context
     ctx = mpmath.MPContext()
     ctx.dps = dps
     return ctx
 
 
-def oscillator_exact(A, times, k=2.0, m=1.0, dps=40):
+def oscillator_exact(
+    A: Num, times: Iterable[Num], k: Num = 2.0, m: Num = 1.0, dps: int = 40
+) -> list[Vector]:
     """mu(t) = (X, Xdot) of m Xdd = -k X^3 from rest at X = A."""
     ctx = context(dps)
     A, k, m = ctx.mpf(A), ctx.mpf(k), ctx.mpf(m)
@@ -37,7 +45,9 @@ def oscillator_exact(A, times, k=2.0, m=1.0, dps=40):
     return out
 
 
-def pendulum_exact(theta0, times, L=1.0, ga=9.81, dps=40):
+def pendulum_exact(
+    theta0: Num, times: Iterable[Num], L: Num = 1.0, ga: Num = 9.81, dps: int = 40
+) -> list[Vector]:
     """mu(t) = (theta, L^2 theta') of theta'' = -(ga/L) sin theta from rest at theta0."""
     ctx = context(dps)
     L, ga = ctx.mpf(L), ctx.mpf(ga)
@@ -52,7 +62,13 @@ def pendulum_exact(theta0, times, L=1.0, ga=9.81, dps=40):
     return out
 
 
-def manifold_reference(model, params=None, x0=None, times=(), dps=30):
+def manifold_reference(
+    model: str,
+    params: models.Params | None = None,
+    x0: Sequence[float] | None = None,
+    times: Iterable[Num] = (),
+    dps: int = 30,
+) -> list[Vector]:
     """mu(t) of mu' = q0(mu) from mu0 = the mu part of Phi(x0) (xi is dropped: the start is
     projected onto the manifold along xi); times must be >= 0."""
     a = arith.MP(dps)

@@ -13,9 +13,12 @@ numbers in the program's CSV columns; the C programs must agree with them to a r
 is not compared).
 """
 
+from __future__ import annotations
+
 import argparse
 import os
 import sys
+from collections.abc import Container, Sequence
 
 from . import cli
 
@@ -50,7 +53,7 @@ C_DEFAULTS = {
 }
 
 
-def joined(flags):
+def joined(flags: str) -> list[str]:
     """['--x0', '-1,2'] -> ['--x0=-1,2']: a value that starts with '-' stays a value."""
     out, words = [], flags.split()
     i = 0
@@ -64,12 +67,12 @@ def joined(flags):
     return out
 
 
-def argv_of(program, flags):
+def argv_of(program: str, flags: str) -> list[str]:
     """The reference's command line for `program FLAGS`."""
     return [program] + C_DEFAULTS[program] + joined(flags)
 
 
-def write(outdir, names=None):
+def write(outdir: str, names: Container[str] | None = None) -> list[str]:
     """Writes outdir/NAME.csv for every run (or the runs in names); the paths written."""
     os.makedirs(outdir, exist_ok=True)
     paths = []
@@ -83,7 +86,7 @@ def write(outdir, names=None):
     return paths
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(
         prog="python -m stabdae_ref expected",
         description="Writes the examples' regression answers.",

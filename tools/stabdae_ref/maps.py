@@ -16,7 +16,19 @@ m = (x + y)/2, v = y - x, and grad H(m) alone when |v|^2 <= eps (1 + |m|^2), eps
 arithmetic's resolution; it satisfies gradbar H . v = H(y) - H(x).
 """
 
+from __future__ import annotations
+
+from typing import Callable, Tuple, cast
+
 from . import tableaus, vec
+from .arith import Matrix, Num, Vector
+from .models import Model
+
+# phi(mu, mu_next), its Jacobian in mu_next, both at once, and phi_T(mu, mu_next, T)
+Phi = Callable[[Vector, Vector], Vector]
+Jac = Callable[[Vector, Vector], Matrix]
+PhiJac = Callable[[Vector, Vector], Tuple[Vector, Matrix]]
+PhiT = Callable[[Vector, Vector, Num], Vector]
 
 
 class Map:
@@ -25,31 +37,41 @@ class Map:
     is the map of a step of size T: phi itself for the maps that do not depend on T, or the
     map's own (then phi is None)."""
 
-    def __init__(self, name, phi, jac=None, phi_jac=None, phi_T=None):
+    def __init__(
+        self,
+        name: str,
+        phi: Phi | None,
+        jac: Jac | None = None,
+        phi_jac: PhiJac | None = None,
+        phi_T: PhiT | None = None,
+    ) -> None:
         self.name, self.phi, self.jac = name, phi, jac
-        self.phi_jac = phi_jac or (lambda mu, mu_next: (phi(mu, mu_next), jac(mu, mu_next)))
-        self.phi_T = phi_T or (lambda mu, mu_next, T: phi(mu, mu_next))
+        # the defaults are called only for the maps that give phi (and jac, when implicit)
+        self.phi_jac: PhiJac = phi_jac or (
+            lambda mu, mu_next: (cast(Phi, phi)(mu, mu_next), cast(Jac, jac)(mu, mu_next))
+        )
+        self.phi_T: PhiT = phi_T or (lambda mu, mu_next, T: cast(Phi, phi)(mu, mu_next))
 
     @property
-    def explicit(self):
+    def explicit(self) -> bool:
         return self.jac is None
 
 
-def euler(model):
+def euler(model: Model) -> Map:
     return Map("euler", lambda mu, mu_next: model.q0(mu))
 
 
-def midpoint(model):
-    def mid(mu, mu_next):
+def midpoint(model: Model) -> Map:
+    def mid(mu: Vector, mu_next: Vector) -> Vector:
         return [(u + w) / 2 for u, w in zip(mu, mu_next)]
 
-    def jac(mu, mu_next):
+    def jac(mu: Vector, mu_next: Vector) -> Matrix:
         return [[v / 2 for v in row] for row in model.q0_jac(mid(mu, mu_next))]
 
     return Map("midpoint", lambda mu, mu_next: model.q0(mid(mu, mu_next)), jac)
 
 
-def gonzalez(model, x, y):
+def gonzalez(model: Model, x: Vector, y: Vector) -> tuple[Vector, Matrix]:
     """(gradbar H(x, y), d gradbar H / dy)."""
     a = model.a
     m = [(u + w) / 2 for u, w in zip(x, y)]
@@ -73,11 +95,11 @@ def gonzalez(model, x, y):
     return gbar, J
 
 
-def discrete_gradient(model):
+def discrete_gradient(model: Model) -> Map:
     """phi = S(m) gradbar H; the Jacobian treats S as constant (true for the three models;
     it only steers Newton, never changes the solution)."""
 
-    def phi_jac(mu, mu_next):
+    def phi_jac(mu: Vector, mu_next: Vector) -> tuple[Vector, Matrix]:
         S = model.S([(u + w) / 2 for u, w in zip(mu, mu_next)])
         gbar, J = gonzalez(model, mu, mu_next)
         return vec.matvec(S, gbar), vec.matmul(S, J)
@@ -90,25 +112,25 @@ def discrete_gradient(model):
     )
 
 
-def runge_kutta(name):
+def runge_kutta(name: str) -> Callable[[Model], Map]:
     """The explicit Runge-Kutta map of tableau `name`: phi_T(mu) = sum_i b_i k_i with
     k_i = q0(mu + T sum_{j<i} a_ij k_j) (the models here are autonomous: the nodes c_i are not
     needed). The sums run over the nonzero coefficients in the order of j, as in the C
     library, so that float64 rounds the same way."""
 
-    def make(model):
+    def make(model: Model) -> Map:
         A, b, _ = tableaus.tableau(name, model.a)
         zero = model.a.num(0)
 
-        def combination(weights, ks):
+        def combination(weights: Vector, ks: list[Vector]) -> Vector:
             out = [zero] * model.n_mu
             for w, k in zip(weights, ks):
                 if w != 0:
                     out = [o + w * v for o, v in zip(out, k)]
             return out
 
-        def phi_T(mu, mu_next, T):
-            ks = []
+        def phi_T(mu: Vector, mu_next: Vector, T: Num) -> Vector:
+            ks: list[Vector] = []
             for i in range(len(b)):
                 incr = combination(A[i][:i], ks)
                 ks.append(model.q0([m + T * v for m, v in zip(mu, incr)] if i else mu))
@@ -119,7 +141,7 @@ def runge_kutta(name):
     return make
 
 
-BUILTIN = {
+BUILTIN: dict[str, Callable[[Model], Map]] = {
     "euler": euler,
     "midpoint": midpoint,
     "dgrad": discrete_gradient,
@@ -128,7 +150,7 @@ BUILTIN = {
 }
 
 
-def make(name, model):
+def make(name: str, model: Model) -> Map:
     """The map of the library's name `name` for `model`: 'user' is the model's user_map."""
     if name in BUILTIN:
         return BUILTIN[name](model)

@@ -15,10 +15,34 @@ returns one state per time in `times`: [q..., v...] in the examples' Cartesian c
   energy               m |v|^2 / 2 + m ga y summed over the masses
 """
 
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import Any, Tuple, Union
+
+import numpy as np
+from numpy.typing import NDArray
+
 from . import exact
+from .arith import Matrix, Num, Vector
+
+# A bar's end: a mass index or a fixed point (x, y); a link: (end a, end b, length)
+End = Union[int, Tuple[float, float]]
+Link = Tuple[End, End, Num]
+# What pendulum_lambda, constraint and energy take: numbers (floats or mpf), or arrays of one
+# value per time (a run's columns), computed elementwise
+Coords = Union[Sequence[Num], NDArray[np.float64]]
+Value = Union[Num, NDArray[np.float64]]
 
 
-def pendulum_exact(theta0, times, L=1.0, m=1.0, ga=9.81, dps=30):
+def pendulum_exact(
+    theta0: Num,
+    times: Iterable[Num],
+    L: float = 1.0,
+    m: float = 1.0,
+    ga: float = 9.81,
+    dps: int = 30,
+) -> list[Vector]:
     """(x, y, vx, vy) = L (sin th, -cos th, th' cos th, th' sin th) of the exact theta(t)."""
     del m  # the motion does not depend on the mass
     ctx = exact.context(dps)
@@ -31,7 +55,7 @@ def pendulum_exact(theta0, times, L=1.0, m=1.0, ga=9.81, dps=30):
     return out
 
 
-def pendulum_lambda(state, L=1.0, m=1.0, ga=9.81):
+def pendulum_lambda(state: Coords, L: float = 1.0, m: float = 1.0, ga: float = 9.81) -> Value:
     """lambda of m v' = (0, -m ga) - q lambda with c'' = 0: q.v' = -|v|^2 gives
     lambda = (q.F + m |v|^2) / |q|^2 (|q|^2 = L^2 on the circle; off it, the library's
     (G M^-1 G^T)^-1 (G M^-1 F + gamma) is the same)."""
@@ -40,7 +64,17 @@ def pendulum_lambda(state, L=1.0, m=1.0, ga=9.81):
     return m * (vx * vx + vy * vy - ga * y) / (x * x + y * y)
 
 
-def double_pendulum(theta0, omega0, times, L1=1.0, L2=1.0, m1=1.0, m2=1.0, ga=9.81, dps=25):
+def double_pendulum(
+    theta0: Sequence[float],
+    omega0: Sequence[float],
+    times: Iterable[float],
+    L1: float = 1.0,
+    L2: float = 1.0,
+    m1: float = 1.0,
+    m2: float = 1.0,
+    ga: float = 9.81,
+    dps: int = 25,
+) -> list[Vector]:
     """The double pendulum in angles a1, a2 (Lagrange's equations, e.g. Goldstein):
     (m1 + m2) L1 a1'' + m2 L2 cos(a1 - a2) a2'' = -m2 L2 sin(a1 - a2) a2'^2 - (m1 + m2) ga sin a1,
     L1 cos(a1 - a2) a1'' + L2 a2'' = L1 sin(a1 - a2) a1'^2 - ga sin a2; mapped to
@@ -48,7 +82,7 @@ def double_pendulum(theta0, omega0, times, L1=1.0, L2=1.0, m1=1.0, m2=1.0, ga=9.
     ctx = exact.context(dps)
     L1, L2, m1, m2, ga = (ctx.mpf(float(v)) for v in (L1, L2, m1, m2, ga))
 
-    def rhs(t, y):
+    def rhs(t: Num, y: Vector) -> Vector:
         a1, a2, w1, w2 = y
         s, c = ctx.sin(a1 - a2), ctx.cos(a1 - a2)
         A11, A12, A21, A22 = (m1 + m2) * L1, m2 * L2 * c, L1 * c, L2
@@ -70,14 +104,16 @@ def double_pendulum(theta0, omega0, times, L1=1.0, L2=1.0, m1=1.0, m2=1.0, ga=9.
     return out
 
 
-def _point(ctx, end, q, v):
+def _point(ctx: Any, end: End, q: Vector, v: Vector) -> tuple[tuple[Num, Num], tuple[Num, Num]]:
     """A bar's end: a mass index (its position and velocity) or a fixed point (x, y)."""
     if isinstance(end, int):
         return (q[2 * end], q[2 * end + 1]), (v[2 * end], v[2 * end + 1])
     return (ctx.mpf(float(end[0])), ctx.mpf(float(end[1]))), (ctx.mpf(0), ctx.mpf(0))
 
 
-def _bar_rows(ctx, bars, n_q, q, v):
+def _bar_rows(
+    ctx: Any, bars: Sequence[Link], n_q: int, q: Vector, v: Vector
+) -> tuple[Matrix, Vector]:
     """G (rows of dc_j/dq) and gamma_j = |v_a - v_b|^2 of c_j = (|p_a - p_b|^2 - l_j^2)/2."""
     G, gamma = [], []
     for a, b, _ in bars:
@@ -93,7 +129,15 @@ def _bar_rows(ctx, bars, n_q, q, v):
     return G, gamma
 
 
-def bars(masses, links, q0, v0, times, ga=9.81, dps=25):
+def bars(
+    masses: Sequence[float],
+    links: Sequence[Link],
+    q0: Sequence[Num],
+    v0: Sequence[Num],
+    times: Iterable[float],
+    ga: float = 9.81,
+    dps: int = 25,
+) -> list[Vector]:
     """Point masses `masses` (mass k at q[2k], q[2k+1]) joined by links (a, b, length), a and
     b mass indices or fixed points (x, y); gravity -ga along y. Integrates the index-1 ODE from
     (q0, v0), which must satisfy c = 0 and G v = 0 (then the solution stays on them)."""
@@ -102,7 +146,7 @@ def bars(masses, links, q0, v0, times, ga=9.81, dps=25):
     mass = [ctx.mpf(float(masses[k // 2])) for k in range(n_q)]
     ga = ctx.mpf(float(ga))
 
-    def rhs(t, y):
+    def rhs(t: Num, y: Vector) -> Vector:
         q, v = y[:n_q], y[n_q:]
         G, gamma = _bar_rows(ctx, links, n_q, q, v)
         F = [-mass[k] * ga if k % 2 else ctx.mpf(0) for k in range(n_q)]
@@ -120,7 +164,7 @@ def bars(masses, links, q0, v0, times, ga=9.81, dps=25):
     return [list(solution(ctx.mpf(float(t)))) for t in times]
 
 
-def constraint(links, q):
+def constraint(links: Sequence[Link], q: Coords) -> list[Value]:
     """c_j = (|p_a - p_b|^2 - l_j^2)/2 at q (floats or mpf)."""
     out = []
     for a, b, length in links:
@@ -130,7 +174,7 @@ def constraint(links, q):
     return out
 
 
-def energy(masses, q, v, ga=9.81):
+def energy(masses: Sequence[float], q: Coords, v: Coords, ga: float = 9.81) -> Value:
     """sum_k m_k |v_k|^2 / 2 + m_k ga y_k."""
     return sum(
         m * ((v[2 * k] ** 2 + v[2 * k + 1] ** 2) / 2 + ga * q[2 * k + 1])

@@ -6,29 +6,31 @@ the same generator with the same seeding, and randint over [0, 2^32) returns its
 the C program `chain --seed S` and chain_x0(N, S) start from the same state.
 """
 
+from __future__ import annotations
+
 import numpy as np
 
 
 class MT19937:
     """next32() gives the generator's 32-bit outputs in order."""
 
-    def __init__(self, seed):
+    def __init__(self, seed: int) -> None:
         self.state = np.random.RandomState((seed & 0xFFFFFFFF) or 4357)  # GSL's 0 is 4357
 
-    def next32(self):
+    def next32(self) -> int:
         return int(self.state.randint(0, 2**32, dtype=np.uint32))
 
-    def uniform(self):
+    def uniform(self) -> float:
         """u in [0, 1): the output over 2^32 (exact in a double)."""
         return self.next32() / 4294967296.0
 
-    def flat(self, a, b):
+    def flat(self, a: float, b: float) -> float:
         """A number in [a, b) from one output, a (1 - u) + b u."""
         u = self.uniform()
         return a * (1 - u) + b * u
 
 
-def chain_x0(N, seed):
+def chain_x0(N: int, seed: int) -> list[float]:
     """The chain's start (X, Y, Xdot, Ydot per mass, 4 N doubles): X_i in [-0.5, 0.5),
     Y_i in [-0.2, 0.2), Xdot_i and Ydot_i in [-0.1, 0.1), drawn mass by mass in that order."""
     if int(seed) != seed or seed < 0:

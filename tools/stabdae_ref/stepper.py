@@ -14,9 +14,18 @@ xi_1(t) = xi_1(0) + t xi_2(0)) or -sum_j alpha_j xi_j ('baumgarte'): xi' = A xi,
 xi+ = xi + T A xi (scheme 11) or (I - T A) xi+ = xi (scheme 15). The mu update is the same.
 """
 
+from __future__ import annotations
+
 import math
+from collections.abc import Iterator, Sequence
+from typing import TYPE_CHECKING
 
 from . import maps, vec
+from .arith import Matrix, Num, Vector
+from .models import Model
+
+if TYPE_CHECKING:
+    from .api import Result
 
 SCHEMES = (11, 15)
 STABILIZERS = ("paper", "none", "baumgarte")
@@ -25,7 +34,9 @@ STABILIZERS = ("paper", "none", "baumgarte")
 class StepFailure(Exception):
     """A step could not be taken; `step` is the number of the step that failed."""
 
-    def __init__(self, step, t, reason):
+    result: Result  # the rows computed before, set by api.simulate
+
+    def __init__(self, step: int, t: Num, reason: str) -> None:
         super().__init__("step %d from t = %s failed: %s" % (step, t, reason))
         self.step, self.t, self.reason = step, t, reason
 
@@ -35,14 +46,14 @@ class Stepper:
 
     def __init__(
         self,
-        model,
-        scheme=15,
-        map="dgrad",
-        stabilizer="paper",
-        delta=2.0,
-        eps=1.0,
-        alpha=(1.0, 2.0),
-    ):
+        model: Model,
+        scheme: int = 15,
+        map: str = "dgrad",
+        stabilizer: str = "paper",
+        delta: float = 2.0,
+        eps: float = 1.0,
+        alpha: Sequence[float] = (1.0, 2.0),
+    ) -> None:
         a = model.a
         if scheme not in SCHEMES:
             raise ValueError("scheme must be 11 or 15, got %r" % (scheme,))
@@ -59,27 +70,27 @@ class Stepper:
             raise ValueError("baumgarte needs one alpha per derivative (%d)" % model.rel_degree[0])
         self.map = maps.make(map, model)
 
-    def gains(self, Qm):
+    def gains(self, Qm: Matrix) -> Vector:
         """eq. 6 from the columns of Q."""
         half_d2 = self.delta * self.delta / 2
         return [
             -half_d2 * sum(row[i] * row[i] for row in Qm) - self.eps for i in range(self.model.n_xi)
         ]
 
-    def xi_paper(self, xi, Qm, T):
+    def xi_paper(self, xi: Vector, Qm: Matrix, T: Num) -> Vector:
         k = self.gains(Qm)
         if self.scheme == 11:
             return [(1 + T * ki) * x for ki, x in zip(k, xi)]  # eq. 11
         return [x / (1 - T * ki) for ki, x in zip(k, xi)]  # eq. 15
 
-    def chain_matrix(self, r):
+    def chain_matrix(self, r: int) -> Matrix:
         """A of one constraint's chain xi_j' = xi_{j+1}, last row 0 or -alpha."""
-        A = [[1 if j == i + 1 else 0 for j in range(r)] for i in range(r)]
+        A: Matrix = [[1 if j == i + 1 else 0 for j in range(r)] for i in range(r)]
         if self.stabilizer == "baumgarte":
             A[r - 1] = [-al for al in self.alpha]
         return A
 
-    def xi_baseline(self, xi, T):
+    def xi_baseline(self, xi: Vector, T: Num) -> Vector:
         out, start = [], 0
         for r in self.model.rel_degree:
             block, A = xi[start : start + r], self.chain_matrix(r)
@@ -91,7 +102,7 @@ class Stepper:
             start += r
         return out
 
-    def mu_next(self, mu, Qxi, T):
+    def mu_next(self, mu: Vector, Qxi: Vector, T: Num) -> tuple[Vector, int]:
         """(mu+, Newton iterations) of mu+ = mu + T (phi_T(mu, mu+) + Q xi)."""
         a = self.a
         guess = vec.add(mu, vec.scale(T, vec.add(self.map.phi_T(mu, mu, T), Qxi)))
@@ -110,7 +121,7 @@ class Stepper:
                 return y, it
         raise ArithmeticError("Newton did not converge in %d iterations" % a.newton_max_iter)
 
-    def step(self, xi, mu, T):
+    def step(self, xi: Vector, mu: Vector, T: Num) -> tuple[Vector, Vector, int]:
         """(xi+, mu+, Newton iterations); raises ArithmeticError or ValueError on failure."""
         Qm = self.model.Q(xi, mu)
         Qxi = vec.matvec(Qm, xi)
@@ -125,7 +136,9 @@ class Stepper:
         return xi_new, mu_new, iters
 
 
-def run(stepper, xi, mu, T, nsteps, every=1):
+def run(
+    stepper: Stepper, xi: Vector, mu: Vector, T: Num, nsteps: int, every: int = 1
+) -> Iterator[tuple[int, Num, Vector, Vector, int]]:
     """Yields (step, t, xi, mu, newton_iters) for step 0, every `every`-th step and the last;
     t = step T. Raises StepFailure (after yielding what was computed) when a step fails."""
     if every < 1 or int(every) != every:

@@ -14,6 +14,10 @@ tableau(name, a) gives (A, b, c) in the arithmetic a: A as s lists of s numbers 
 above the diagonal), b and c as lists.
 """
 
+from __future__ import annotations
+
+from .arith import Arith, Matrix, Vector
+
 # DP86CO's A: stage i's row as {j: digits}, stages and columns numbered from 1 as in the code;
 # every entry not listed is zero
 DOP853_A = {
@@ -110,7 +114,7 @@ DOP853_C = {
 ORDER = {"rk4": 4, "rk8": 8}
 
 
-def _rk4(a):
+def _rk4(a: Arith) -> tuple[Matrix, Vector, Vector]:
     half, one, zero = a.num(1) / 2, a.num(1), a.num(0)
     A = [[zero] * 4 for _ in range(4)]
     A[1][0], A[2][1], A[3][2] = half, half, one
@@ -119,7 +123,7 @@ def _rk4(a):
     return A, b, c
 
 
-def _dop853(a):
+def _dop853(a: Arith) -> tuple[Matrix, Vector, Vector]:
     s, zero = 12, a.num(0)
     A = [[zero] * s for _ in range(s)]
     for i, row in DOP853_A.items():
@@ -130,7 +134,7 @@ def _dop853(a):
     return A, b, c
 
 
-def tableau(name, a):
+def tableau(name: str, a: Arith) -> tuple[Matrix, Vector, Vector]:
     if name == "rk4":
         return _rk4(a)
     if name == "rk8":

@@ -72,3 +72,8 @@ def test_a_refusal_is_one_line_and_status_2(installed, tmp_path):
 def test_the_installed_module_is_the_package_alone(installed):
     names = sorted(os.listdir(os.path.join(str(installed), "stabdae_gen")))
     assert "tests" not in names and "cli.py" in names and "pyproject.toml" not in names
+
+
+def test_the_installed_package_carries_its_type_hints(installed):
+    # PEP 561: without py.typed a user's mypy ignores the package's hints
+    assert os.path.isfile(os.path.join(str(installed), "stabdae_gen", "py.typed"))
