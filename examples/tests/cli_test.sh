@@ -27,6 +27,8 @@
 #   cli_test.sh value PROG CODE KEY WANT TOL ARGS...
 #                                        exit CODE and a line "KEY: v" on stdout with
 #                                        |v - WANT| <= TOL
+# STABDAE_EMULATOR, when set, runs PROG and OTHER (a cross build's programs under qemu-user:
+# CMAKE_CROSSCOMPILING_EMULATOR, which ctest applies only to a test's own command).
 set -u
 mode=$1
 prog=$2
@@ -48,7 +50,7 @@ awk_with_columns() {
 
 case $mode in
 bad)
-  "$prog" --out "$out" "$@" >"$dir/stdout" 2>"$dir/stderr"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" >"$dir/stdout" 2>"$dir/stderr"
   rc=$?
   cat "$dir/stderr" >&2
   [ "$rc" -eq 2 ] || die "exit code $rc, expected 2"
@@ -58,14 +60,14 @@ bad)
   exit 0
   ;;
 help)
-  "$prog" --help >"$dir/stdout" 2>"$dir/stderr" || die "exit code $?"
+  ${STABDAE_EMULATOR:-} "$prog" --help >"$dir/stdout" 2>"$dir/stderr" || die "exit code $?"
   grep -q '^usage:' "$dir/stdout" || die "no usage on stdout"
   exit 0
   ;;
 regress)
   expected=$1
   shift
-  "$prog" --out "$out" "$@" || die "exit code $?"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" || die "exit code $?"
   [ "$(head -n 1 "$out")" = "$(head -n 1 "$expected")" ] || die "headers differ"
   [ "$(wc -l <"$out")" -eq "$(wc -l <"$expected")" ] || die "row counts differ"
   paste -d '|' "$out" "$expected" | awk -F'|' 'NR > 1 {
@@ -82,7 +84,7 @@ regress)
 bound)
   expr=$1 tmin=$2 limit=$3
   shift 3
-  "$prog" --out "$out" "$@" || die "exit code $?"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" || die "exit code $?"
   awk_with_columns "v[\"t\"] >= $tmin - 1e-12 { r = $expr; if (r < 0) r = -r; n++
       if (r > worst) worst = r; if (!(r < $limit)) bad = 1 }
     END { printf \"%.3g over %d rows\\n\", worst, n; exit (bad || n == 0) }" "$out" \
@@ -91,7 +93,7 @@ bound)
   exit 0
   ;;
 fail)
-  "$prog" --out "$out" "$@" 2>"$dir/stderr"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" 2>"$dir/stderr"
   rc=$?
   cat "$dir/stderr" >&2
   [ "$rc" -eq 1 ] || die "exit code $rc, expected 1"
@@ -103,8 +105,8 @@ fail)
 agree)
   other=$1 pairs=$2 tol=$3
   shift 3
-  "$prog" --out "$out" "$@" || die "exit code $?"
-  "$other" --out "$dir/other.csv" "$@" || die "$other: exit code $?"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" || die "exit code $?"
+  ${STABDAE_EMULATOR:-} "$other" --out "$dir/other.csv" "$@" || die "$other: exit code $?"
   awk -F, -v pairs="$pairs" -v tol="$tol" '
     FNR == 1 { for (i = 1; i <= NF; i++) col[FILENAME == ARGV[1], $i] = i; next }
     FILENAME == ARGV[1] { for (i = 1; i <= NF; i++) a[FNR, i] = $i; rows = FNR; next }
@@ -122,7 +124,7 @@ agree)
 advance)
   x=$1 y=$2 min=$3
   shift 3
-  "$prog" --out "$out" "$@" || die "exit code $?"
+  ${STABDAE_EMULATOR:-} "$prog" --out "$out" "$@" || die "exit code $?"
   awk_with_columns "{ a = atan2(v[\"$y\"], v[\"$x\"]); pi = atan2(0, -1)
       if (n++) { d = a - prev; while (d > pi) d -= 2 * pi; while (d < -pi) d += 2 * pi; sum += d }
       prev = a }
@@ -143,7 +145,7 @@ block)
 value)
   code=$1 key=$2 want=$3 tol=$4
   shift 4
-  "$prog" "$@" >"$dir/stdout" 2>"$dir/stderr"
+  ${STABDAE_EMULATOR:-} "$prog" "$@" >"$dir/stdout" 2>"$dir/stderr"
   rc=$?
   cat "$dir/stdout" "$dir/stderr" >&2
   [ "$rc" -eq "$code" ] || die "exit code $rc, expected $code"
