@@ -35,7 +35,9 @@ void *__wrap_malloc(size_t n) { return closed ? (refused++, NULL) : __real_mallo
 void *__wrap_calloc(size_t n, size_t size) {
   return closed ? (refused++, NULL) : __real_calloc(n, size);
 }
-void *__wrap_realloc(void *p, size_t n) { return closed ? (refused++, NULL) : __real_realloc(p, n); }
+void *__wrap_realloc(void *p, size_t n) {
+  return closed ? (refused++, NULL) : __real_realloc(p, n);
+}
 
 /* ---- the painted stack -------------------------------------------------------------------- */
 
@@ -120,8 +122,8 @@ static __attribute__((noinline)) result run_model(const sdae_model *model, size_
 
 static int row(const char *model, size_t m, result r) {
   /* newlib as Debian builds it has no C99 length modifiers (%zu prints "zu") */
-  printf("| %s | %s | %lu | %lu | %lu | %d | %s |\n", model, MAPS[m].name,
-         (unsigned long)r.block, (unsigned long)r.stack, r.heap, r.steps, sdae_strerror(r.rc));
+  printf("| %s | %s | %lu | %lu | %lu | %d | %s |\n", model, MAPS[m].name, (unsigned long)r.block,
+         (unsigned long)r.stack, r.heap, r.steps, sdae_strerror(r.rc));
   return r.rc != SDAE_OK || r.heap != 0 || r.steps != STEPS;
 }
 

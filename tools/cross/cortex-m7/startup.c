@@ -25,5 +25,19 @@ typedef void (*handler)(void);
 /* initial stack pointer, reset, NMI, hard fault, memory management, bus and usage faults, four
  * reserved, SVCall, debug monitor, reserved, PendSV, SysTick */
 __attribute__((section(".vectors"), used)) static const handler vectors[16] = {
-    (handler)(uintptr_t)__stack, m7_reset, fault, fault, fault, fault, fault, 0, 0, 0, 0, fault,
-    fault, 0, fault, fault};
+    (handler)(uintptr_t)__stack,
+    m7_reset,
+    fault,
+    fault,
+    fault,
+    fault,
+    fault,
+    0,
+    0,
+    0,
+    0,
+    fault,
+    fault,
+    0,
+    fault,
+    fault};
