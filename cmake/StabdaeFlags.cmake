@@ -9,7 +9,10 @@
 # stabdae_instrument: AddressSanitizer and UndefinedBehaviorSanitizer with STABDAE_SANITIZE or
 #   STABDAE_FUZZ, and libFuzzer's coverage feedback with STABDAE_FUZZ (the fuzz programs alone
 #   link libFuzzer itself, tests/fuzz).
-# Both are INTERFACE targets of the build tree only (not exported, not installed);
+# stabdae_ieee: -ffp-contract=off: no multiply and add fused into one rounding. GCC does not fuse
+#   in ISO C mode anyway; Clang does on targets with an FMA (aarch64, Cortex-M), and then the
+#   same program prints other digits there than on x86-64 (docs/embedded.md).
+# They are INTERFACE targets of the build tree only (not exported, not installed);
 # stabdae_apply_flags links them to every target that stabdae's directories define.
 
 set(stabdae_gnu_like "$<C_COMPILER_ID:GNU,Clang,AppleClang>")
@@ -18,6 +21,9 @@ add_library(stabdae_warnings INTERFACE)
 target_compile_options(stabdae_warnings INTERFACE
   $<${stabdae_gnu_like}:-Wall -Wextra -Wpedantic>
   $<$<AND:$<BOOL:${STABDAE_WERROR}>,${stabdae_gnu_like}>:-Werror>)
+
+add_library(stabdae_ieee INTERFACE)
+target_compile_options(stabdae_ieee INTERFACE $<${stabdae_gnu_like}:-ffp-contract=off>)
 
 add_library(stabdae_instrument INTERFACE)
 if(STABDAE_SANITIZE OR STABDAE_FUZZ)
@@ -33,9 +39,9 @@ if(STABDAE_FUZZ) # clang, checked by the top-level CMakeLists.txt
   target_compile_options(stabdae_instrument INTERFACE -fsanitize=fuzzer-no-link)
 endif()
 
-# stabdae_apply_flags(DIR): links stabdae_warnings and stabdae_instrument privately to every
-# target defined in the source directory DIR and the directories below it (INTERFACE libraries
-# excepted, which compile nothing). $<BUILD_INTERFACE:...> keeps them out of the exported
+# stabdae_apply_flags(DIR): links stabdae_warnings, stabdae_ieee and stabdae_instrument
+# privately to every target defined in the source directory DIR and the directories below it
+# (INTERFACE libraries excepted, which compile nothing). $<BUILD_INTERFACE:...> keeps them out of the exported
 # targets, where a static library lists even its private dependencies.
 function(stabdae_apply_flags dir)
   get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
@@ -43,7 +49,8 @@ function(stabdae_apply_flags dir)
     get_target_property(type ${target} TYPE)
     if(NOT type STREQUAL "INTERFACE_LIBRARY" AND NOT type STREQUAL "UTILITY")
       target_link_libraries(${target} PRIVATE
-        $<BUILD_INTERFACE:stabdae_warnings> $<BUILD_INTERFACE:stabdae_instrument>)
+        $<BUILD_INTERFACE:stabdae_warnings> $<BUILD_INTERFACE:stabdae_ieee>
+        $<BUILD_INTERFACE:stabdae_instrument>)
     endif()
   endforeach()
   get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)

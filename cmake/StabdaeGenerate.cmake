@@ -7,7 +7,8 @@
 # and adds them as a static library (PUBLIC: the directory of NAME.h, stabdae, libm) named
 # TARGET, by default NAME. Use: target_link_libraries(app PRIVATE NAME), and #include "NAME.h".
 # OUTPUT_DIR defaults to ${CMAKE_CURRENT_BINARY_DIR}/NAME; LIBRARY, the stabdae it links, to
-# stabdae::stabdae (the shared library; stabdae::stabdae_static for the static one). DEPENDS
+# stabdae::stabdae (the shared library; stabdae::stabdae_static for the static one, and where
+# there is no shared library, on a target without dynamic linking). DEPENDS
 # names the files MODEL.py imports (a helper module beside it), to regenerate when they change.
 #
 # The generator needs Python 3 with sympy (tools/requirements.txt pins the version): the
@@ -32,6 +33,9 @@ function(stabdae_generate_mbs name model)
     set(target ${arg_TARGET})
   endif()
   set(library stabdae::stabdae)
+  if(NOT TARGET stabdae::stabdae)
+    set(library stabdae::stabdae_static)
+  endif()
   if(arg_LIBRARY)
     set(library ${arg_LIBRARY})
   endif()

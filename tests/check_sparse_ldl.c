@@ -272,6 +272,18 @@ START_TEST(a_shared_coordinate_fills_the_constraints_block) {
 }
 END_TEST
 
+/* L's entries reach n^2 / 2 (a cart under n - 1 pendulums): a size fits only where that count
+ * fits SuiteSparse_long, 2^31 - 1 for a 32-bit long (32-bit targets), 2^63 - 1 for 64 bits */
+START_TEST(a_size_fits_only_where_its_counts_fit_the_index) {
+  const double most = ldexp(1.0, 8 * (int)sizeof(SuiteSparse_long) - 1); /* the index's range */
+  const size_t n[] = {1000, 60000, 70000, 100000};
+  for (size_t i = 0; i < sizeof n / sizeof n[0]; i++) {
+    int counts_fit = 0.5 * (double)n[i] * (double)n[i] < most;
+    ck_assert_int_eq(sdae__sparse_ldl_fits(n[i], 3 * n[i]), counts_fit);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sparse_ldl");
   ADD_CASE(s, random_saddle_points_solve_as_dense_algebra);
@@ -280,5 +292,6 @@ int main(void) {
   ADD_CASE(s, the_least_pivot_is_at_the_rounding_of_the_mass);
   ADD_CASE(s, the_least_pivots_scale_with_m_and_g);
   ADD_CASE(s, a_shared_coordinate_fills_the_constraints_block);
+  ADD_CASE(s, a_size_fits_only_where_its_counts_fit_the_index);
   return run_suite(s);
 }

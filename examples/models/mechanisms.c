@@ -59,9 +59,9 @@ static const double origin[2] = {0.0, 0.0};
  * front-end need not difference a constant) */
 static void constant_mass_dot_v(size_t n, double *out) { memset(out, 0, n * sizeof *out); }
 
-/* dc/dt = 0 and d/ds (dc/dt) = 0: no constraint depends on t (written, so that the front-end
- * need not difference c in t, four evaluations of c at every configuration; the index-1 RK4 of
- * the benchmarks takes a missing constraint_t as zero, and both then see the same callbacks) */
+/* dc/dt = 0 and d/ds (dc/dt) = 0: no constraint depends on t (written, so that the front-end,
+ * and the index-1 RK4 of the benchmarks alike, need not difference c in t: four evaluations of
+ * c at every configuration) */
 static void scleronomic(size_t n_c, double *out) { memset(out, 0, n_c * sizeof *out); }
 
 /* d/ds of half_sq_row's row along (q + s v): q_p - R changes at v_p - v_R, with v_R = 0 for a

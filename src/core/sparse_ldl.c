@@ -3,7 +3,8 @@
  * amd_l2 rather than amd_l_order: amd_l_order allocates its workspace (SuiteSparse_malloc),
  * amd_l2 takes it from the caller, as LDL does every array. Their SuiteSparse_long (64-bit)
  * versions: L's size, summed by ldl_l_symbolic, is bounded only by n^2 / 2, which an int's
- * sum would overflow (a cart under 92 680 pendulums: 4.3e9 entries) past any check after it. */
+ * sum would overflow (a cart under 92 680 pendulums: 4.3e9 entries) past any check after it.
+ * A 32-bit target's SuiteSparse_long is a 32-bit long: sdae__sparse_ldl_fits bounds n for it. */
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
@@ -28,15 +29,17 @@ static size_t iw_len(size_t n, size_t nnz) { return nnz + nnz / 5 + n; }
 static size_t amd_ints(size_t n, size_t nnz) { return 8 * n + iw_len(n, nnz); }
 
 int sdae__sparse_ldl_fits(size_t n, size_t nnz) {
-  /* every count below (AMD's 8 n + 1.2 nnz + n, L's at most n^2 / 2) in SuiteSparse_long */
-  const size_t most = (size_t)1 << 30;
-  return n < most && nnz < most;
+  /* every count below (AMD's 8 n + 1.2 nnz + n, L's at most n^2 / 2) in SuiteSparse_long:
+   * n, nnz < 2^30 where it has 64 bits; where it is a 32-bit long (32-bit targets), n^2 / 2 <
+   * 2^31 takes n < 2^16, and AMD's counts nnz < 2^26 */
+  const int wide = sizeof(sslong) >= 8;
+  return n < ((size_t)1 << (wide ? 30 : 16)) && nnz < ((size_t)1 << (wide ? 30 : 26));
 }
 
 void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
                                      size_t nnz, sdae_arena *a) {
   s->n = n, s->n_pos = n_pos, s->nnz = nnz;
-  s->cap = SDAE_SPARSE_LDL_FILL * nnz + n; /* nnz, n < 2^30: no overflow */
+  s->cap = SDAE_SPARSE_LDL_FILL * nnz + n; /* nnz < 2^30 (2^26 in 32 bits): no overflow */
   s->Ap = take_longs(a, n + 1);
   s->Ai = take_longs(a, nnz);
   s->P = take_longs(a, n), s->Pinv = take_longs(a, n);

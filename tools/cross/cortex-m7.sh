@@ -6,15 +6,17 @@
 #      checked against the digests below, in build/cross/src): GSL configured for arm-none-eabi
 #      and the folders the library and the example mechanisms call built (fused multiply-adds
 #      off, as the library compiles), AMD, LDL and SuiteSparse_config compiled as the library
-#      links them (64-bit indices); both into build/cross/cortex-m7/sysroot
+#      links them (SuiteSparse_long indices: a 32-bit long here); both into
+#      build/cross/cortex-m7/sysroot
 #   2. tools/cross/cortex-m7/ with cmake/toolchains/cortex-m7.cmake: the library, the paper's
 #      oscillator (examples/minimal.c), the four-bar (examples/fourbar_minimal.c) and the probe
 #   3. each run on the board; the two tables must equal the host's (the same sources built for
 #      the host in build/) to every printed digit; the probe's table (block, stack, heap)
 #   4. build/cross/cortex-m7/report.md: those, the footprint of each program by origin (its
 #      linker map) and the largest stack frames of the library (-fstack-usage)
-# Exit status: 0; 1 when a table differs, a run fails or the probe finds heap use after set-up;
-# 2 for a missing package (one line naming it) or a failed download.
+# Exit status: 0; 1 when a build fails, a table differs, a run fails, the probe finds heap use
+# after set-up or a download has not the digest below; 2 for a missing package (one line naming
+# it) or a download that cannot be had.
 set -euo pipefail
 source "$(dirname "$0")/../lib/setup.sh"
 
@@ -43,6 +45,7 @@ missing() {
   command -v xz >/dev/null || pkgs+=(xz-utils)
   echo "${pkgs[@]}"
 }
+ensure_packages # the host's compiler, cmake, make and libraries, for the host's two programs
 pkgs=$(missing)
 if [ -n "$pkgs" ]; then
   if [ "$(id -u)" -ne 0 ] || ! command -v apt-get >/dev/null; then
@@ -61,12 +64,12 @@ fi
 fetch() {
   local tar=$1 sum=$2 package=$3
   mkdir -p "$src"
-  if ! echo "$sum  $src/$tar" | sha256sum -c --quiet 2>/dev/null; then
+  if ! echo "$sum  $src/$tar" | sha256sum -c --quiet >/dev/null 2>&1; then
     say "downloading $tar (Debian's source of $package)"
     curl -sSf -o "$src/$tar.part" "$POOL/${package:0:1}/$package/$tar" ||
       { echo "cross: cannot download $POOL/${package:0:1}/$package/$tar" >&2; exit 2; }
-    echo "$sum  $src/$tar.part" | sha256sum -c --quiet ||
-      { echo "cross: $tar does not have the expected SHA-256" >&2; exit 2; }
+    echo "$sum  $src/$tar.part" | sha256sum -c --quiet >/dev/null 2>&1 ||
+      { echo "cross: $tar does not have the expected SHA-256" >&2; exit 1; }
     mv "$src/$tar.part" "$src/$tar"
   fi
 }
@@ -80,9 +83,10 @@ build_gsl() {
   say "GSL for the Cortex-M7 (configure, then $GSL_DIRS cblas)"
   (cd "$out" && "$gsl/configure" --host=arm-none-eabi --disable-shared --enable-static \
     CFLAGS="-O2 -ffp-contract=off $FLAGS" LDFLAGS=--specs=nosys.specs >configure.log 2>&1 &&
-    make -C gsl >/dev/null &&
-    for d in $GSL_DIRS cblas; do make -C "$d" -j "$JOBS" >/dev/null; done) ||
-    { echo "cross: GSL did not build for the target (see $out)" >&2; exit 1; }
+    make -C gsl >make.log 2>&1 &&
+    for d in $GSL_DIRS cblas; do make -C "$d" -j "$JOBS" >>make.log 2>&1 || exit 1; done) ||
+    { echo "cross: GSL did not build for the target (see $out/configure.log, make.log)" >&2
+      exit 1; }
   for d in $GSL_DIRS; do
     mkdir -p "$out/x" && (cd "$out/x" && arm-none-eabi-ar x "$out/$d"/.libs/*.a &&
       for o in *.o; do mv "$o" "$out/objects/${d}_$o"; done)
@@ -93,8 +97,9 @@ build_gsl() {
   find "$gsl" -name 'gsl_*.h' -exec cp {} "$sysroot/include/gsl/" \;
 }
 
-# AMD (its long-index functions, -DDLONG), LDL (-DLDL_LONG) and SuiteSparse_config (no timer:
-# no clock_gettime on bare metal), as the library calls them
+# AMD (its SuiteSparse_long functions, -DDLONG), LDL (-DLDL_LONG) and SuiteSparse_config (no
+# timer: no clock_gettime on bare metal), as the library calls them; SuiteSparse_long is a
+# 32-bit long here, which sdae__sparse_ldl_fits bounds the sizes for
 build_suitesparse() {
   local ss="$src/SuiteSparse-5.12.0" out="$dir/suitesparse" f
   [ -d "$ss" ] || tar -xJf "$src/$SS_TAR" -C "$src" SuiteSparse-5.12.0/AMD \
@@ -130,12 +135,14 @@ fi
 say "the library and the programs for the Cortex-M7 (build/cross/cortex-m7/build)"
 cmake -S "$ROOT/tools/cross/cortex-m7" -B "$dir/build" --no-warn-unused-cli \
   -DCMAKE_TOOLCHAIN_FILE="$ROOT/cmake/toolchains/cortex-m7.cmake" \
-  -DSTABDAE_M7_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$dir/build" -j "$JOBS" >/dev/null
+  -DSTABDAE_M7_SYSROOT="$sysroot" -DCMAKE_BUILD_TYPE=Release >/dev/null &&
+  cmake --build "$dir/build" -j "$JOBS" >/dev/null ||
+  { echo "cross: the Cortex-M7 build failed (build/cross/cortex-m7/build)" >&2; exit 1; }
 
 say "the same two programs on the host (build/examples)"
-[ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD" >/dev/null
-cmake --build "$BUILD" -j "$JOBS" --target minimal fourbar_minimal >/dev/null
+{ [ -f "$BUILD/CMakeCache.txt" ] || cmake -S "$ROOT" -B "$BUILD" >/dev/null; } &&
+  cmake --build "$BUILD" -j "$JOBS" --target minimal fourbar_minimal >/dev/null ||
+  { echo "cross: the host's build of the two programs failed (build/)" >&2; exit 1; }
 
 fail=0
 run() { # run NAME: the program on the board into build/cross/cortex-m7/NAME.txt

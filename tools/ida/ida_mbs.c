@@ -59,6 +59,7 @@ static int mech_init(mech *m, const sdae_mbs *sys, idambs_form form, int dense_s
   if (!(m->block = calloc(m_len + nq + g_len + 1, sizeof *m->block)) ||
       !(m->w = index1_alloc(&own, dense_start))) {
     free(m->block);
+    m->block = NULL; /* the callers free the mech on failure too */
     return -1;
   }
   m->M = m->block, m->F = m->M + m_len, m->G = m->F + nq;

@@ -14,9 +14,9 @@
  * jacobian, the second derivative of c itself along (1, v). Matrices are the mechanism's:
  * row-major, or their nonzeros in pattern order where it gives mass_pattern, jacobian_pattern.
  *
- * Every call returns 0; 1 for a callback's positive status or a value that is not finite (what
- * IDA may recover from by a shorter step); -1 for a callback's negative status, or in
- * index1_accel a system that is not positive definite. */
+ * Every call returns 0; 1 for a callback's positive status or a value it wrote that is not
+ * finite (what IDA may recover from by a shorter step); -1 for a callback's negative status, or
+ * in index1_accel a system that is not positive definite or a v' that is not finite. */
 #ifndef STABDAE_TOOLS_INDEX1_H
 #define STABDAE_TOOLS_INDEX1_H
 

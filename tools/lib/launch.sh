@@ -8,11 +8,15 @@
 launch() {
   local package=$1 tools python
   shift
-  tools=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+  tools=$(CDPATH='' cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
   python=${PYTHON:-}
   if [ -z "$python" ]; then
     python=python3
     [ -x "$tools/../build/venv/bin/python" ] && python=$tools/../build/venv/bin/python
   fi
-  PYTHONPATH="$tools${PYTHONPATH:+:$PYTHONPATH}" exec "$python" -m "$package" "$@"
+  # -P (Python 3.11 on): the current folder off sys.path, so that a module there (say
+  # tools/benchmarks/benchmarks.py, run from that folder) does not stand for the package
+  local safe=()
+  "$python" -P -c '' 2>/dev/null && safe=(-P)
+  PYTHONPATH="$tools${PYTHONPATH:+:$PYTHONPATH}" exec "$python" "${safe[@]}" -m "$package" "$@"
 }
