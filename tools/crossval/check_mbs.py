@@ -315,34 +315,10 @@ conserves only quadratic invariants) is shown beside dgrad without an energy tol
     )
 
 
-MARKERS = {"euler": "o", "midpoint": "s", "dgrad": "^", "dg4": "D", "rk4": "P"}
-COLOURS = {
-    "euler": "tab:blue",
-    "midpoint": "tab:orange",
-    "dgrad": "tab:green",
-    "dg4": "tab:purple",
-    "rk4": "tab:brown",
-}
-
-
 def plot_orders(outdir, results):
     names = list(dict.fromkeys(r[0] for r in results))
     fig, axes = plots.figure(ncols=len(names), width=5.2, height=4.0)
-    for ax, name in zip(axes, names):
-        for _, map_name, p, Ts, errs, fit in (r for r in results if r[0] == name):
-            ax.loglog(
-                Ts,
-                errs,
-                marker=MARKERS[map_name],
-                ms=4,
-                color=COLOURS[map_name],
-                label="%s (%.2f)" % (map_name, fit),
-            )
-            ax.loglog(Ts, errs[0] * (np.array(Ts) / Ts[0]) ** p, ":", color=COLOURS[map_name], lw=1)
-        ax.set_title(name)
-        ax.set_xlabel("T")
-        ax.set_ylabel("max error of (q, v)")
-        ax.legend(title="map (fitted order)", loc="lower right")
+    plots.orders(axes, results, "max error of (q, v)")
     return plots.save(fig, outdir, "mbs_orders.png")
 
 

@@ -273,25 +273,6 @@ order per halving rises towards 1 as T decreases."""
 
 
 def plot(outdir, results):
-    names = list(dict.fromkeys(r[0] for r in results))
     fig, axes = plots.figure(ncols=2, nrows=2, width=5.2, height=4.0)
-    markers = {"euler": "o", "midpoint": "s", "dgrad": "^", "user": "v", "dg4": "D", "rk4": "P"}
-    colours = dict(
-        zip(markers, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"))
-    )
-    for ax, name in zip(axes, names):
-        for _, map_name, p, Ts, errs, fit in (r for r in results if r[0] == name):
-            ax.loglog(
-                Ts,
-                errs,
-                marker=markers[map_name],
-                ms=4,
-                color=colours[map_name],
-                label="%s (%.2f)" % (map_name, fit),
-            )
-            ax.loglog(Ts, errs[0] * (np.array(Ts) / Ts[0]) ** p, ":", color=colours[map_name], lw=1)
-        ax.set_title(name)
-        ax.set_xlabel("T")
-        ax.set_ylabel("max error of (mu1, mu2)")
-        ax.legend(title="map (fitted order)", loc="lower right")
+    plots.orders(axes, results, "max error of (mu1, mu2)")
     return plots.save(fig, outdir, "orders.png")

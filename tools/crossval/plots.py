@@ -4,6 +4,7 @@
 import os
 
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (after choosing the backend)
@@ -32,3 +33,32 @@ def save(fig, outdir, name):
     fig.savefig(os.path.join(outdir, name))
     plt.close(fig)
     return name
+
+
+# one look per map in every figure
+MARKERS = {"euler": "o", "midpoint": "s", "dgrad": "^", "user": "v", "dg4": "D", "rk4": "P"}
+COLOURS = dict(
+    zip(MARKERS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"))
+)
+
+
+def orders(axes, results, ylabel):
+    """One log-log panel per case of results (case, map, order p, Ts, errors, fitted order):
+    each map's errors against T and, dotted, the slope p through its coarsest point."""
+    names = list(dict.fromkeys(r[0] for r in results))
+    for ax, name in zip(axes, names):
+        for _, map_name, p, Ts, errs, fit in (r for r in results if r[0] == name):
+            colour = COLOURS[map_name]
+            ax.loglog(
+                Ts,
+                errs,
+                marker=MARKERS[map_name],
+                ms=4,
+                color=colour,
+                label="%s (%.2f)" % (map_name, fit),
+            )
+            ax.loglog(Ts, errs[0] * (np.array(Ts) / Ts[0]) ** p, ":", color=colour, lw=1)
+        ax.set_title(name)
+        ax.set_xlabel("T")
+        ax.set_ylabel(ylabel)
+        ax.legend(title="map (fitted order)", loc="lower right")
