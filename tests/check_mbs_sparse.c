@@ -69,19 +69,19 @@ START_TEST(the_sparse_coordinates_serve_explicit_maps) {
   for (size_t k = 0; k < 5; k++) {
     roped w;
     roped_init(&w, 4, 0, 1, maps[k]);
-    ck_assert_int_eq(w.s->type == &sdae__mbs_sparse_type, k < 3);
+    ck_assert_int_eq(w.s->coords.linalg == &sdae__mbs_sparse_linalg, k < 3);
     roped_free(&w);
   }
   roped w;
   sdae_options o = options(sdae_map_rk4);
   sdae_mbs_stepper *s;
   roped_init(&w, 4, 0, 0, sdae_map_rk4);
-  ck_assert_int_eq(w.s->type == &sdae__mbs_sparse_type, 0); /* dense */
+  ck_assert_int_eq(w.s->coords.linalg == &sdae__mbs_sparse_linalg, 0); /* dense */
   roped_free(&w);
   roped_init(&w, 4, 0, 1, sdae_map_rk4);
   w.sys.jacobian_dot = NULL; /* differences of G: the dense stencils */
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &w.sys, &o), SDAE_OK);
-  ck_assert_int_eq(s->type == &sdae__mbs_sparse_type, 0);
+  ck_assert_int_eq(s->coords.linalg == &sdae__mbs_sparse_linalg, 0);
   sdae_mbs_stepper_free(s);
   roped_free(&w);
 }
@@ -145,10 +145,10 @@ START_TEST(the_block_grows_with_the_nonzeros) {
   roped w;
   roped_init(&w, 1024, 0, 1, sdae_map_rk4);
   ck_assert_int_eq(steps(&w, 3, 1e-3), SDAE_OK);
-  const sdae_sparse_lu *lu = &w.s->sparse.sp.lu[w.s->sparse.sp.cur];
+  const sdae_sparse_lu *lu = &w.s->sparse.lu[w.s->sparse.cur];
   ck_assert_uint_eq(lu->l_start[lu->m], 0);
   ck_assert_uint_eq(lu->u_start[lu->m], w.sys.jacobian_pattern->nnz);
-  ck_assert_uint_eq((size_t)w.s->sparse.sp.ksym.Lp[w.s->sparse.sp.ksym.n],
+  ck_assert_uint_eq((size_t)w.s->sparse.ly.ksym.Lp[w.s->sparse.ly.ksym.n],
                     w.sys.jacobian_pattern->nnz + w.sys.n_c - 1);
   roped_free(&w);
 }
@@ -161,7 +161,7 @@ START_TEST(lambda_energy_and_xi_as_the_dense_ones) {
   double ls[6], ld[6], xs[12], xd[12], Es, Ed;
   roped_init(&sp, 5, 1, 1, sdae_map_rk4);
   roped_init(&de, 5, 1, 0, sdae_map_rk4);
-  ck_assert_int_eq(sp.s->type == &sdae__mbs_sparse_type, 1);
+  ck_assert_int_eq(sp.s->coords.linalg == &sdae__mbs_sparse_linalg, 1);
   ck_assert_int_eq(steps(&sp, 40, 1e-2), SDAE_OK); /* a state in motion */
   ck_assert_int_eq(sdae_mbs_lambda(sp.s, 0.4, sp.q, sp.v, ls), SDAE_OK);
   ck_assert_int_eq(sdae_mbs_lambda(de.s, 0.4, sp.q, sp.v, ld), SDAE_OK);
@@ -268,7 +268,7 @@ START_TEST(a_constraint_in_time_in_sparse_coordinates) {
   sdae_mbs_stepper *s;
   double q[2], v[2], qe[2], ve[2], lambda, lambda_exact, xi[2];
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  ck_assert_int_eq(s->type == &sdae__mbs_sparse_type, 1);
+  ck_assert_int_eq(s->coords.linalg == &sdae__mbs_sparse_linalg, 1);
   wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
   for (int k = 0; k < 500; k++) ck_assert_int_eq(sdae_mbs_step(s, k * 1e-3, 1e-3, q, v), SDAE_OK);
   wire_exact(&p, 0.5, 0.0, 0.5, qe, ve, &lambda_exact);
@@ -398,7 +398,7 @@ START_TEST(a_shared_coordinate_is_refused_at_the_build) {
     sdae_mbs_stepper *s;
     cart_init(&c, 10, sparse, &sys);
     ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-    ck_assert_int_eq(s->type == &sdae__mbs_sparse_type, sparse);
+    ck_assert_int_eq(s->coords.linalg == &sdae__mbs_sparse_linalg, sparse);
     q[sparse][0] = v[sparse][0] = 0.0;
     for (size_t i = 0; i < 10; i++) { /* pendulum i at angle 0.1 i from the vertical, at rest */
       q[sparse][1 + 2 * i] = sin(0.1 * (double)i), q[sparse][2 + 2 * i] = -cos(0.1 * (double)i);
@@ -433,7 +433,7 @@ START_TEST(a_zero_jacobian_is_rank) {
   double q0[2] = {0.0, 0.0}, v0[2] = {0.0, 0.0};
   for (int after = 0; after <= 1; after++) {
     roped_init(&w, 1, 0, 1, sdae_map_rk4);
-    ck_assert_int_eq(w.s->type == &sdae__mbs_sparse_type, 1);
+    ck_assert_int_eq(w.s->coords.linalg == &sdae__mbs_sparse_linalg, 1);
     if (after) ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);
     ck_assert_int_eq(sdae_mbs_step(w.s, 0.05, 1e-2, q0, v0), SDAE_ERR_RANK);
     ck_assert_double_eq(q0[0], 0.0);
@@ -515,7 +515,7 @@ START_TEST(a_mass_not_symmetric_is_refused) {
   double q[2], v[2], lambda;
   sys.mass = skewed_mass;
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
-  ck_assert_int_eq(s->type == &sdae__mbs_sparse_type, 1);
+  ck_assert_int_eq(s->coords.linalg == &sdae__mbs_sparse_linalg, 1);
   wire_exact(&p, 0.5, 0.0, 0.0, q, v, &lambda);
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_ERR_MASS);
   ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &lambda), SDAE_ERR_MASS);
@@ -554,10 +554,10 @@ START_TEST(floors_as_the_dense_ones) {
   roped_init(&de, 5, 1, 0, sdae_map_rk4);
   ck_assert_int_eq(steps(&sp, 20, 1e-2), SDAE_OK);
   for (size_t i = 0; i < 10; i++) sp.v[i] += 0.1 * (double)i; /* off the velocity constraint */
-  ck_assert_int_eq(sdae__mbs_sparse_xi(&sp.s->sparse.sp, 0.2, sp.q, sp.v, xi), SDAE_OK);
-  ck_assert_int_eq(sdae__mbs_coords_xi(&de.s->dense.coords, 0.2, sp.q, sp.v, xi), SDAE_OK);
-  sdae__mbs_sparse_floors(&sp.s->sparse.sp, sp.q, sp.v, fs);
-  sdae__mbs_coords_floors(&de.s->dense.coords, sp.q, sp.v, fd);
+  ck_assert_int_eq(sdae__mbs_coords_xi(&sp.s->coords, 0.2, sp.q, sp.v, xi), SDAE_OK);
+  ck_assert_int_eq(sdae__mbs_coords_xi(&de.s->coords, 0.2, sp.q, sp.v, xi), SDAE_OK);
+  sdae__mbs_coords_floors(&sp.s->coords, sp.q, sp.v, fs);
+  sdae__mbs_coords_floors(&de.s->coords, sp.q, sp.v, fd);
   for (size_t i = 0; i < 12; i++) {
     ck_assert_double_gt(fd[i], 0.0);
     ck_assert_double_le(fabs(fs[i] - fd[i]), 1e-14 * fd[i]);
@@ -662,10 +662,10 @@ START_TEST(a_state_with_no_chart_is_damaged) {
   len = sdae_mbs_state_size(w.s);
   state = malloc(len);
   ck_assert_int_eq(sdae_mbs_get_state(w.s, state, len), SDAE_OK);
-  ck_assert_mem_eq(state + at, w.s->sparse.sp.ind,
-                   w.s->sparse.sp.n_f * sizeof(size_t)); /* found where said */
-  size_t dep = w.s->sparse.sp.lu[w.s->sparse.sp.cur].pivot[0];
-  memcpy(state + at + (w.s->sparse.sp.n_f - 1) * sizeof(size_t), &dep, sizeof dep);
+  ck_assert_mem_eq(state + at, w.s->sparse.ind,
+                   w.s->sparse.n_f * sizeof(size_t)); /* found where said */
+  size_t dep = w.s->sparse.lu[w.s->sparse.cur].pivot[0];
+  memcpy(state + at + (w.s->sparse.n_f - 1) * sizeof(size_t), &dep, sizeof dep);
   sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
   memcpy(state + len - sizeof sum, &sum, sizeof sum);
   ck_assert_int_eq(sdae_mbs_set_state(w.s, state, len), SDAE_ERR_STATE_DAMAGED);

@@ -28,7 +28,7 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
 static int carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   int rc;
   sdae__mbs_eval_carve(&s->eval, a);
-  rc = s->type->carve(s->co, a);
+  rc = sdae__mbs_coords_carve(&s->coords, a);
   sdae__mbs_model_carve(&s->nf, a);
   s->xi = sdae__take(a, 2 * s->n_c, 1);
   s->mu = sdae__take(a, 2 * s->n_f, 1);
@@ -37,9 +37,11 @@ static int carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   return rc;
 }
 
-/* the stepper's parts wired to each other, arrays not yet handed out: the sparse coordinates
- * for a mechanism with both patterns stepped by an explicit map, else the dense ones */
+/* the stepper's parts wired to each other, arrays not yet handed out: the coordinates over the
+ * sparse back-end for a mechanism with both patterns stepped by an explicit map, else over the
+ * dense one */
 static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o) {
+  int rc;
   memset(s, 0, sizeof *s);
   s->opt = *o;
   /* the noise of the differences (SDAE_MBS_NEWTON_TOL); an invalid tolerance stays, for the
@@ -51,11 +53,11 @@ static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o)
   s->n_f = sys->n_q - sys->n_c;
   sdae__mbs_eval_init(&s->eval, sys);
   if (sdae__mbs_sparse_applies(sys, o))
-    s->type = &sdae__mbs_sparse_type, s->co = &s->sparse;
+    rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_sparse_linalg, &s->sparse, o);
   else
-    s->type = &sdae__mbs_dense_type, s->co = &s->dense;
-  sdae__mbs_model_init(&s->nf, &s->eval, s->type, s->co);
-  return s->type->init(s->co, &s->eval, o);
+    rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_dense_linalg, &s->dense, o);
+  sdae__mbs_model_init(&s->nf, &s->eval, &s->coords);
+  return rc;
 }
 
 typedef struct args {
@@ -136,10 +138,8 @@ void sdae_mbs_stepper_free(sdae_mbs_stepper *s) {
 /* ---- the step ---- */
 
 void sdae__mbs_stepper_gather(sdae_mbs_stepper *s) {
-  sdae_mbs_report r;
-  s->type->report(s->co, &r);
   s->stats.step = *sdae_stepper_stats(s->inner);
-  s->stats.chart_measure = r.measure;
+  s->stats.chart_measure = s->coords.linalg->measure(s->coords.la);
 }
 
 /* the normal form's step; a failing callback of it reports the front-end's own status */
@@ -160,18 +160,16 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
   int rc;
   s->nf.status = SDAE_OK;
   sdae__mbs_model_forget(&s->nf);
-  if ((rc = s->type->start(s->co, t, q, v, force_best, st)) != SDAE_OK) return rc;
-  if (st->switched) sdae__stepper_newton_forget(s->inner);
+  if ((rc = sdae__mbs_coords_start(&s->coords, t, q, v, force_best, st)) != SDAE_OK) return rc;
+  if (st->choice.switched) sdae__stepper_newton_forget(s->inner);
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
-  return s->type->phi_inv_state(s->co, t + T, s->xi, s->mu);
+  return sdae__mbs_phi_inv_state(&s->coords, t + T, s->xi, s->mu);
 }
 
 /* the statistics of a step that succeeded: the one place they are counted */
 static void commit(sdae_mbs_stepper *s, const sdae_mbs_start *st) {
-  sdae_mbs_report r;
-  s->type->report(s->co, &r);
-  s->stats.phi_inv_iters += r.phi_inv_iters;
-  s->stats.chart_switches += (unsigned long)st->switched;
+  s->stats.phi_inv_iters += s->coords.phi_inv_iters;
+  s->stats.chart_switches += (unsigned long)st->choice.switched;
 }
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
@@ -183,15 +181,15 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
   st.xi = s->xi, st.mu = s->mu, st.floor = s->nf.floor;
   sdae__mbs_rollback_save(s);
   rc = try_step(s, t, T, q, v, 0, &st);
-  if (rc == SDAE_ERR_PHI_INV && st.kept) {
+  if (rc == SDAE_ERR_PHI_INV && st.choice.kept) {
     /* the chart kept by hysteresis folds within the step: once more in the best one, counted
      * as the one step it is (the first try's work is not kept, as a failed step's is not) */
     sdae__mbs_rollback(s);
-    st.switched = st.kept = 0;
+    st.choice.switched = st.choice.kept = 0;
     rc = try_step(s, t, T, q, v, 1, &st);
   }
   if (rc == SDAE_OK) {
-    s->type->point(s->co, q, v);
+    sdae__mbs_coords_point(&s->coords, q, v);
     commit(s, &st);
   } else {
     sdae__mbs_rollback(s);
@@ -244,21 +242,21 @@ int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len) {
 
 int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *xi) {
   if (!s || !q || !v || !xi) return SDAE_ERR_NULL;
-  return s->type->xi(s->co, t, q, v, xi);
+  return s->coords.linalg->query_xi(s->coords.la, t, q, v, xi);
 }
 
 int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v, double *E) {
   if (!s || !q || !v || !E) return SDAE_ERR_NULL;
-  return s->type->energy(s->co, t, q, v, E);
+  return s->coords.linalg->query_energy(s->coords.la, t, q, v, E);
 }
 
 int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                     double *lambda) {
   if (!s || !q || !v || !lambda) return SDAE_ERR_NULL;
-  return s->type->lambda(s->co, t, q, v, lambda);
+  return s->coords.linalg->query_lambda(s->coords.la, t, q, v, lambda);
 }
 
 int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent) {
   if (!s || !dependent) return SDAE_ERR_NULL;
-  return s->type->chart(s->co, dependent);
+  return s->coords.linalg->chart(s->coords.la, dependent);
 }

@@ -1,29 +1,30 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* The mechanical front-end's stepper (<stabdae/mbs.h>): one block holding its parts, each with
  * its own arrays, scratch and state. Data flows one way: the mechanism's callbacks (mbs_eval)
- * -> the coordinates, dense or sparse behind one interface (mbs_type.h: the chart, the point,
- * Phi^-1, the mu-dynamics) -> the normal form handed to the stepper (mbs_model) -> the step in
- * (q, v), which starts with one call of the coordinates, commits the statistics when it
- * succeeds and rolls back in one place when it fails (mbs.c, mbs_state.c). */
+ * -> the coordinates, written once over a dense or a sparse linear-algebra back-end
+ * (mbs_coords.h, mbs_linalg.h: the point, Phi^-1, the mu-dynamics; the chart and the factors)
+ * -> the normal form handed to the stepper (mbs_model) -> the step in (q, v), which starts with
+ * one call of the coordinates, commits the statistics when it succeeds and rolls back in one
+ * place when it fails (mbs.c, mbs_state.c). */
 #ifndef STABDAE_SRC_MBS_MBS_IMPL_H
 #define STABDAE_SRC_MBS_MBS_IMPL_H
 
 #include <stabdae/mbs.h>
 
 #include "core/alloc.h"
-#include "mbs_dense_type.h"
+#include "mbs_coords.h"
+#include "mbs_dense.h"
 #include "mbs_eval.h"
 #include "mbs_model.h"
-#include "mbs_sparse_type.h"
+#include "mbs_sparse.h"
 
 struct sdae_mbs_stepper {
   sdae_options opt;
   size_t n_q, n_c, n_f;
   sdae_mbs_eval eval;
-  const sdae_mbs_type *type;  /* the coordinates' functions: dense, or a sparse mechanism's */
-  void *co;                   /* and their parts: &dense or &sparse */
-  sdae_mbs_dense_parts dense; /* (the other one is never carved) */
-  sdae_mbs_sparse_parts sparse;
+  sdae_mbs_coords coords; /* over the back-end coords.linalg: &dense or &sparse */
+  sdae_mbs_dense dense;   /* (the other one is never carved) */
+  sdae_mbs_sparse sparse;
   sdae_mbs_model nf;       /* the normal form in the current chart */
   sdae_stepper *inner;     /* the normal form's stepper, in this block */
   sdae_block block;        /* what sdae_mbs_stepper_alloc_with allocated */

@@ -21,8 +21,8 @@ static int code(sdae_mbs_model *m, int rc) {
 
 static int rate(void *ctx, double t, const double *xi, const double *mu, double *out) {
   sdae_mbs_model *m = ctx;
-  int rc = m->type->phi_inv(m->co, t, xi, mu);
-  return rc == SDAE_OK ? m->type->mu_dot(m->co, t, out) : rc;
+  int rc = sdae__mbs_phi_inv(m->co, t, xi, mu);
+  return rc == SDAE_OK ? sdae__mbs_mu_dot(m->co, t, out) : rc;
 }
 
 static int q0(double t, const double *mu, double *out, void *params) {
@@ -38,7 +38,7 @@ static int Q_apply(double t, const double *xi, const double *mu, double *Qxi, do
 
 static int H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
-  return code(m, m->type->energy_on(m->co, t, mu, out));
+  return code(m, sdae__mbs_energy_on(m->co, t, mu, out));
 }
 
 /* m->Bu = W^T F_in at Phi^-1(t, 0, mu), the momentum part of B u; kept for the next call at the
@@ -49,7 +49,7 @@ static int input_p(sdae_mbs_model *m, double t, const double *mu) {
   int rc;
   if (m->Bu_have && m->Bu_t == t && memcmp(m->Bu_mu, mu, n_mu * sizeof *mu) == 0) return SDAE_OK;
   m->Bu_have = 0;
-  if ((rc = m->type->input_on(m->co, t, mu, m->Bu)) != SDAE_OK) return rc;
+  if ((rc = sdae__mbs_input_on(m->co, t, mu, m->Bu)) != SDAE_OK) return rc;
   memcpy(m->Bu_mu, mu, n_mu * sizeof *mu);
   m->Bu_t = t, m->Bu_have = 1;
   return SDAE_OK;
@@ -68,7 +68,7 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f;
   int rc = sdae__derive_q0(&m->derive, t, mu, out);
-  if (rc == SDAE_OK) rc = m->type->damping_on(m->co, t, mu, m->R);
+  if (rc == SDAE_OK) rc = sdae__mbs_damping_on(m->co, t, mu, m->R);
   if (rc == SDAE_OK && m->input) rc = input_p(m, t, mu);
   if (rc != SDAE_OK) return code(m, rc);
   for (size_t a = 0; a < n_f && m->input; a++) out[n_f + a] -= m->Bu[a];
@@ -85,7 +85,7 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
 static int S(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f, n = 2 * n_f;
-  int rc = m->type->damping_on(m->co, t, mu, m->R);
+  int rc = sdae__mbs_damping_on(m->co, t, mu, m->R);
   if (rc != SDAE_OK) return code(m, rc);
   memset(out, 0, n * n * sizeof *out);
   for (size_t a = 0; a < n_f; a++) {
@@ -96,10 +96,8 @@ static int S(double t, const double *mu, double *out, void *params) {
   return 0;
 }
 
-void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, const sdae_mbs_type *type,
-                          void *co) {
+void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, sdae_mbs_coords *co) {
   sdae_model *nf = &m->model;
-  m->type = type;
   m->co = co;
   m->n_c = eval->n_c;
   m->n_f = eval->n_q - eval->n_c;
@@ -109,7 +107,8 @@ void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, const sd
   nf->n_mu = 2 * m->n_f;
   nf->q0 = q0;
   nf->Q_apply = Q_apply;
-  if (eval->sys.potential && type->energy_on) { /* the energy structure: the discrete gradients */
+  if (eval->sys.potential &&
+      sdae__mbs_coords_energy_structure(co)) { /* the energy structure: the discrete gradients */
     nf->H = H;
     nf->grad_H = grad_H;
     nf->S = S;

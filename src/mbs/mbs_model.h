@@ -9,14 +9,13 @@
 #include <stabdae/stabdae.h>
 
 #include "core/arena.h"
-#include "mbs_type.h"
+#include "mbs_coords.h"
 #include "model/derive.h"
 
 typedef struct sdae_mbs_model {
-  sdae_model model;          /* params = this */
-  sdae_derive derive;        /* q0 and Q from the mu-dynamics */
-  const sdae_mbs_type *type; /* the coordinates (mbs_type.h) and their parts */
-  void *co;
+  sdae_model model;    /* params = this */
+  sdae_derive derive;  /* q0 and Q from the mu-dynamics */
+  sdae_mbs_coords *co; /* the coordinates (mbs_coords.h) */
   size_t n_c, n_f;
   int input;     /* the mechanism has forces from outside the Lagrangian (input_force) */
   int status;    /* the status behind the last failing callback of the normal form */
@@ -29,11 +28,9 @@ typedef struct sdae_mbs_model {
   double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
-/* the normal form of a mechanism in its coordinates co of the given type (the energy structure
- * where the type has one and the mechanism a potential); the arrays come from
- * sdae__mbs_model_carve */
-void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, const sdae_mbs_type *type,
-                          void *co);
+/* the normal form of a mechanism in its coordinates co (the energy structure where their
+ * back-end has one and the mechanism a potential); the arrays come from sdae__mbs_model_carve */
+void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, sdae_mbs_coords *co);
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
 /* forgets the q0 and B u kept: another start of Phi^-1, another chart */
 void sdae__mbs_model_forget(sdae_mbs_model *m);

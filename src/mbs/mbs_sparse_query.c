@@ -5,47 +5,47 @@
 #include "core/callback.h"
 #include "mbs_sparse_query.h"
 
-void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse *sp,
+void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse_layout *ly,
                                   sdae_arena *a) {
-  size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->n_k, gnz = sp->Gp->nnz;
-  qy->sp = sp;
+  size_t n_q = ly->n_q, n_c = ly->n_c, n_k = ly->n_k, gnz = ly->Gp->nnz;
+  qy->ly = ly;
   qy->c = sdae__take(a, n_c, 1), qy->ct = sdae__take(a, n_c, 1);
   qy->gamma = sdae__take(a, n_c, 1), qy->xi = sdae__take(a, 2 * n_c, 1);
   qy->G = sdae__take(a, gnz, 1), qy->Gd = sdae__take(a, gnz, 1);
-  qy->M = sdae__take(a, sp->Mp->nnz, 1);
+  qy->M = sdae__take(a, ly->Mp->nnz, 1);
   qy->F = sdae__take(a, n_q, 1), qy->Mv = sdae__take(a, n_q, 1);
-  qy->K = sdae__take(a, sp->Kp.nnz, 1);
+  qy->K = sdae__take(a, ly->Kp.nnz, 1);
   qy->rhs = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
-  sdae__sparse_ldl_carve(&qy->kkt, &sp->ksym, a);
+  sdae__sparse_ldl_carve(&qy->kkt, &ly->ksym, a);
 }
 
 int sdae__mbs_sparse_query_xi(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v,
                               double *xi) {
-  const sdae_mbs_sparse *sp = qy->sp;
-  sdae_mbs_eval *e = sp->eval;
+  const sdae_mbs_sparse_layout *ly = qy->ly;
+  sdae_mbs_eval *e = ly->eval;
   int rc;
   if ((rc = sdae__mbs_constraint(e, t, q, qy->c)) != SDAE_OK ||
       (rc = sdae__mbs_jacobian_values(e, t, q, qy->G)) != SDAE_OK ||
       (rc = sdae__mbs_constraint_t(e, t, q, qy->ct)) != SDAE_OK)
     return rc;
-  sdae__mbs_sparse_g_times(sp, qy->G, v, qy->ct, qy->gamma); /* G v + dc/dt */
-  for (size_t j = 0; j < sp->n_c; j++) qy->xi[2 * j] = qy->c[j], qy->xi[2 * j + 1] = qy->gamma[j];
-  if (!sdae__all_finite(qy->xi, 2 * sp->n_c)) return SDAE_ERR_NONFINITE;
-  memcpy(xi, qy->xi, 2 * sp->n_c * sizeof *xi);
+  sdae__mbs_sparse_g_times(ly, qy->G, v, qy->ct, qy->gamma); /* G v + dc/dt */
+  for (size_t j = 0; j < ly->n_c; j++) qy->xi[2 * j] = qy->c[j], qy->xi[2 * j + 1] = qy->gamma[j];
+  if (!sdae__all_finite(qy->xi, 2 * ly->n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(xi, qy->xi, 2 * ly->n_c * sizeof *xi);
   return SDAE_OK;
 }
 
 int sdae__mbs_sparse_query_energy(sdae_mbs_sparse_query *qy, double t, const double *q,
                                   const double *v, double *E) {
-  const sdae_mbs_sparse *sp = qy->sp;
+  const sdae_mbs_sparse_layout *ly = qy->ly;
   double V = 0.0, kinetic = 0.0;
   int rc;
-  if ((rc = sdae__mbs_mass_values(sp->eval, t, q, qy->M)) != SDAE_OK ||
-      (rc = sdae__mbs_sparse_mass_symmetric(sp, qy->M)) != SDAE_OK ||
-      (sp->eval->sys.potential && (rc = sdae__mbs_potential(sp->eval, t, q, &V)) != SDAE_OK))
+  if ((rc = sdae__mbs_mass_values(ly->eval, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_mass_symmetric(ly, qy->M)) != SDAE_OK ||
+      (ly->eval->sys.potential && (rc = sdae__mbs_potential(ly->eval, t, q, &V)) != SDAE_OK))
     return rc;
-  sdae__mbs_sparse_m_times(sp, qy->M, v, qy->Mv);
-  for (size_t i = 0; i < sp->n_q; i++) kinetic += v[i] * qy->Mv[i];
+  sdae__mbs_sparse_m_times(ly, qy->M, v, qy->Mv);
+  for (size_t i = 0; i < ly->n_q; i++) kinetic += v[i] * qy->Mv[i];
   kinetic = 0.5 * kinetic + V;
   if (!sdae__all_finite(&kinetic, 1)) return SDAE_ERR_NONFINITE;
   *E = kinetic;
@@ -54,27 +54,27 @@ int sdae__mbs_sparse_query_energy(sdae_mbs_sparse_query *qy, double t, const dou
 
 /* gamma = Gdot v + d/ds dc/dt at the state */
 static int gamma_at(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v) {
-  const sdae_mbs_sparse *sp = qy->sp;
+  const sdae_mbs_sparse_layout *ly = qy->ly;
   int rc;
-  if ((rc = sdae__mbs_jacobian_dot_values(sp->eval, t, q, v, qy->Gd)) != SDAE_OK ||
-      (rc = sdae__mbs_ct_dot(sp->eval, t, q, v, qy->ct)) != SDAE_OK)
+  if ((rc = sdae__mbs_jacobian_dot_values(ly->eval, t, q, v, qy->Gd)) != SDAE_OK ||
+      (rc = sdae__mbs_ct_dot(ly->eval, t, q, v, qy->ct)) != SDAE_OK)
     return rc;
-  sdae__mbs_sparse_g_times(sp, qy->Gd, v, qy->ct, qy->gamma);
+  sdae__mbs_sparse_g_times(ly, qy->Gd, v, qy->ct, qy->gamma);
   return SDAE_OK;
 }
 
 int sdae__mbs_sparse_query_lambda(sdae_mbs_sparse_query *qy, double t, const double *q,
                                   const double *v, double *lambda) {
-  const sdae_mbs_sparse *sp = qy->sp;
-  size_t n_q = sp->n_q, n_c = sp->n_c;
+  const sdae_mbs_sparse_layout *ly = qy->ly;
+  size_t n_q = ly->n_q, n_c = ly->n_c;
   int rc;
-  if ((rc = sdae__mbs_mass_values(sp->eval, t, q, qy->M)) != SDAE_OK ||
-      (rc = sdae__mbs_sparse_mass_symmetric(sp, qy->M)) != SDAE_OK ||
-      (rc = sdae__mbs_jacobian_values(sp->eval, t, q, qy->G)) != SDAE_OK ||
-      (rc = sdae__mbs_force(sp->eval, t, q, v, qy->F)) != SDAE_OK ||
+  if ((rc = sdae__mbs_mass_values(ly->eval, t, q, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_sparse_mass_symmetric(ly, qy->M)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian_values(ly->eval, t, q, qy->G)) != SDAE_OK ||
+      (rc = sdae__mbs_force(ly->eval, t, q, v, qy->F)) != SDAE_OK ||
       (rc = gamma_at(qy, t, q, v)) != SDAE_OK)
     return rc;
-  sdae__mbs_sparse_kkt_values(sp, qy->M, qy->G, qy->K);
+  sdae__mbs_sparse_kkt_values(ly, qy->M, qy->G, qy->K);
   if ((rc = sdae__sparse_ldl_factor(&qy->kkt, qy->K)) != SDAE_OK) return rc;
   memcpy(qy->rhs, qy->F, n_q * sizeof *qy->rhs);
   for (size_t j = 0; j < n_c; j++) qy->rhs[n_q + j] = -qy->gamma[j];

@@ -9,18 +9,20 @@
 #ifndef STABDAE_SRC_MBS_MBS_SPARSE_QUERY_H
 #define STABDAE_SRC_MBS_MBS_SPARSE_QUERY_H
 
-#include "mbs_sparse.h"
+#include "core/arena.h"
+#include "core/sparse_ldl.h"
+#include "mbs_sparse_layout.h"
 
 typedef struct sdae_mbs_sparse_query {
-  const sdae_mbs_sparse *sp;   /* the patterns and the saddle-point system's layout */
-  double *c, *ct, *gamma, *xi; /* n_c, n_c, n_c, 2 n_c */
-  double *G, *Gd, *M;          /* nnz(G), nnz(G), nnz(M) */
-  double *F, *Mv;              /* n_q each */
-  double *K, *rhs, *sol;       /* nnz(K), n_k each */
-  sdae_sparse_ldl kkt;         /* on the stepper's analysis of K */
+  const sdae_mbs_sparse_layout *ly; /* the patterns and the saddle-point system's */
+  double *c, *ct, *gamma, *xi;      /* n_c, n_c, n_c, 2 n_c */
+  double *G, *Gd, *M;               /* nnz(G), nnz(G), nnz(M) */
+  double *F, *Mv;                   /* n_q each */
+  double *K, *rhs, *sol;            /* nnz(K), n_k each */
+  sdae_sparse_ldl kkt;              /* on the stepper's analysis of K */
 } sdae_mbs_sparse_query;
 
-void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse *sp,
+void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse_layout *ly,
                                   sdae_arena *a);
 int sdae__mbs_sparse_query_xi(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v,
                               double *xi);

@@ -81,7 +81,7 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
  * form's stepper's; the counters the steps committed are the stepper's own, in the bytes but
  * not in a rollback (a failed step commits none) */
 static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
-  s->type->state(s->co, b);
+  sdae__mbs_coords_state(&s->coords, b);
   sdae__stepper_state(s->inner, b);
 }
 
@@ -92,7 +92,7 @@ static void counters(sdae_mbs_stats *stats, sdae_bytes *b) {
 
 size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {
   sdae_bytes b = {NULL, NULL, 0}; /* counted: the sizes read, nothing else */
-  s->type->state(s->co, &b);
+  sdae__mbs_coords_state((sdae_mbs_coords *)&s->coords, &b);
   return b.at + sdae__stepper_state_bytes(&s->nf.model, &s->opt);
 }
 
@@ -164,7 +164,7 @@ int sdae__mbs_state_set(sdae_mbs_stepper *s, const void *buf, size_t len) {
    * hand: read, checked, and the stepper put back as it was when it is not whole */
   sdae__mbs_rollback_save(s);
   parts(s, &b);
-  if (!sdae__stepper_state_valid(s->inner) || !s->type->state_read(s->co)) {
+  if (!sdae__stepper_state_valid(s->inner) || !sdae__mbs_coords_state_read(&s->coords)) {
     sdae__mbs_rollback(s);
     return SDAE_ERR_STATE_DAMAGED;
   }
