@@ -4,8 +4,8 @@
  * solves it and backward stable, the coordinates ordered before the multipliers, a mass not
  * positive definite and dependent constraints refused by the pivots' signs, and L's size that
  * of the elimination: a coordinate that every constraint holds (a cart under k pendulums)
- * couples all k multipliers, k (k - 1) / 2 entries of fill, and past the reserve the pattern
- * is refused. */
+ * couples all k multipliers, k (k - 1) / 2 entries of fill, unless it is a hub taken after
+ * them; a coordinate with no mass of its own taken after them too. */
 #include <float.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_rng.h>
@@ -258,17 +258,46 @@ static void cart(size_t k, saddle *s) {
   free(M), free(G);
 }
 
-START_TEST(a_shared_coordinate_fills_the_constraints_block) {
-  saddle s;
-  cart(10, &s);
-  ck_assert_int_eq(saddle_analyse(&s), SDAE_OK);
-  ck_assert_int_eq(s.sym.Lp[s.n], 3 * 10 + 10 * 9 / 2);
-  ck_assert_int_eq(sdae__sparse_ldl_factor(&s.f, s.values), SDAE_OK);
-  saddle_free(&s);
-  cart(100, &s); /* 4950 of fill against a reserve of 4 nnz(K) + n = 3505 */
-  ck_assert_uint_gt(100 * 99 / 2, SDAE_SPARSE_LDL_FILL * s.nnz + s.n);
-  ck_assert_int_eq(saddle_analyse(&s), SDAE_ERR_PATTERN);
-  saddle_free(&s);
+/* up to SDAE_SPARSE_LDL_HUB constraints, the cart is taken with the coordinates: L holds G's
+ * 3 k entries and the k (k - 1) / 2 of fill; one more and it is a hub, taken after the
+ * multipliers: 3 k entries and no fill, and k = 100 (4950 of fill the other way, past the
+ * reserve of 4 nnz(K) + n = 3505) fits; each solves K x = b as GSL's dense LU does */
+START_TEST(a_shared_coordinate_fills_only_below_the_hub_bound) {
+  const size_t ks[] = {SDAE_SPARSE_LDL_HUB, SDAE_SPARSE_LDL_HUB + 1, 100};
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  for (size_t i = 0; i < 3; i++) {
+    size_t k = ks[i], fill = k <= SDAE_SPARSE_LDL_HUB ? k * (k - 1) / 2 : 0;
+    saddle s;
+    cart(k, &s);
+    ck_assert_int_eq(saddle_analyse(&s), SDAE_OK);
+    ck_assert_int_eq(s.sym.Lp[s.n], (long)(3 * k + fill));
+    solves_as_gsl(&s, rng, 1e-12);
+    saddle_free(&s);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* a coordinate with no mass of its own (M's pattern without its diagonal entry), held to the
+ * first by a constraint, on a particle on the unit circle: M = diag(1, 1, 0) semidefinite, the
+ * reduced mass 1 > 0; taken after the multipliers, its pivot is the Schur complement's, and K
+ * x = b is solved as GSL's dense LU does; the massless coordinate is refused (SDAE_ERR_MASS)
+ * only when no constraint holds it (K singular) */
+START_TEST(a_massless_coordinate_is_taken_after_the_multipliers) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  for (int held = 0; held < 2; held++) {
+    double M[9] = {1, 0, 0, 0, 1, 0, 0, 0, 0}, G[6] = {0.6, -0.8, 0, -1, 0, held ? 1 : 0};
+    saddle s;
+    if (!held) G[3] = 0, G[4] = 1; /* the second constraint on y: the massless s free */
+    saddle_init(&s, 3, 2, M, G);
+    ck_assert_int_eq(saddle_analyse(&s), SDAE_OK);
+    if (held)
+      solves_as_gsl(&s, rng, 1e-12);
+    else
+      ck_assert_int_eq(sdae__sparse_ldl_factor(&s.f, s.values), SDAE_ERR_MASS);
+    saddle_free(&s);
+  }
+  gsl_rng_free(rng);
 }
 END_TEST
 
@@ -291,7 +320,8 @@ int main(void) {
   ADD_CASE(s, the_pivots_signs_refuse_what_has_no_solution);
   ADD_CASE(s, the_least_pivot_is_at_the_rounding_of_the_mass);
   ADD_CASE(s, the_least_pivots_scale_with_m_and_g);
-  ADD_CASE(s, a_shared_coordinate_fills_the_constraints_block);
+  ADD_CASE(s, a_shared_coordinate_fills_only_below_the_hub_bound);
+  ADD_CASE(s, a_massless_coordinate_is_taken_after_the_multipliers);
   ADD_CASE(s, a_size_fits_only_where_its_counts_fit_the_index);
   return run_suite(s);
 }

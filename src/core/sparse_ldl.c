@@ -46,6 +46,7 @@ void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size
   s->Lp = take_longs(a, n + 1), s->Parent = take_longs(a, n);
   s->amd_len = amd_ints(n, nnz);
   s->amd_work = take_longs(a, s->amd_len);
+  s->cls = sdae__take_array(a, n, 1, 1);
 }
 
 /* AMD's minimum-degree order of K's graph into found (n), its workspace before found */
@@ -65,15 +66,56 @@ static void minimum_degree(sdae_sparse_ldl_symbolic *s, sslong *found) {
          Degree, W, control, info);
 }
 
-/* the order: AMD's, its coordinates taken first (in AMD's order among them), then its
- * multipliers. The constrained minimum degree (CAMD's) would choose the two together, but
- * Debian's libcamd.a is not position-independent and so cannot be linked into an FMU. */
+/* whether coordinate row i is taken after the multipliers: held by more than
+ * SDAE_SPARSE_LDL_HUB constraints (a hub), or without a mass of its own (no diagonal entry) */
+static int late(const sdae_sparse_ldl_symbolic *s, sslong i) {
+  size_t held = 0;
+  int diagonal = 0;
+  for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) {
+    held += (size_t)s->Ai[e] >= s->n_pos;
+    diagonal |= s->Ai[e] == i;
+  }
+  return held > SDAE_SPARSE_LDL_HUB || !diagonal;
+}
+
+/* The classes of the rows, in the order they are taken: 0 the coordinates taken first, 1 the
+ * multipliers matched each to a coordinate of its own among those (greedily, the one the
+ * fewest constraints hold), 2 the late coordinates, 3 the multipliers left. With every
+ * coordinate taken before every multiplier (no late one), a hub of k constraints couples all k
+ * multipliers (k (k - 1) / 2 of fill: a cart under k pendulums); taken after them, its
+ * constraints are eliminated through their own coordinates first. Every pivot keeps its sign:
+ * the leading block [M_00 G_10^T; G_10 0] is regular when G_10 has full row rank (its rows
+ * have a matching into its columns; the factor's pivot test says when it is rank-deficient
+ * in value), a late coordinate's pivot is then a Schur complement of the positive definite
+ * M, and the multipliers left come last, as in the order of every coordinate first. */
+static void classify(sdae_sparse_ldl_symbolic *s, unsigned char *cls, sslong *taken, sslong *held) {
+  for (size_t i = 0; i < s->n_pos; i++) {
+    cls[i] = late(s, (sslong)i) ? 2 : 0;
+    taken[i] = 0, held[i] = 0;
+    for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) held[i] += (size_t)s->Ai[e] >= s->n_pos;
+  }
+  for (size_t j = s->n_pos; j < s->n; j++) {
+    sslong best = -1;
+    for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++) {
+      sslong i = s->Ai[e];
+      if ((size_t)i < s->n_pos && cls[i] == 0 && !taken[i] && (best < 0 || held[i] < held[best]))
+        best = i;
+    }
+    cls[j] = best < 0 ? 3 : 1;
+    if (best >= 0) taken[best] = 1;
+  }
+}
+
+/* the order: AMD's, its rows taken class by class (classify), in AMD's order within each.
+ * The constrained minimum degree (CAMD's) would choose them together, but Debian's libcamd.a
+ * is not position-independent and so cannot be linked into an FMU. */
 static void order(sdae_sparse_ldl_symbolic *s) {
   sslong *found = s->amd_work + 7 * s->n + iw_len(s->n, s->nnz), k = 0;
   minimum_degree(s, found);
-  for (int pass = 0; pass < 2; pass++)
+  classify(s, s->cls, s->amd_work, s->amd_work + s->n); /* AMD's workspace, done with */
+  for (unsigned char pass = 0; pass < 4; pass++)
     for (size_t r = 0; r < s->n; r++)
-      if (((size_t)found[r] < s->n_pos) == (pass == 0)) s->P[k++] = found[r];
+      if (s->cls[found[r]] == pass) s->P[k++] = found[r];
   for (k = 0; k < (sslong)s->n; k++) s->Pinv[s->P[k]] = k;
 }
 

@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
-/* A sparse symmetric quasi-definite matrix, the saddle-point system K = [M G^T; G 0] of a sparse
+/* A sparse symmetric indefinite matrix, the saddle-point system K = [M G^T; G 0] of a sparse
  * mechanism (M positive definite, G of full rank), factored K = P^T L D L^T P by SuiteSparse:
- * the order P by AMD (minimum degree, against fill), its first n_pos rows (the coordinates)
- * then taken before the others (the multipliers), an order in which LDL^T needs no pivoting
- * (D > 0 on the coordinates, D < 0 on the multipliers, for every such K), and the
- * factorization by LDL. Both take every array from their caller, so all of it is carved from
- * the owner's block:
+ * the order P by AMD (minimum degree, against fill), its rows then taken by class (sparse_ldl.c:
+ * the first n_pos rows, the coordinates, before the others, the multipliers, but for the
+ * coordinates held by more than SDAE_SPARSE_LDL_HUB constraints or without a mass of their
+ * own, taken after the multipliers matched to the others), an order in which LDL^T needs no
+ * pivoting (D > 0 on the coordinates, D < 0 on the multipliers), and the factorization by LDL. Both
+ * take every array from their caller, so all of it is carved from the owner's block:
  *
  *   analyse (once, when the owner is built): AMD's ordering (amd_l2, its workspace and the
  *            copy of the pattern it consumes carved here) and LDL's symbolic factorization
@@ -28,6 +29,9 @@
 
 /* the entries L may hold: this many times K's nonzeros (both triangles), plus one per row */
 #define SDAE_SPARSE_LDL_FILL 4
+/* a coordinate held by more constraints than this is taken after the multipliers (a hub: the
+ * k constraints of a cart under k pendulums would fill k (k - 1) / 2 entries the other way) */
+#define SDAE_SPARSE_LDL_HUB 8
 
 /* indices as SuiteSparse's long versions take them (amd_l2, ldl_l_*): 64 bits */
 typedef struct sdae_sparse_ldl_symbolic {
@@ -37,6 +41,7 @@ typedef struct sdae_sparse_ldl_symbolic {
   SuiteSparse_long *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
   SuiteSparse_long *amd_work;    /* AMD's: the pattern it consumes, its workspace, its order */
   size_t amd_len;                /* entries of amd_work */
+  unsigned char *cls;            /* n: each row's class in the order (sparse_ldl.c) */
 } sdae_sparse_ldl_symbolic;
 
 typedef struct sdae_sparse_ldl {
