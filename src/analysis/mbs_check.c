@@ -40,6 +40,7 @@ typedef struct checker {
   double *col, *col_nz;    /* n_q each: one column (or gradient) and its noise */
   double *e;               /* n_q: a direction */
   double *values;          /* a matrix's nonzeros, written by a callback with a pattern */
+  double *q_m, *v_m;       /* n_q each: a state moved around the one given */
 } checker;
 
 /* a matrix callback's status, its values put in place (rows x n_q) when it has a pattern:
@@ -280,6 +281,46 @@ static void carve(checker *k, sdae_arena *a) {
   k->col_nz = sdae__take(a, n_q, 1);
   k->e = sdae__take(a, n_q, 1);
   k->values = sdae__take(a, n_q, n_q); /* no pattern has more entries than its dense matrix */
+  k->q_m = sdae__take(a, n_q, 1);
+  k->v_m = sdae__take(a, n_q, 1);
+}
+
+/* The states checked: the one given, then SDAE_MBS_CHECK_STATES - 1 around it, q and v moved by
+ * MOVE (1 + |x_i|) in directions of Weyl's sequence (frac(i phi_s), deterministic and far from
+ * the symmetries a state is chosen on), so that an entry a pattern leaves out, zero at the
+ * given state alone (a rod upright, its x entries), shows as a mismatch */
+#define MOVE 1e-3
+static void moved(const double *x, size_t n, int state, double *out) {
+  const double phi = state == 1 ? 0.6180339887498949 : 0.4142135623730951; /* golden, silver */
+  for (size_t i = 0; i < n; i++) {
+    double u = (double)(i + 1) * phi;
+    out[i] = x[i] + MOVE * (1.0 + fabs(x[i])) * (2.0 * (u - floor(u)) - 1.0);
+  }
+}
+
+/* the worst of each derivative over the states, and the worst of all where it is first: into
+ * total */
+static void merge(sdae_mbs_check_report *total, const sdae_mbs_check_report *r, int state) {
+  double worst = total->worst < 0 ? 0.0 : total->mismatch[total->worst];
+  if (r->worst >= 0 && (total->worst < 0 || !(r->mismatch[r->worst] <= worst)))
+    total->worst = r->worst, total->worst_index = r->worst_index, total->state = state;
+  total->checked |= r->checked;
+  for (int d = 0; d < SDAE_MBS_DERIVATIVES; d++)
+    if (!(r->mismatch[d] <= total->mismatch[d])) total->mismatch[d] = r->mismatch[d];
+}
+
+/* run at every state, the worst kept */
+static int run_states(checker *k, double t, const double *q, const double *v,
+                      sdae_mbs_check_report *total) {
+  for (int state = 0; state < SDAE_MBS_CHECK_STATES; state++) {
+    sdae_mbs_check_report r = {.worst = -1};
+    int rc;
+    if (state > 0) moved(q, k->n_q, state, k->q_m), moved(v, k->n_q, state, k->v_m);
+    k->v = state > 0 ? k->v_m : v;
+    if ((rc = run(k, t, state > 0 ? k->q_m : q, &r)) != SDAE_OK) return rc;
+    merge(total, &r, state);
+  }
+  return SDAE_OK;
 }
 
 static int valid(const sdae_mbs *sys, double t, const double *q, const double *v, double tol) {
@@ -300,17 +341,17 @@ int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const do
                         const sdae_allocator *a, sdae_mbs_check_report *r) {
   checker k = {0};
   sdae_arena count = {0}, take = {0};
-  sdae_mbs_check_report rep = {.worst = -1};
+  sdae_mbs_check_report rep = {.worst = -1, .state = -1};
   size_t bytes;
   int rc;
   if (!r) return SDAE_ERR_NULL;
   if ((rc = valid(sys, t, q, v, tol)) != SDAE_OK) return rc;
-  k.sys = sys, k.n_q = sys->n_q, k.n_c = sys->n_c, k.v = v;
+  k.sys = sys, k.n_q = sys->n_q, k.n_c = sys->n_c;
   carve(&k, &count);
   if (sdae__arena_bytes(&count, 0, &bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
   if (!(take.base = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
   carve(&k, &take);
-  rc = run(&k, t, q, &rep);
+  rc = run_states(&k, t, q, v, &rep);
   sdae__free(a, take.base, bytes);
   if (rc != SDAE_OK) return rc;
   rep.consistent = 1;
