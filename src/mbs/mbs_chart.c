@@ -15,6 +15,7 @@
 
 #include "core/lu.h"
 #include "mbs_chart.h"
+#include "mbs_linalg.h"
 
 static void sort(size_t *x, size_t n) {
   for (size_t i = 1; i < n; i++)
@@ -186,7 +187,7 @@ int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best) 
     adopt(ch);
   } else if (memcmp(ch->dep, ch->cand_dep, ch->n_c * sizeof *ch->dep) != 0) {
     factor(ch, G, ch->dep, ch->ind, &now); /* sets now only when G_D is regular */
-    if (force_best || now > SDAE_MBS_CHART_FACTOR * best) {
+    if (!sdae__mbs_chart_keeps(force_best, now, best)) {
       adopt(ch);
       rc = factor(ch, G, ch->dep, ch->ind, &best); /* factored last was the old one */
     } else {

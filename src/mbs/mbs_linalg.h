@@ -21,6 +21,14 @@ typedef struct sdae_mbs_choice {
   int kept;     /* the current chart was kept over a better one by the hysteresis */
 } sdae_mbs_choice;
 
+/* The hysteresis, one rule for both back-ends: the best chart is sought at every step's start
+ * and the current one kept over it unless force_best or its measure now (HUGE_VAL where it is
+ * singular) exceeds SDAE_MBS_CHART_FACTOR times the best's (each back-end measures
+ * G_D^-1 G_I in its own norm: max |entry| formed, or the 1-norm estimated) */
+static inline int sdae__mbs_chart_keeps(int force_best, double now, double best) {
+  return !force_best && !(now > SDAE_MBS_CHART_FACTOR * best);
+}
+
 typedef struct sdae_mbs_linalg {
   const char *name;
   /* wired to the callbacks and the options (SDAE_ERR_OVERFLOW: sizes it cannot index); its

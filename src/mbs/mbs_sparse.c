@@ -89,29 +89,30 @@ static int same_chart(const sdae_mbs_sparse *sp) {
   return 1;
 }
 
-/* The current chart is refactored at the step's start and its ||G_D^-1 G_I||_1 estimated; a
- * new one is sought only when that grew past SDAE_MBS_CHART_FACTOR times its value where the
- * chart was chosen or last kept (or force_best), and taken when better by that factor, as the
- * dense hysteresis (mbs_chart.c), whose measure is the current chart's. A chart kept without a
- * search is kept too: a step that folds in it is retried in a chart chosen anew. */
+/* The rule of both back-ends (sdae__mbs_chart_keeps): the best chart (sdae__sparse_lu_choose's,
+ * measured by the estimate of ||G_D^-1 G_I||_1) sought at every start, the current one, where
+ * it is still regular, kept unless worse by SDAE_MBS_CHART_FACTOR (or force_best). Kept only
+ * until its refactoring grows by that factor, as before, a chart was stepped close to its fold:
+ * on a ladder of 16 four-bar cells rk4 lost 90 times the dense path's accuracy at a crossing. */
 static int choose_chart(sdae_mbs_sparse *sp, int force_best, int reuse) {
   double now = HUGE_VAL, best;
-  int other = 1 - sp->cur, rc;
+  int other = 1 - sp->cur, current, same, rc;
   sp->kept = sp->switched = 0;
-  if (sp->have && (reuse || sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK)) {
-    now = estimate(sp, sp->cur);
-    sp->kept = 1;
-    if (!force_best && now <= SDAE_MBS_CHART_FACTOR * sp->measure) return SDAE_OK;
-  }
-  if ((rc = sdae__sparse_lu_choose(&sp->lu[other], sp->Gp, sp->G)) != SDAE_OK)
-    return now < HUGE_VAL ? SDAE_OK : rc; /* the current one serves */
-  best = estimate(sp, other);
-  if (sp->have && !force_best && now <= SDAE_MBS_CHART_FACTOR * best) {
-    sp->measure = now; /* kept: its measure where it was kept */
+  current =
+      sp->have && (reuse || sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK);
+  if (current) now = estimate(sp, sp->cur);
+  if ((rc = sdae__sparse_lu_choose(&sp->lu[other], sp->Gp, sp->G)) != SDAE_OK) {
+    if (!current) return rc;
+    sp->measure = now; /* the current one serves */
     return SDAE_OK;
   }
-  sp->kept = sp->switched = 0;
-  sp->switched = sp->have && !same_chart(sp);
+  best = estimate(sp, other);
+  same = sp->have && same_chart(sp);
+  if (current && (same || sdae__mbs_chart_keeps(force_best, now, best))) {
+    sp->kept = !same, sp->measure = now;
+    return SDAE_OK;
+  }
+  sp->switched = sp->have && !same;
   sp->cur = other, sp->have = 1, sp->measure = best;
   independents(sp);
   return SDAE_OK;
