@@ -19,7 +19,8 @@
 
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
-#define STATE_FORMAT 3u /* 3: the counters the stepper's own, before the parts */
+#define STATE_FORMAT                                                                               \
+  4u /* 4: the back-end's chart and matrices, then the point (3: the counters first) */
 
 typedef struct header {
   char magic[8];
