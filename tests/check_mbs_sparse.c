@@ -833,6 +833,31 @@ START_TEST(a_coordinate_without_mass_steps_on_both_back_ends) {
 }
 END_TEST
 
+/* A chart's LU whose fill outgrows its reserve (4 nnz(G) + n_c: a ladder of 32 four-bar cells,
+ * whose loops the row order opens one row each, fills 4.3 nnz(G)) is found when the chart is
+ * chosen, at the first step: SDAE_ERR_PATTERN, named as the reserve's, not SDAE_ERR_CHART (a
+ * configuration next to a singular one, which the dense back-end shows it is not), and the
+ * state as it was; 16 cells fit */
+START_TEST(a_chart_past_its_reserve_is_named) {
+  for (int big = 0; big < 2; big++) {
+    mech_truss p;
+    sdae_mbs sys;
+    sdae_mbs_stepper *s;
+    sdae_options o = options(sdae_map_rk4);
+    double q[128], v[128], q0[128];
+    ck_assert_int_eq(mech_truss_ladder(&p, big ? 32 : 16, 1), 0);
+    ck_assert_int_eq(mech_truss_system(&sys, &p), 0);
+    mech_truss_start(&p, q, v);
+    memcpy(q0, q, sys.n_q * sizeof *q);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), big ? SDAE_ERR_PATTERN : SDAE_OK);
+    if (big) ck_assert_mem_eq(q, q0, sys.n_q * sizeof *q);
+    sdae_mbs_stepper_free(s);
+    mech_truss_free(&p);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_sparse");
   ADD_CASE(s, a_mass_not_symmetric_is_refused);
@@ -845,6 +870,7 @@ int main(void) {
   ADD_CASE(s, a_shared_coordinate_steps_at_the_cost_of_its_nonzeros);
   ADD_CASE(s, every_topology_as_accurate_as_the_dense_path);
   ADD_CASE(s, a_coordinate_without_mass_steps_on_both_back_ends);
+  ADD_CASE(s, a_chart_past_its_reserve_is_named);
   ADD_CASE(s, a_zero_jacobian_is_rank);
   ADD_CASE(s, a_failing_callback_in_a_query_is_reported);
   ADD_CASE(s, the_sparse_coordinates_serve_explicit_maps);

@@ -87,8 +87,8 @@ static void touch(sdae_sparse_lu *lu, size_t r, size_t c, size_t *n_list, size_t
 
 /* Step r: A's row order[r] into x (its columns in list) with the steps before it taken out,
  * smallest pivot first (a step taken out adds its columns, among them later pivots), the
- * multipliers into L's row r; *scale the row's largest |value| in A. SDAE_ERR_CHART when L is
- * full. */
+ * multipliers into L's row r; *scale the row's largest |value| in A. SDAE_ERR_PATTERN when L
+ * is full. */
 static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, size_t r,
                      size_t *n_list, size_t *l_used, double *scale) {
   size_t n_heap = 0, ar = lu->order[r];
@@ -105,7 +105,7 @@ static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *va
     if (*l_used == lu->cap) {
       lu->pending[k] = 0;
       while (n_heap > 0) lu->pending[heap_pop(lu, &n_heap)] = 0;
-      return SDAE_ERR_CHART;
+      return SDAE_ERR_PATTERN;
     }
     lu->l_col[*l_used] = k, lu->l_val[(*l_used)++] = l;
     for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++) {
@@ -149,7 +149,7 @@ static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t *u_used) {
     lu->in_row[c] = 0;
     if (lu->row_of[c] < r || rc != SDAE_OK) continue;
     if (*u_used == lu->cap) {
-      rc = SDAE_ERR_CHART;
+      rc = SDAE_ERR_PATTERN;
       continue;
     }
     if (c == lu->pivot[r]) lu->u_diag[r] = *u_used;

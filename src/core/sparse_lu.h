@@ -19,7 +19,7 @@
  * value (nor is a zero kept out), so the factors' structure is set by A's pattern and the
  * pivots alone, and a
  * refactorization with the pivots kept fills the same places. Every array is carved when the
- * owner is built: SDAE_ERR_CHART when the factors would need more than their reserve
+ * owner is built: SDAE_ERR_PATTERN when the factors would need more than their reserve
  * (SDAE_SPARSE_LU_FILL). */
 #ifndef STABDAE_SRC_CORE_SPARSE_LU_H
 #define STABDAE_SRC_CORE_SPARSE_LU_H
@@ -63,8 +63,8 @@ typedef struct sdae_sparse_lu {
 /* its arrays for A of m x n with nnz nonzeros, counted or handed out */
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a);
 /* the pivots chosen and A factored (values in A's pattern order): SDAE_OK; SDAE_ERR_RANK when a
- * row is dependent on those before it (its largest remaining value at rounding); SDAE_ERR_CHART
- * when the factors outgrow their reserve */
+ * row is dependent on those before it (its largest remaining value at rounding);
+ * SDAE_ERR_PATTERN when the factors outgrow their reserve */
 int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);
 /* A factored again with the pivots kept (A's values changed, not its pattern): SDAE_ERR_RANK
  * when a pivot falls to rounding */

@@ -50,7 +50,8 @@ const char *sdae_strerror(int status) {
   case SDAE_ERR_PATTERN:
     return "a sparsity pattern is not one (its columns unsorted, duplicated or out of range, "
            "row_start inconsistent with nnz, a mass pattern not symmetric), or the patterns' "
-           "saddle-point factor needs more entries than the stepper reserves";
+           "factors (the saddle-point system's, or a chart's LU when one is chosen) need more "
+           "entries than the stepper reserves";
   }
   return "unknown status";
 }
