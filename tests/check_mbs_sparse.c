@@ -652,23 +652,25 @@ START_TEST(a_failure_inside_a_query_is_reported) {
 }
 END_TEST
 
-/* a state whose last independent coordinate is made a dependent one's (the chart follows the
- * header and the statistics' two counters: have, cur, measure, then q_I), the checksum made
- * anew: whole, yet no chart */
+/* a state whose current factorization has an independent coordinate claim the first row (whose
+ * pivot is another column), the checksum made anew: whole, yet no chart. The chart follows the
+ * header and the statistics' two counters: have, cur, measure, then each factorization's
+ * order (n_c), pivots (n_c) and rows of the columns (n_q); q_I is derived from them */
 START_TEST(a_state_with_no_chart_is_damaged) {
   roped w;
   unsigned char *state;
-  size_t len, at = 36 + 2 * sizeof(unsigned long) + 2 * sizeof(int) + sizeof(double);
+  size_t len, at = 36 + 2 * sizeof(unsigned long) + 2 * sizeof(int) + sizeof(double), m, n, c;
   uint64_t sum;
   roped_init(&w, 5, 0, 1, sdae_map_rk4);
   ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);
+  m = w.s->sparse.n_c, n = w.s->sparse.n_q, c = w.s->sparse.ind[0];
+  at += (size_t)w.s->sparse.cur * (2 * m + n) * sizeof(size_t) + 2 * m * sizeof(size_t);
   len = sdae_mbs_state_size(w.s);
   state = malloc(len);
   ck_assert_int_eq(sdae_mbs_get_state(w.s, state, len), SDAE_OK);
-  ck_assert_mem_eq(state + at, w.s->sparse.ind,
-                   w.s->sparse.n_f * sizeof(size_t)); /* found where said */
-  size_t dep = w.s->sparse.lu[w.s->sparse.cur].pivot[0];
-  memcpy(state + at + (w.s->sparse.n_f - 1) * sizeof(size_t), &dep, sizeof dep);
+  ck_assert_mem_eq(state + at, w.s->sparse.lu[w.s->sparse.cur].row_of,
+                   n * sizeof(size_t));                       /* found where said */
+  memset(state + at + c * sizeof(size_t), 0, sizeof(size_t)); /* row 0 */
   sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
   memcpy(state + len - sizeof sum, &sum, sizeof sum);
   ck_assert_int_eq(sdae_mbs_set_state(w.s, state, len), SDAE_ERR_STATE_DAMAGED);

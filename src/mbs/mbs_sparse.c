@@ -258,19 +258,6 @@ static void lu_pivots(sdae_sparse_lu *lu, sdae_bytes *b) {
   sdae__bytes(b, lu->row_of, lu->n * sizeof *lu->row_of);
 }
 
-static void state(void *p, sdae_bytes *b) {
-  sdae_mbs_sparse *sp = p;
-  sdae__bytes_flag(b, &sp->have);
-  sdae__bytes_flag(b, &sp->cur);
-  sdae__bytes_doubles(b, &sp->measure, 1);
-  sdae__bytes(b, sp->ind, sp->n_f * sizeof *sp->ind);
-  lu_pivots(&sp->lu[0], b);
-  lu_pivots(&sp->lu[1], b);
-  sdae__bytes_doubles(b, sp->G, sp->Gp->nnz);
-  sdae__bytes_doubles(b, sp->M, sp->ly.Mp->nnz);
-  sdae__bytes_doubles(b, sp->nu, sp->n_c);
-}
-
 /* pivots that are a permutation's: pivot[k] a column whose row is k, every other column none;
  * the order a permutation of the rows */
 static int lu_valid(sdae_sparse_lu *lu) {
@@ -288,15 +275,25 @@ static int lu_valid(sdae_sparse_lu *lu) {
   return rows == lu->m;
 }
 
+/* The chart as its factorizations' pivots (q_I, the columns no row pivots on, derived from
+ * them where they are a permutation's), then G, M and nu at the point */
+static void state(void *p, sdae_bytes *b) {
+  sdae_mbs_sparse *sp = p;
+  sdae__bytes_flag(b, &sp->have);
+  sdae__bytes_flag(b, &sp->cur);
+  sdae__bytes_doubles(b, &sp->measure, 1);
+  lu_pivots(&sp->lu[0], b);
+  lu_pivots(&sp->lu[1], b);
+  sdae__bytes_doubles(b, sp->G, sp->Gp->nnz);
+  sdae__bytes_doubles(b, sp->M, sp->ly.Mp->nnz);
+  sdae__bytes_doubles(b, sp->nu, sp->n_c);
+  if (b->in && sp->have && lu_valid(&sp->lu[sp->cur])) independents(sp);
+}
+
 /* bytes read hold pivots that index the mechanism's columns */
 static int state_read(void *p) {
   sdae_mbs_sparse *sp = p;
-  sdae_sparse_lu *lu = &sp->lu[sp->cur & 1];
-  if (!sp->have) return 1;
-  if (!lu_valid(lu)) return 0;
-  for (size_t f = 0; f < sp->n_f; f++)
-    if (sp->ind[f] >= sp->n_q || lu->row_of[sp->ind[f]] != sp->n_c) return 0;
-  return 1;
+  return !sp->have || lu_valid(&sp->lu[sp->cur]);
 }
 
 static int query_xi(void *p, double t, const double *q, const double *v, double *out) {
