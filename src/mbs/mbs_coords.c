@@ -54,6 +54,10 @@ int sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, const sdae_m
   return linalg->init(la, eval, o);
 }
 
+/* the chart's split as the back-end holds it, asked again wherever the chart may have changed:
+ * a choice at the step's start and a state read (a set state, a roll-back) */
+static void split(sdae_mbs_coords *co) { co->linalg->split(co->la, &co->dep, &co->ind); }
+
 int sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   size_t n_q = co->n_q, n_c = co->n_c;
   int rc = co->linalg->carve(co->la, a);
@@ -74,23 +78,13 @@ int sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->F = sdae__take(a, n_q, 1);
   co->F_in = sdae__take(a, n_q, 1);
   co->zero = sdae__take(a, 2 * n_c, 1);
-  if (co->zero) /* NULL while the block is only counted */
+  if (co->zero) { /* NULL while the block is only counted */
     memset(co->zero, 0, 2 * n_c * sizeof *co->zero);
+    split(co);
+  }
   sdae__newton_carve_hooks(&co->newton, n_c, NEWTON_SMALL, co->newton_max_iter, a);
   co->newton.keep = 1;
   return rc;
-}
-
-static const size_t *dep_of(const sdae_mbs_coords *co) {
-  const size_t *dep, *ind;
-  co->linalg->split(co->la, &dep, &ind);
-  return dep;
-}
-
-static const size_t *ind_of(const sdae_mbs_coords *co) {
-  const size_t *dep, *ind;
-  co->linalg->split(co->la, &dep, &ind);
-  return ind;
 }
 
 /* ---- xi at a state, the step's start ---- */
@@ -154,7 +148,7 @@ static int energy_map_ok(const sdae_mbs_coords *co) {
  * the chart factored at q, and q as Phi^-1's first base */
 static int begin(sdae_mbs_coords *co, double t, const double *q, const double *v, double *mu) {
   const sdae_mbs_linalg *la = co->linalg;
-  const size_t *ind = ind_of(co);
+  const size_t *ind = co->ind;
   int rc;
   if (!co->at_start &&
       ((rc = la->mass(co->la, t, q)) != SDAE_OK || (rc = la->mass_symmetric(co->la)) != SDAE_OK))
@@ -193,9 +187,10 @@ int sdae__mbs_coords_start(sdae_mbs_coords *co, double t, const double *q, const
   int rc;
   if ((rc = sdae__mbs_coords_xi(co, t, q, v, st->xi)) != SDAE_OK ||
       (rc = energy_map_ok(co)) != SDAE_OK ||
-      (rc = co->linalg->choose(co->la, force_best, co->reuse, &st->choice)) != SDAE_OK ||
-      (rc = begin(co, t, q, v, st->mu)) != SDAE_OK)
+      (rc = co->linalg->choose(co->la, force_best, co->reuse, &st->choice)) != SDAE_OK)
     return rc;
+  split(co);
+  if ((rc = begin(co, t, q, v, st->mu)) != SDAE_OK) return rc;
   sdae__mbs_coords_floors(co, q, v, st->floor);
   if (!at_floors(st->xi, st->floor, 2 * co->n_c)) return SDAE_OK;
   return seed(co, t, q, v, st->mu);
@@ -211,7 +206,7 @@ typedef struct q_eq {
 
 static void set_q_D(sdae_mbs_coords *co, const double *q_D) {
   double *q = co->q; /* in locals: a write through q could alias co */
-  const size_t *dep = dep_of(co);
+  const size_t *dep = co->dep;
   for (size_t j = 0, n = co->n_c; j < n; j++) q[dep[j]] = q_D[j];
 }
 
@@ -247,8 +242,7 @@ static void q_solve(void *ctx, const double *R, double *dy) {
  * mu, and G_D dq_D = dxi_c - G_I dq_I - dc/dt dt, i.e. q = q_b + W_b dq_I + P_D G_D^-1 (dxi_c -
  * ct_b dt) with the factors of the base (or kept since). */
 static void predict(sdae_mbs_coords *co, double t, const double *xi, const double *mu) {
-  const size_t *dep, *ind;
-  co->linalg->split(co->la, &dep, &ind);
+  const size_t *dep = co->dep, *ind = co->ind;
   for (size_t j = 0; j < co->n_c; j++)
     co->res[j] = (xi[2 * j] - co->base_c[j]) - co->base_ct[j] * (t - co->base_t);
   memset(co->dq, 0, co->n_q * sizeof *co->dq);
@@ -267,10 +261,9 @@ static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double
   q_eq e = {co, t, xi};
   const sdae_newton_system sys = {
       .residual = q_residual, .setup = q_setup, .solve = q_solve, .ctx = &e};
-  const size_t *dep;
+  const size_t *dep = co->dep;
   int rc;
   predict(co, t, xi, mu);
-  dep = dep_of(co);
   for (size_t j = 0; j < co->n_c; j++) co->q_D[j] = co->q[dep[j]];
   sdae__newton_adopt(&co->newton, 1.0);
   rc = sdae__newton_solve(&co->newton, &sys, 1.0, co->q_D);
@@ -283,7 +276,7 @@ static int solve_q(sdae_mbs_coords *co, double t, const double *xi, const double
 
 /* the state's q_D finished by a step of Newton from DITHER away (above) */
 static int finish(sdae_mbs_coords *co, double t, const double *xi) {
-  const size_t *dep = dep_of(co);
+  const size_t *dep = co->dep;
   size_t n_c = co->n_c;
   int rc;
   for (size_t j = 0; j < n_c; j++) {
@@ -331,7 +324,7 @@ static int same_point(const sdae_mbs_coords *co, double t, const double *xi, con
  * columns) */
 static int same_configuration(const sdae_mbs_coords *co, double t, const double *xi,
                               const double *mu) {
-  const size_t *ind = ind_of(co);
+  const size_t *ind = co->ind;
   if (!co->base_here || co->base_t != t) return 0;
   for (size_t j = 0; j < co->n_c; j++)
     if (xi[2 * j] != co->base_c[j]) return 0;
@@ -368,7 +361,7 @@ int sdae__mbs_phi_inv_state(sdae_mbs_coords *co, double t, const double *xi, con
 }
 
 int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out) {
-  const size_t *ind = ind_of(co);
+  const size_t *ind = co->ind;
   int rc;
   if ((rc = sdae__mbs_force(co->eval, t, co->q, co->v, co->F)) != SDAE_OK ||
       (rc = co->linalg->momentum_rate(co->la, t, co->q, co->v, co->F, out + co->n_f)) != SDAE_OK)
@@ -418,6 +411,7 @@ int sdae__mbs_input_on(sdae_mbs_coords *co, double t, const double *mu, double *
 void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b) {
   size_t n_q = co->n_q, n_c = co->n_c;
   co->linalg->state(co->la, b);
+  if (b->in) split(co);
   sdae__bytes_flag(b, &co->valid);
   sdae__bytes_doubles(b, &co->key_t, 1);
   sdae__bytes_doubles(b, co->key, 2 * n_q);

@@ -27,6 +27,7 @@ typedef struct sdae_mbs_coords {
   size_t n_q, n_c, n_f;
   unsigned newton_max_iter; /* Phi^-1's Newton: the options' cap */
   int energy_map;           /* the map conserves H: the constraints must not depend on t */
+  const size_t *dep, *ind;  /* the back-end's split (mbs_linalg.h), as it was last asked */
   /* the point */
   double *q, *v;  /* n_q each */
   double *c, *ct; /* n_c each */
