@@ -170,12 +170,14 @@ int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values) {
   /* a zero pivot stops LDL at its step; the steps before it are checked the same way */
   sslong done = ldl_l_numeric(n, s->Ap, s->Ai, (double *)values, s->Lp, s->Parent, f->Lnz, f->Li,
                               f->Lx, f->D, f->Y, f->Pattern, f->Flag, s->P, s->Pinv);
+  f->least = HUGE_VAL;
   for (sslong k = 0; k < n; k++) {
     sslong i = s->P[k];
     int coordinate = (size_t)i < s->n_pos;
-    double d = k < done ? (coordinate ? f->D[k] : -f->D[k]) : 0.0;
-    if (!(d > tol * pivot_scale(s, values, i, m_norm)))
-      return coordinate ? SDAE_ERR_MASS : SDAE_ERR_RANK;
+    double d = k < done ? (coordinate ? f->D[k] : -f->D[k]) : 0.0, scale;
+    scale = pivot_scale(s, values, i, m_norm);
+    if (!(d > tol * scale)) return coordinate ? SDAE_ERR_MASS : SDAE_ERR_RANK;
+    if (!coordinate) f->least = fmin(f->least, d / scale);
   }
   return SDAE_OK;
 }

@@ -49,6 +49,7 @@ typedef struct sdae_sparse_ldl {
   SuiteSparse_long *Lnz, *Flag, *Pattern, *Li; /* LDL's workspace (n each), L's rows (cap) */
   double *Lx, *D, *Y;                          /* L's values (cap), D, LDL's workspace (n) */
   double *x;                                   /* n: a solve's permuted right-hand side */
+  double least; /* the least of the multipliers' pivots over their scales (below) */
 } sdae_sparse_ldl;
 
 /* the arrays of the analysis of a pattern of n rows (n_pos of them coordinates) and nnz entries,
@@ -63,7 +64,9 @@ int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K)
 int sdae__sparse_ldl_fits(size_t n, size_t nnz);
 
 void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym, sdae_arena *a);
-/* K's values (in the pattern's order) factored: SDAE_OK; SDAE_ERR_MASS when a coordinate's
+/* K's values (in the pattern's order) factored, and f->least the least |pivot| / scale over the
+ * multipliers (about sin^2 of the least angle between a constraint's gradient and the others'):
+ * SDAE_OK; SDAE_ERR_MASS when a coordinate's
  * pivot is not positive beyond n eps ||M||_inf (M not positive definite to its rounding),
  * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, that
  * rounding carried to the diagonal of G M^-1 G^T (G not of full rank to rounding) */

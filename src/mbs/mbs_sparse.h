@@ -44,6 +44,7 @@ typedef struct sdae_mbs_sparse {
   double *nu;         /* n_c: the multipliers of the velocity's system */
   /* scratch */
   double *Mdv, *rhs, *sol;     /* n_q, n_k, n_k */
+  double *k_res, *k_dx;        /* n_k each: the refinement's residual and correction */
   double *zc, *yd, *res;       /* n_c each */
   double *est_x, *est_z;       /* n_q each: the norm estimate's */
   sdae_mbs_sparse_query query; /* on ly */
