@@ -74,8 +74,8 @@ typedef struct sdae_mbs_check_report {
   int worst;          /* the derivative with the largest mismatch; -1: none given */
   size_t worst_index; /* its entry (row-major) where that mismatch is */
   int consistent;     /* every mismatch <= tol */
-  int state;          /* where the worst is: 0 the state given, 1 or 2 one moved around it;
-                       * -1: none given */
+  int state;          /* where the worst is: 0 the state given, 1 or 2 one moved around it
+                       * (a mechanism with patterns); -1: none given */
 } sdae_mbs_check_report;
 
 /* the states sdae_mbs_check compares at: the one given and two around it */
@@ -83,9 +83,10 @@ typedef struct sdae_mbs_check_report {
 
 /* Compares every derivative the mechanism gives with fourth-order central differences of the
  * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
- * wrong sign would show) and at two states around it (q and v moved by 1e-3 (1 + |x_i|) in
- * fixed directions, so that an entry zero at the state alone, which a pattern may leave out,
- * shows), and reports the worst mismatch and where. Entry by entry, so a row
+ * wrong sign would show), and for a mechanism with patterns also the derivatives a pattern
+ * shapes (G and Gdot, Mdot v and the force) at two states around it (q and v moved by 1e-3
+ * (1 + |x_i|) in fixed directions, so that an entry zero at the state alone, which a pattern
+ * may leave out, shows), and reports the worst mismatch and where. Entry by entry, so a row
  * of large entries hides no wrong small one; the differences' rounding is allowed for, so a
  * derivative that vanishes at the state (a force at equilibrium) is no false alarm. Smooth
  * callbacks agree to about 1e-9: tol = 1e-6 separates a right derivative from a wrong one.
