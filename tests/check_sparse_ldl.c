@@ -313,6 +313,24 @@ START_TEST(a_size_fits_only_where_its_counts_fit_the_index) {
 }
 END_TEST
 
+/* Two coordinates of no mass of their own, s held to x and u to y, on a particle on the unit
+ * circle: q = (x, y, s, u), M = diag(1, 1, 0, 0), the reduced mass 1. Each massless coordinate
+ * needs its constraint eliminated before it: the constraints that hold one are matched first
+ * (x to s - x, y to u - y), the circle's left for the end. Matched in their order instead, the
+ * circle took x, s - x was left, and s's pivot was exactly 0 (SDAE_ERR_MASS, from a review). */
+START_TEST(massless_coordinates_have_their_constraints_first) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  double M[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  double G[12] = {0.6, -0.8, 0, 0, -1, 0, 1, 0, 0, -1, 0, 1};
+  saddle s;
+  saddle_init(&s, 4, 3, M, G);
+  ck_assert_int_eq(saddle_analyse(&s), SDAE_OK);
+  solves_as_gsl(&s, rng, 1e-12);
+  saddle_free(&s);
+  gsl_rng_free(rng);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sparse_ldl");
   ADD_CASE(s, random_saddle_points_solve_as_dense_algebra);
@@ -322,6 +340,7 @@ int main(void) {
   ADD_CASE(s, the_least_pivots_scale_with_m_and_g);
   ADD_CASE(s, a_shared_coordinate_fills_only_below_the_hub_bound);
   ADD_CASE(s, a_massless_coordinate_is_taken_after_the_multipliers);
+  ADD_CASE(s, massless_coordinates_have_their_constraints_first);
   ADD_CASE(s, a_size_fits_only_where_its_counts_fit_the_index);
   return run_suite(s);
 }

@@ -78,32 +78,43 @@ static int late(const sdae_sparse_ldl_symbolic *s, sslong i) {
   return held > SDAE_SPARSE_LDL_HUB || !diagonal;
 }
 
+/* whether multiplier row j holds a late coordinate (cls set for the coordinates) */
+static int holds_late(const sdae_sparse_ldl_symbolic *s, const unsigned char *cls, size_t j) {
+  for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++)
+    if ((size_t)s->Ai[e] < s->n_pos && cls[s->Ai[e]] == 2) return 1;
+  return 0;
+}
+
 /* The classes of the rows, in the order they are taken: 0 the coordinates taken first, 1 the
  * multipliers matched each to a coordinate of its own among those (greedily, the one the
- * fewest constraints hold), 2 the late coordinates, 3 the multipliers left. With every
- * coordinate taken before every multiplier (no late one), a hub of k constraints couples all k
- * multipliers (k (k - 1) / 2 of fill: a cart under k pendulums); taken after them, its
- * constraints are eliminated through their own coordinates first. Every pivot keeps its sign:
- * the leading block [M_00 G_10^T; G_10 0] is regular when G_10 has full row rank (its rows
- * have a matching into its columns; the factor's pivot test says when it is rank-deficient
- * in value), a late coordinate's pivot is then a Schur complement of the positive definite
- * M, and the multipliers left come last, as in the order of every coordinate first. */
+ * fewest constraints hold; first the multipliers that hold a late coordinate, which a late
+ * coordinate without mass needs eliminated before it), 2 the late coordinates, 3 the
+ * multipliers left. With every coordinate taken before every multiplier (no late one), a hub
+ * of k constraints couples all k multipliers (k (k - 1) / 2 of fill: a cart under k
+ * pendulums); taken after them, its constraints are eliminated through their own coordinates
+ * first. Every pivot keeps its sign: the leading block [M_00 G_10^T; G_10 0] is regular when
+ * G_10 has full row rank (its rows have a matching into its columns; the factor's pivot test
+ * says when it is rank-deficient in value), a late coordinate's pivot is then a Schur
+ * complement of the positive definite M, and the multipliers left come last, as in the order
+ * of every coordinate first. */
 static void classify(sdae_sparse_ldl_symbolic *s, unsigned char *cls, sslong *taken, sslong *held) {
   for (size_t i = 0; i < s->n_pos; i++) {
     cls[i] = late(s, (sslong)i) ? 2 : 0;
     taken[i] = 0, held[i] = 0;
     for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) held[i] += (size_t)s->Ai[e] >= s->n_pos;
   }
-  for (size_t j = s->n_pos; j < s->n; j++) {
-    sslong best = -1;
-    for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++) {
-      sslong i = s->Ai[e];
-      if ((size_t)i < s->n_pos && cls[i] == 0 && !taken[i] && (best < 0 || held[i] < held[best]))
-        best = i;
+  for (int pass = 0; pass < 2; pass++)
+    for (size_t j = s->n_pos; j < s->n; j++) {
+      sslong best = -1;
+      if (holds_late(s, cls, j) != (pass == 0)) continue;
+      for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++) {
+        sslong i = s->Ai[e];
+        if ((size_t)i < s->n_pos && cls[i] == 0 && !taken[i] && (best < 0 || held[i] < held[best]))
+          best = i;
+      }
+      cls[j] = best < 0 ? 3 : 1;
+      if (best >= 0) taken[best] = 1;
     }
-    cls[j] = best < 0 ? 3 : 1;
-    if (best >= 0) taken[best] = 1;
-  }
 }
 
 /* the order: AMD's, its rows taken class by class (classify), in AMD's order within each.
