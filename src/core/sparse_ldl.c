@@ -97,24 +97,30 @@ static int holds_late(const sdae_sparse_ldl_symbolic *s, const unsigned char *cl
  * says when it is rank-deficient in value), a late coordinate's pivot is then a Schur
  * complement of the positive definite M, and the multipliers left come last, as in the order
  * of every coordinate first. */
+/* multiplier row j's class: 1, matched to the free coordinate of class 0 in it that the fewest
+ * constraints hold (taken), or 3 where there is none */
+static unsigned char match(const sdae_sparse_ldl_symbolic *s, const unsigned char *cls,
+                           sslong *taken, const sslong *held, size_t j) {
+  sslong best = -1;
+  for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++) {
+    sslong i = s->Ai[e];
+    if ((size_t)i < s->n_pos && cls[i] == 0 && !taken[i] && (best < 0 || held[i] < held[best]))
+      best = i;
+  }
+  if (best < 0) return 3;
+  taken[best] = 1;
+  return 1;
+}
+
 static void classify(sdae_sparse_ldl_symbolic *s, unsigned char *cls, sslong *taken, sslong *held) {
   for (size_t i = 0; i < s->n_pos; i++) {
     cls[i] = late(s, (sslong)i) ? 2 : 0;
     taken[i] = 0, held[i] = 0;
     for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) held[i] += (size_t)s->Ai[e] >= s->n_pos;
   }
-  for (int pass = 0; pass < 2; pass++)
-    for (size_t j = s->n_pos; j < s->n; j++) {
-      sslong best = -1;
-      if (holds_late(s, cls, j) != (pass == 0)) continue;
-      for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++) {
-        sslong i = s->Ai[e];
-        if ((size_t)i < s->n_pos && cls[i] == 0 && !taken[i] && (best < 0 || held[i] < held[best]))
-          best = i;
-      }
-      cls[j] = best < 0 ? 3 : 1;
-      if (best >= 0) taken[best] = 1;
-    }
+  for (int pass = 0; pass < 2; pass++) /* first the multipliers that hold a late coordinate */
+    for (size_t j = s->n_pos; j < s->n; j++)
+      if (holds_late(s, cls, j) == (pass == 0)) cls[j] = match(s, cls, taken, held, j);
 }
 
 /* the order: AMD's, its rows taken class by class (classify), in AMD's order within each.
