@@ -78,10 +78,11 @@ static int late(const sdae_sparse_ldl_symbolic *s, sslong i) {
   return held > SDAE_SPARSE_LDL_HUB || !diagonal;
 }
 
-/* whether multiplier row j holds a late coordinate (cls set for the coordinates) */
+/* whether multiplier row j holds a late coordinate (cls set for the coordinates): a multiplier's
+ * row of [M G^T; G 0] holds coordinates alone, its block of K empty */
 static int holds_late(const sdae_sparse_ldl_symbolic *s, const unsigned char *cls, size_t j) {
   for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++)
-    if ((size_t)s->Ai[e] < s->n_pos && cls[s->Ai[e]] == 2) return 1;
+    if (cls[s->Ai[e]] == 2) return 1;
   return 0;
 }
 

@@ -56,7 +56,8 @@ typedef struct sdae_sparse_ldl {
  * counted or handed out */
 void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
                                      size_t nnz, sdae_arena *a);
-/* the order and L's structure of K's pattern (symmetric; its sizes fit, sdae__sparse_ldl_fits,
+/* the order and L's structure of K's pattern (symmetric, its multipliers' block empty as in
+ * [M G^T; G 0]; its sizes fit, sdae__sparse_ldl_fits,
  * which the owner asks before it carves): SDAE_OK, or SDAE_ERR_PATTERN when L needs more
  * entries than reserved */
 int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K);
