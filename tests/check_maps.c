@@ -257,7 +257,7 @@ END_TEST
 static sdae_map_ctx map_ctx(const sdae_model *m, const sdae_options *o) {
   static double work[64];
   ck_assert_uint_le(o->map->scratch(m, o), sizeof work / sizeof *work);
-  return (sdae_map_ctx){m, work, NULL, 0};
+  return (sdae_map_ctx){m, work, NULL, 0, NULL};
 }
 
 /* The map itself, through the internal table: when |mu+ - mu| is below sqrt(eps), gradbar H
@@ -487,7 +487,7 @@ static int inf_user_jac(double t, double T, const double *mu, const double *y, d
 START_TEST(user_map_nonfinite_is_reported) {
   quartic p = {1.0, 0.0, 0, 0};
   sdae_model m = quartic_model(&p);
-  sdae_map_ctx c = {&m, NULL, NULL, 0};
+  sdae_map_ctx c = {&m, NULL, NULL, 0, NULL};
   const double x[2] = {0.8, 0.3}, y[2] = {0.9, 0.1};
   double out[4];
   ck_assert_int_eq(sdae_map_user->phi(&c, 0.0, 0.1, x, y, out), SDAE_OK); /* the paper's map */

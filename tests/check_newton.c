@@ -348,7 +348,7 @@ static void fd_cost(fd_case fc, unsigned long groups) {
   a.base = calloc(count.used, 1); /* calloc: aligned for any type */
   sdae__newton_carve(&nw, fc.n, fc.band ? fc.band : fc.n - 1, o.newton_tol, o.newton_max_iter, &a);
   nw.iters = 0;
-  sdae_map_ctx c = {&m, NULL, &nw, 0};
+  sdae_map_ctx c = {&m, NULL, &nw, 0, NULL};
   double x[16], y[16];
   for (size_t i = 0; i < fc.n; i++) x[i] = y[i] = 1.0;
   ck_assert_int_eq(sdae__map_solve(&const_map, &c, 0.0, 0.25, x, NULL, y), SDAE_OK);
@@ -396,7 +396,7 @@ static int solve_with(const sdae_map_type *map, size_t n, size_t band, double to
                       const double *x, double *y, unsigned *iters, unsigned long *evals) {
   sdae_newton nw;
   void *mem = newton_ws(&nw, n, band, tol);
-  sdae_map_ctx c = {&ws_model, NULL, &nw, 0};
+  sdae_map_ctx c = {&ws_model, NULL, &nw, 0, NULL};
   int rc = sdae__map_solve(map, &c, 0.0, h, x, NULL, y);
   *iters = nw.iters;
   *evals = c.phi_evals;
@@ -605,7 +605,7 @@ START_TEST(four_unknowns_take_the_small_lu) {
   nseen4 = 0;
   ck_assert_int_eq(solve_with(&a4_map, 4, 0, 1e-14, h, x, y, &iters, &evals), SDAE_OK);
   ck_assert_int_ge(nseen4, 2);
-  sdae_map_ctx c = {&ws_model, NULL, NULL, 0};
+  sdae_map_ctx c = {&ws_model, NULL, NULL, 0, NULL};
   a4_phi(&c, 0.0, h, x, y0, phi);
   for (int i = 0; i < 4; i++) {
     R[i] = y0[i] - x[i] - h * phi[i];
@@ -749,7 +749,7 @@ static const sdae_map_type cube_map = {.name = "cube", .implicit = 1, .phi = cub
  * beyond one per iteration (2 n = 4 for a matrix by differences, 0 for the kept one) */
 static double cube_y[2] = {1.0, 0.5};
 static unsigned long cube_solve(sdae_newton *nw, double h, double x0) {
-  sdae_map_ctx c = {&ws_model, NULL, nw, 0};
+  sdae_map_ctx c = {&ws_model, NULL, nw, 0, NULL};
   double x[2] = {x0, 0.5 * x0}, *y = cube_y;
   unsigned iters = nw->iters;
   ck_assert_int_eq(sdae__map_solve(&cube_map, &c, 0.0, h, x, NULL, y), SDAE_OK);
@@ -822,9 +822,10 @@ static int power_setup(void *ctx, const double *y) {
   s->J = s->p == 2 ? 2.0 * y[0] : 3.0 * y[0] * y[0];
   return s->J == 0.0 ? SDAE_ERR_SINGULAR : SDAE_OK;
 }
-static void power_solve(void *ctx, const double *R, double *dy) {
+static int power_solve(void *ctx, const double *R, double *dy) {
   const power_sys *s = ctx;
   dy[0] = R[0] / s->J;
+  return SDAE_OK;
 }
 
 /* a setup was made at y */

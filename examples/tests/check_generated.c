@@ -522,11 +522,11 @@ END_TEST
 
 /* The four-bar written by its nonzeros (sym/fourbar_sparse.py): its patterns are the
  * structural nonzeros of the geometry, M = diag(mB, mB, mC, mC) and each constraint's row at the
- * coordinates of its moving ends (B; B and C; C). Under dgrad (an implicit map: the dense
- * coordinates) it steps as the dense generated four-bar, whose matrices the library builds from
- * the same values (agreeing to rounding: the generator eliminates common subexpressions over
- * the nonzeros alone); under rk4 in its own sparse coordinates, to rk4's truncation error, the
- * difference falling by about 16 as T halves */
+ * coordinates of its moving ends (B; B and C; C). Stepped in its own sparse coordinates, under
+ * rk4 and under dgrad (an implicit map, its Newton on the sparse back-end's linear solve), it
+ * steps as the dense generated four-bar to the map's truncation error (the two back-ends may
+ * choose other charts, and a map's error depends on the chart): after 0.3 s the difference
+ * falls by about 2^p as T halves, 16 for rk4, 4 for dgrad */
 START_TEST(test_sparse_fourbar_steps_as_the_dense) {
   static const size_t mass_start[] = {0, 1, 2, 3, 4}, mass_col[] = {0, 1, 2, 3};
   static const size_t jac_start[] = {0, 2, 6, 8}, jac_col[] = {0, 1, 0, 1, 2, 3, 2, 3};
@@ -547,21 +547,21 @@ START_TEST(test_sparse_fourbar_steps_as_the_dense) {
   ck_assert_mem_eq(sparse.jacobian_pattern->row_start, jac_start, sizeof jac_start);
   ck_assert_mem_eq(sparse.jacobian_pattern->col, jac_col, sizeof jac_col);
   fourbar_start(&pd, q0, v0);
-  trajectory(&dense, sdae_map_dgrad, 1e-3, STEPS, q0, v0, qd, vd);
-  trajectory(&sparse, sdae_map_dgrad, 1e-3, STEPS, q0, v0, qs, vs);
-  ck_assert_double_lt(trajectory_mismatch(qs, qd, STEPS * 4), 1e-12);
-  ck_assert_double_lt(trajectory_mismatch(vs, vd, STEPS * 4), 1e-12);
-  ck_assert_double_gt(trajectory_mismatch(qd + (STEPS - 1) * 4, q0, 4), 1e-3);
-  double diff[2];
-  for (int h = 0; h < 2; h++) { /* the last states after 0.3 s at T = 2e-3 and 1e-3 */
-    double T = h ? 1e-3 : 2e-3;
-    size_t n = h ? STEPS : STEPS / 2;
-    trajectory(&dense, sdae_map_rk4, T, n, q0, v0, qd, vd);
-    trajectory(&sparse, sdae_map_rk4, T, n, q0, v0, qs, vs);
-    diff[h] = trajectory_mismatch(qs + (n - 1) * 4, qd + (n - 1) * 4, 4);
+  const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad};
+  const double falls[] = {10.0, 3.0}; /* 16 and 4, less a margin for the next order's term */
+  for (int k = 0; k < 2; k++) {
+    double diff[2];
+    for (int h = 0; h < 2; h++) { /* the last states after 0.3 s at T = 2e-3 and 1e-3 */
+      double T = h ? 1e-3 : 2e-3;
+      size_t n = h ? STEPS : STEPS / 2;
+      trajectory(&dense, maps[k], T, n, q0, v0, qd, vd);
+      trajectory(&sparse, maps[k], T, n, q0, v0, qs, vs);
+      diff[h] = trajectory_mismatch(qs + (n - 1) * 4, qd + (n - 1) * 4, 4);
+    }
+    ck_assert_double_gt(trajectory_mismatch(qd + (STEPS - 1) * 4, q0, 4), 1e-3);
+    ck_assert_double_lt(diff[0], 1e-4);
+    ck_assert_double_ge(diff[0], falls[k] * diff[1]);
   }
-  ck_assert_double_lt(diff[0], 1e-6);
-  ck_assert_double_ge(diff[0], 10.0 * diff[1]);
 }
 END_TEST
 

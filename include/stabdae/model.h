@@ -28,6 +28,14 @@ typedef struct sdae_model {
                  void *params);
   /* optional: dq0/dmu, n_mu x n_mu (the midpoint map's Newton); finite differences otherwise */
   int (*q0_jac)(double t, const double *mu, double *out, void *params);
+  /* optional, for large models, both or neither: the linear solve of the implicit maps' Newton
+   * (midpoint, dgrad and their compositions), as CVODE's preconditioner setup and solve.
+   * q0_lsetup factors an approximation A of I - a dq0/dmu at (t, mu) (a > 0), q0_lsolve writes
+   * z = A^-1 r (n_mu values); no n_mu x n_mu matrix is formed or kept. Newton is then a chord,
+   * converging at the rate of what A leaves out of the exact matrix; the factors serve within a
+   * step and are set up anew at its first solve. The user's map keeps a dense Newton. */
+  int (*q0_lsetup)(double t, const double *mu, double a, void *params);
+  int (*q0_lsolve)(const double *r, double *z, void *params);
 
   /* The energy structure q0 = S(mu) grad H(mu), for the discrete-gradient maps (sdae_map_dgrad,
    * sdae_map_dg4, sdae_map_dg6): H conserved when S is skew, dissipated when S = J - R, R >= 0 */

@@ -65,6 +65,18 @@ void sdae__newton_carve_hooks(sdae_newton *nw, size_t n, double tol, unsigned ma
   nw->coeff = nw->kept_coeff = 0.0;
   nw->kept_age = 0;
   nw->refreshes = nw->retries = 0;
+  nw->krylov = NULL;
+  nw->krylov_iters = 0;
+}
+
+void sdae__newton_carve_krylov(sdae_newton *nw, size_t n, size_t m, double rtol, double tol,
+                               unsigned max_iter, sdae_arena *a) {
+  sdae__newton_carve_hooks(nw, n, tol, max_iter, a);
+  nw->fd_y = sdae__take(a, n, 1);
+  nw->fd_plus = sdae__take(a, n, 1);
+  sdae__gmres_carve(&nw->gmres, n, m, a);
+  nw->krylov = &nw->gmres;
+  nw->krylov_rtol = rtol;
 }
 
 void sdae__newton_forget(sdae_newton *nw) { nw->kept = 0; }
@@ -250,11 +262,51 @@ static int setup(sdae_newton *nw, const sdae_newton_system *sys, const double *y
   return rc;
 }
 
-static void solve(sdae_newton *nw, const sdae_newton_system *sys) {
-  if (sys->solve)
-    sys->solve(sys->ctx, nw->R, nw->dy);
-  else
-    newton_solve(nw);
+/* Newton-Krylov's product dR/dy x ~ (R(y + s x) - R(y)) / s, s balancing truncation and
+ * rounding (sqrt(eps) of y's size over x's, as KINSOL's), R(y) in nw->R */
+typedef struct krylov_ctx {
+  sdae_newton *nw;
+  const sdae_newton_system *sys;
+  const double *y;
+} krylov_ctx;
+
+static int krylov_apply(void *ctx, const double *x, double *out) {
+  const krylov_ctx *k = ctx;
+  sdae_newton *nw = k->nw;
+  size_t n = nw->n;
+  double xs = 0.0, ys = 0.0, s;
+  int rc;
+  for (size_t i = 0; i < n; i++) {
+    xs = fmax(xs, fabs(x[i]));
+    ys = fmax(ys, fabs(k->y[i]));
+  }
+  if (xs == 0.0) {
+    memset(out, 0, n * sizeof *out);
+    return SDAE_OK;
+  }
+  s = 0x1p-26 * (1.0 + ys) / xs;
+  for (size_t i = 0; i < n; i++) nw->fd_y[i] = k->y[i] + s * x[i];
+  if ((rc = system_R(nw, k->sys, nw->fd_y, nw->fd_plus)) != SDAE_OK) return rc;
+  for (size_t i = 0; i < n; i++) out[i] = (nw->fd_plus[i] - nw->R[i]) / s;
+  return SDAE_OK;
+}
+
+static int krylov_precond(void *ctx, const double *r, double *z) {
+  const krylov_ctx *k = ctx;
+  return k->sys->solve(k->sys->ctx, r, z);
+}
+
+static int solve(sdae_newton *nw, const sdae_newton_system *sys, const double *y) {
+  if (nw->krylov && sys->solve) {
+    krylov_ctx k = {nw, sys, y};
+    sdae_gmres_ops ops = {krylov_apply, krylov_precond, &k};
+    int rc = sdae__gmres_solve(nw->krylov, &ops, nw->R, nw->dy, nw->krylov_rtol);
+    nw->krylov_iters += nw->krylov->iters;
+    return rc;
+  }
+  if (sys->solve) return sys->solve(sys->ctx, nw->R, nw->dy);
+  newton_solve(nw);
+  return SDAE_OK;
 }
 
 /* ---- the convergence test, one for every solve (SUNDIALS' fourth hook), and its constants ---- */
@@ -296,13 +348,14 @@ static const double keep_coeff_change = 0.3;
  * update 0; near: and that update was within reuse_below), the last update, the rate */
 typedef struct attempt_state {
   int chord, fresh, near;
+  int short_solve; /* the last update's GMRES stopped short of its tolerance */
   unsigned m;
   double prev, rate;
 } attempt_state;
 
 /* the updates stopped shrinking with a matrix from within reuse_below: the residual's noise */
 static int at_noise(const attempt_state *st, double del, double scale) {
-  return st->near && st->m > 0 && del > rate_diverging * st->prev && del <= noise_most * scale;
+  return st->near && !st->short_solve && st->m > 0 && del > rate_diverging * st->prev && del <= noise_most * scale;
 }
 
 /* converged after an update del (scale: 1 + ||y||): below tol, and for a chord at rounding or
@@ -352,7 +405,7 @@ static int update(sdae_newton *nw, double *y, double *del, double *scale) {
 /* ---- one attempt: at most max_iter iterations from y, the matrix built first when build ---- */
 static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, int chord,
                    int build) {
-  attempt_state st = {chord, 0, 0, 0, 0.0, 0.0};
+  attempt_state st = {chord, 0, 0, 0, 0, 0.0, 0.0};
   int kept = !build; /* the attempt starts with a kept matrix */
   for (unsigned it = 0; it < nw->max_iter; it++) {
     double del, scale;
@@ -365,7 +418,8 @@ static int attempt(sdae_newton *nw, const sdae_newton_system *sys, double *y, in
       if ((rc = setup(nw, sys, y, chord)) != SDAE_OK) return rc;
       st.fresh = 1, st.near = 0, st.m = 0, st.rate = 0.0;
     }
-    solve(nw, sys);
+    if ((rc = solve(nw, sys, y)) != SDAE_OK) return rc;
+    st.short_solve = nw->krylov && sys->solve && !nw->krylov->reached;
     if ((rc = update(nw, y, &del, &scale)) != SDAE_OK) return kept ? SDAE_ERR_NEWTON : rc;
     v = judge(nw, &st, del, scale);
     if (v == CONVERGED) return SDAE_OK;

@@ -11,11 +11,18 @@
 
 #include "arena.h"
 #include "bytes.h"
+#include "gmres.h"
 
 /* the library's default tolerance and iteration cap (sdae_options_default, and the solves
  * that have no options: a DAE's coordinates) */
 #define SDAE_NEWTON_TOL 1e-14
 #define SDAE_NEWTON_MAX_ITER 20u
+/* Newton-Krylov's GMRES (a model's linear solve its preconditioner): at most this many steps,
+ * to this relative residual; Newton then gains about three digits an iteration, where the
+ * preconditioner alone as a chord gained less than half of one on a long rope in motion (the
+ * chart's terms it leaves out grow with the velocity's multipliers, docs/performance.md) */
+#define SDAE_KRYLOV_DIM 20u
+#define SDAE_KRYLOV_RTOL 1e-3
 
 typedef struct sdae_newton_system {
   /* R(y) into R (n values): an sdae_status */
@@ -25,10 +32,10 @@ typedef struct sdae_newton_system {
   int (*f)(void *ctx, const double *y, double *out);
   const double *x, *shift;
   /* the linear setup and solve of the owner (both or neither): the matrix at y factored, an
-   * sdae_status; dy = A^-1 R with those factors. NULL: Newton's own, dR/dy by jacobian or by
-   * differences of residual, LU */
+   * sdae_status; dy = A^-1 R with those factors, an sdae_status. NULL: Newton's own, dR/dy by
+   * jacobian or by differences of residual, LU */
   int (*setup)(void *ctx, const double *y);
-  void (*solve)(void *ctx, const double *R, double *dy);
+  int (*solve)(void *ctx, const double *R, double *dy);
   /* optional, with Newton's own setup when dense: J at y (n x n, row-major) such that
    * dR/dy = I - coeff J (coeff: the solve's), called right after residual at the same y (so it
    * may reuse what residual left in ctx); NULL: differences of R. A matrix from it costs one
@@ -61,6 +68,13 @@ typedef struct sdae_newton {
   int kept;
   double kept_coeff;
   unsigned kept_age;
+  /* Newton-Krylov (sdae__newton_carve_krylov): with the system's setup and solve, each linear
+   * solve is GMRES on dR/dy, its products by differences of R at the iterate, the system's
+   * solve its preconditioner */
+  sdae_gmres *krylov;
+  double krylov_rtol;
+  sdae_gmres gmres;
+  unsigned long krylov_iters; /* GMRES steps, counted here alone */
   unsigned long refreshes; /* matrices built with keep = 1 */
   unsigned long retries;   /* solves retried from their start with a fresh matrix */
 } sdae_newton;
@@ -73,6 +87,9 @@ void sdae__newton_carve(sdae_newton *nw, size_t n, size_t band, double tol, unsi
 /* the same without a matrix of its own: the system gives setup and solve */
 void sdae__newton_carve_hooks(sdae_newton *nw, size_t n, double tol, unsigned max_iter,
                               sdae_arena *a);
+/* the same, with GMRES of at most m steps to relative residual rtol as its linear solve */
+void sdae__newton_carve_krylov(sdae_newton *nw, size_t n, size_t m, double rtol, double tol,
+                               unsigned max_iter, sdae_arena *a);
 /* y such that R(y) = 0, from the y given. The matrix, when it has the form I - coeff J, is kept
  * (keep = 1) while coeff stays within 30 % of the one it was built for and for at most 20
  * solves; a solve that does not converge with a kept matrix is retried from the same y with a

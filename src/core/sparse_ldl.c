@@ -200,6 +200,14 @@ int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values) {
   return SDAE_OK;
 }
 
+void sdae__sparse_ldl_copy(sdae_sparse_ldl *dst, const sdae_sparse_ldl *src) {
+  size_t n = src->sym->n, nz = (size_t)src->sym->Lp[n];
+  memcpy(dst->Li, src->Li, nz * sizeof *dst->Li);
+  memcpy(dst->Lx, src->Lx, nz * sizeof *dst->Lx);
+  memcpy(dst->D, src->D, n * sizeof *dst->D);
+  dst->least = src->least;
+}
+
 void sdae__sparse_ldl_solve(sdae_sparse_ldl *f, const double *b, double *x) {
   const sdae_sparse_ldl_symbolic *s = f->sym;
   sslong n = (sslong)s->n;

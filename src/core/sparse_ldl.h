@@ -72,6 +72,9 @@ void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *
  * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, that
  * rounding carried to the diagonal of G M^-1 G^T (G not of full rank to rounding) */
 int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values);
+/* dst's factors = src's (both of one analysis): dst then solves as src does now, whatever src
+ * factors next */
+void sdae__sparse_ldl_copy(sdae_sparse_ldl *dst, const sdae_sparse_ldl *src);
 /* x = K^-1 b (x and b may not overlap) */
 void sdae__sparse_ldl_solve(sdae_sparse_ldl *f, const double *b, double *x);
 

@@ -77,9 +77,10 @@ static int x_setup(void *ctx, const double *x) {
   return sdae__lu_factor(c->LU, c->piv, n, n - 1, n - 1);
 }
 
-static void x_solve(void *ctx, const double *R, double *dx) {
+static int x_solve(void *ctx, const double *R, double *dx) {
   const sdae_coords *c = ((const x_eq *)ctx)->c;
   sdae__lu_factored_solve(c->LU, c->piv, c->n, c->n - 1, c->n - 1, R, dx);
+  return SDAE_OK;
 }
 
 int sdae__coords_invert(sdae_coords *c, double t, const double *z, double *x) {

@@ -16,6 +16,7 @@ typedef struct sdae_map_ctx {
   double *work;            /* the map's scratch: scratch(model, options) doubles */
   sdae_newton *newton;     /* the solver a composed map solves its stages with */
   unsigned long phi_evals; /* every evaluation of phi, counted by sdae__map_phi alone */
+  double *mid; /* n_mu where the model solves (sdae__map_model_solves): Newton's midpoint */
 } sdae_map_ctx;
 
 typedef int (*sdae_map_fn)(sdae_map_ctx *c, double t, double T, const double *mu,
@@ -43,6 +44,9 @@ struct sdae_map_type {
    * Jacobian the residual just computed), so it may reuse what phi left in the scratch. */
   sdae_map_fn jac;
   int (*jac_given)(const sdae_model *m);
+  /* d phi_T / d mu+ is about slope times dq0/dmu at the midpoint (mu + mu+)/2, t + T/2 (0: not
+   * so): a model's own linear solve (q0_lsetup) then serves its Newton */
+  double slope;
   /* a composed map: the symmetric stages base_{gamma_s T} o ... o base_{gamma_1 T} */
   const sdae_map_type *base;
   const double *gamma;
@@ -71,9 +75,21 @@ static inline int sdae__map_uses_H(const sdae_map_type *map) {
   return map->uses_H || (map->base && map->base->uses_H);
 }
 
+/* the map's Newton solves an equation whose matrix a model's q0_lsetup approximates: an implicit
+ * map, or a composition of one, with a slope */
+static inline int sdae__map_slope_known(const sdae_map_type *map) {
+  const sdae_map_type *solved = map->base ? map->base : map;
+  return solved->implicit && solved->slope > 0.0;
+}
+
+/* the map's Newton solves with the model's q0_lsetup and q0_lsolve (no matrix of its own) */
+static inline int sdae__map_model_solves(const sdae_map_type *map, const sdae_model *m) {
+  return m->q0_lsetup && sdae__map_slope_known(map);
+}
+
 /* Newton on a step's or a stage's equation y = x + h (phi_T(x, y) + shift) (shift may be NULL),
- * from y (map_solve.c): the map's own Jacobian when it has one for this model and Newton is
- * dense, differences otherwise */
+ * from y (map_solve.c): the model's linear solve where it gives one for the map, else the map's
+ * own Jacobian when it has one for this model and Newton is dense, differences otherwise */
 int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double h, const double *x,
                     const double *shift, double *y);
 

@@ -193,6 +193,7 @@ const sdae_map_type sdae__dgrad_type = {
     .phi = dgrad_phi,
     .jac = dgrad_jac,
     .jac_given = dgrad_jac_given,
+    .slope = 0.5, /* q0's derivative at the midpoint, halved */
 };
 
 const sdae_map_type *const sdae_map_dgrad = &sdae__dgrad_type;

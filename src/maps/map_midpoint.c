@@ -39,6 +39,7 @@ const sdae_map_type sdae__midpoint_type = {
     .phi = midpoint_phi,
     .jac = midpoint_jac,
     .jac_given = midpoint_jac_given,
+    .slope = 0.5, /* q0's derivative at the midpoint, halved */
 };
 
 const sdae_map_type *const sdae_map_midpoint = &sdae__midpoint_type;

@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "core/callback.h"
 #include "map.h"
 
 typedef struct step_eq {
@@ -29,6 +30,21 @@ static int jacobian(void *ctx, const double *y, double *J) {
   return e->map->jac(e->c, e->t, e->h, e->x, y, J);
 }
 
+/* the model's approximation of dR/dy = I - h slope dq0/dmu at the midpoint (maps/map.h) */
+static int model_setup(void *ctx, const double *y) {
+  const step_eq *e = ctx;
+  const sdae_model *m = e->c->model;
+  double *mid = e->c->mid;
+  for (size_t i = 0; i < m->n_mu; i++) mid[i] = 0.5 * (e->x[i] + y[i]);
+  return sdae__status_of_callback(
+      m->q0_lsetup(e->t + 0.5 * e->h, mid, e->map->slope * e->h, m->params));
+}
+
+static int model_solve(void *ctx, const double *R, double *dy) {
+  const sdae_model *m = ((const step_eq *)ctx)->c->model;
+  return sdae__callback_checked(m->q0_lsolve(R, dy, m->params), dy, m->n_mu);
+}
+
 /* the map's own Jacobian, for a model it has one for */
 static int analytic(const sdae_map_type *map, const sdae_model *m) {
   return map->jac && (!map->jac_given || map->jac_given(m));
@@ -43,6 +59,7 @@ int sdae__map_solve(const sdae_map_type *map, sdae_map_ctx *c, double t, double 
   int own = analytic(map, c->model) && c->newton->J;
   sdae_newton_system sys = {
       .f = phi_of, .x = x, .shift = shift, .jacobian = own ? jacobian : NULL, .ctx = &e};
+  if (sdae__map_model_solves(map, c->model)) sys.setup = model_setup, sys.solve = model_solve;
   int rc = sdae__newton_solve(c->newton, &sys, h, y);
   if (rc != SDAE_ERR_NEWTON) return rc;
   /* no root found from the predictor, even with a matrix built there: the same equation from

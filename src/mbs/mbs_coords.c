@@ -77,6 +77,8 @@ int sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   co->g = sdae__take(a, n_c, 1);
   co->F = sdae__take(a, n_q, 1);
   co->F_in = sdae__take(a, n_q, 1);
+  co->w = sdae__take(a, n_q, 1);
+  co->Dw = sdae__take(a, n_q, 1);
   co->zero = sdae__take(a, 2 * n_c, 1);
   if (co->zero) { /* NULL while the block is only counted */
     memset(co->zero, 0, 2 * n_c * sizeof *co->zero);
@@ -233,9 +235,10 @@ static int q_setup(void *ctx, const double *y) {
 }
 
 /* linear solve with G_D's factors */
-static void q_solve(void *ctx, const double *R, double *dy) {
+static int q_solve(void *ctx, const double *R, double *dy) {
   const q_eq *e = ctx;
   e->co->linalg->gd_solve(e->co->la, R, dy);
+  return SDAE_OK;
 }
 
 /* The linearization of the chart at the base (docs/front-ends.md, the cost of a step): q_I from
@@ -377,22 +380,32 @@ void sdae__mbs_coords_point(const sdae_mbs_coords *co, double *q, double *v) {
 
 /* ---- the energy structure at Phi^-1(t, 0, mu) (mbs_model.c) ---- */
 
-int sdae__mbs_coords_energy_structure(const sdae_mbs_coords *co) {
-  return co->linalg->reduced_damping != NULL;
-}
-
 int sdae__mbs_energy_on(sdae_mbs_coords *co, double t, const double *mu, double *H) {
   int rc = sdae__mbs_phi_inv(co, t, co->zero, mu);
   return rc == SDAE_OK ? co->linalg->energy(co->la, t, co->q, co->v, H) : rc;
 }
 
-/* R = W^T D W; zero without damping */
-int sdae__mbs_damping_on(sdae_mbs_coords *co, double t, const double *mu, double *R) {
+/* w = W x: x at q_I, G_D^-1 (-G_I x) at q_D */
+static void w_times(sdae_mbs_coords *co, const double *x, double *w) {
+  memset(w, 0, co->n_q * sizeof *w);
+  for (size_t k = 0; k < co->n_f; k++) w[co->ind[k]] = x[k];
+  co->linalg->move(co->la, co->zero, w, co->dq_D);
+  for (size_t j = 0; j < co->n_c; j++) w[co->dep[j]] = co->dq_D[j];
+}
+
+/* R x = W^T D W x, by products */
+int sdae__mbs_damping_on(sdae_mbs_coords *co, double t, const double *mu, const double *x,
+                         double *out) {
   int rc;
-  memset(R, 0, co->n_f * co->n_f * sizeof *R);
-  if (!co->eval->sys.damping) return SDAE_OK;
+  if (!co->eval->sys.damping) {
+    memset(out, 0, co->n_f * sizeof *out);
+    return SDAE_OK;
+  }
   if ((rc = sdae__mbs_phi_inv(co, t, co->zero, mu)) != SDAE_OK) return rc;
-  return co->linalg->reduced_damping(co->la, t, co->q, R);
+  w_times(co, x, co->w);
+  if ((rc = co->linalg->damping_times(co->la, t, co->q, co->w, co->Dw)) != SDAE_OK) return rc;
+  co->linalg->wt(co->la, co->Dw, out);
+  return SDAE_OK;
 }
 
 /* W^T F_in, the momentum part of B u */
@@ -402,6 +415,29 @@ int sdae__mbs_input_on(sdae_mbs_coords *co, double t, const double *mu, double *
       (rc = sdae__mbs_input_force(co->eval, t, co->q, co->v, co->F_in)) != SDAE_OK)
     return rc;
   co->linalg->wt(co->la, co->F_in, Bu);
+  return SDAE_OK;
+}
+
+/* ---- the implicit maps' linear solve ---- */
+
+int sdae__mbs_coords_solves(const sdae_mbs_coords *co) { return co->linalg->newton_keep != NULL; }
+
+int sdae__mbs_lsetup(sdae_mbs_coords *co, double t, const double *mu, double a) {
+  int rc = sdae__mbs_phi_inv(co, t, co->zero, mu);
+  if (rc != SDAE_OK) return rc;
+  co->linalg->newton_keep(co->la);
+  co->newton_a = a;
+  return SDAE_OK;
+}
+
+/* (I - a J) z = r with J = [[0, M_r^-1], [0, 0]]: u = M_r^-1 r_p from the kept velocity's
+ * system (w = W u, G w = 0, W^T M w = r_p), z_q = r_q + a u, z_p = r_p */
+int sdae__mbs_lsolve(sdae_mbs_coords *co, const double *r, double *z) {
+  size_t n_f = co->n_f;
+  int rc = co->linalg->newton_velocity(co->la, r + n_f, co->w);
+  if (rc != SDAE_OK) return rc;
+  for (size_t k = 0; k < n_f; k++) z[k] = r[k] + co->newton_a * co->w[co->ind[k]];
+  memcpy(z + n_f, r + n_f, n_f * sizeof *z);
   return SDAE_OK;
 }
 

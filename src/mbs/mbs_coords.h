@@ -52,6 +52,8 @@ typedef struct sdae_mbs_coords {
   double *dq;         /* n_q: q_I's move from the base, zero at q_D */
   double *g;          /* n_c: xi's velocity part - dc/dt, what G v must be */
   double *F, *F_in;   /* n_q each: the applied force, the forces from outside the Lagrangian */
+  double *w, *Dw;     /* n_q each: W x and D W x (the damping's product), Newton's velocity */
+  double newton_a;    /* the implicit maps' linear solve: its coefficient where set up */
   double *zero;       /* 2 n_c zeros: xi on the manifold */
   sdae_newton newton; /* Phi^-1's: a chord with G_D's factors kept from the base */
   /* Newton iterations of Phi^-1 since the step's start, reported to the stepper, which
@@ -90,13 +92,21 @@ int sdae__mbs_mu_dot(sdae_mbs_coords *co, double t, double *out);
 /* the point's q and v copied out */
 void sdae__mbs_coords_point(const sdae_mbs_coords *co, double *q, double *v);
 
-/* the energy structure at Phi^-1(t, 0, mu), for the discrete gradients (where the back-end has
- * one: sdae__mbs_coords_energy_structure): the energy, R = W^T D W (n_f x n_f, zero without
- * damping) and W^T F_in (n_f) */
-int sdae__mbs_coords_energy_structure(const sdae_mbs_coords *co);
+/* the energy structure at Phi^-1(t, 0, mu), for the discrete gradients: the energy, out (n_f) =
+ * R x with R = W^T D W (zero without damping) and W^T F_in (n_f) */
 int sdae__mbs_energy_on(sdae_mbs_coords *co, double t, const double *mu, double *H);
-int sdae__mbs_damping_on(sdae_mbs_coords *co, double t, const double *mu, double *R);
+int sdae__mbs_damping_on(sdae_mbs_coords *co, double t, const double *mu, const double *x,
+                         double *out);
 int sdae__mbs_input_on(sdae_mbs_coords *co, double t, const double *mu, double *Bu);
+
+/* The implicit maps' linear solve where the back-end keeps Newton's factors
+ * (sdae__mbs_coords_solves): I - a J, J = d(q_I', p')/d(q_I, p), approximated by the part of a
+ * free motion, q_I' = M_r^-1 p with M_r = W^T M W, the forces' and the geometry's derivatives
+ * left out; set up at Phi^-1(t, 0, mu) (the velocity's factors there kept), and solved,
+ * z_p = r_p, z_q = r_q + a M_r^-1 r_p, at the cost of those factors' nonzeros */
+int sdae__mbs_coords_solves(const sdae_mbs_coords *co);
+int sdae__mbs_lsetup(sdae_mbs_coords *co, double t, const double *mu, double a);
+int sdae__mbs_lsolve(sdae_mbs_coords *co, const double *r, double *z);
 
 /* what the next step depends on (the back-end's chart and matrices, the point), counted,
  * written or read (core/bytes.h); after a read, whether it is whole, and when it is, the

@@ -228,21 +228,12 @@ static int energy(void *p, double t, const double *q, const double *v, double *E
   return sdae__mbs_energy_of(d->eval, t, q, v, d->M, E);
 }
 
-/* R = W^T D W */
-static int reduced_damping(void *p, double t, const double *q, double *R) {
+/* D x, D evaluated at q */
+static int damping_times(void *p, double t, const double *q, const double *x, double *out) {
   sdae_mbs_dense *d = p;
-  size_t n_q = d->n_q, n_f = d->n_f;
-  const double *W = d->chart.W, *D = d->D;
   int rc = sdae__mbs_damping(d->eval, t, q, d->D);
-  if (rc != SDAE_OK) return rc;
-  for (size_t a = 0; a < n_f; a++)
-    for (size_t b = 0; b < n_f; b++) {
-      double acc = 0.0;
-      for (size_t i = 0; i < n_q; i++)
-        for (size_t j = 0; j < n_q; j++) acc += W[i * n_f + a] * D[i * n_q + j] * W[j * n_f + b];
-      R[a * n_f + b] = acc;
-    }
-  return SDAE_OK;
+  if (rc == SDAE_OK) mat_vec(d->D, d->n_q, x, out);
+  return rc;
 }
 
 /* ---- the chart's and the state's ---- */
@@ -302,7 +293,7 @@ const sdae_mbs_linalg sdae__mbs_dense_linalg = {
     .seed = seed,
     .momentum_rate = momentum_rate,
     .energy = energy,
-    .reduced_damping = reduced_damping,
+    .damping_times = damping_times,
     .chart = chart,
     .measure = measure,
     .state = state,

@@ -94,6 +94,11 @@ int sdae__mbs_mass_values(sdae_mbs_eval *e, double t, const double *q, double *v
                                 e->sys.mass_pattern->nnz);
 }
 
+int sdae__mbs_damping_values(sdae_mbs_eval *e, double t, const double *q, double *values) {
+  return sdae__callback_checked(e->sys.damping(t, q, values, e->sys.params), values,
+                                e->sys.mass_pattern->nnz);
+}
+
 int sdae__mbs_jacobian_values(sdae_mbs_eval *e, double t, const double *q, double *values) {
   return sdae__callback_checked(e->sys.jacobian(t, q, values, e->sys.params), values,
                                 e->sys.jacobian_pattern->nnz);

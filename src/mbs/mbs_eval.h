@@ -57,6 +57,7 @@ int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D);
 /* a sparse mechanism's matrices as their nonzeros in pattern order (the patterns given), and
  * (d/ds M) v, each callback given (mbs_sparse.c) */
 int sdae__mbs_mass_values(sdae_mbs_eval *e, double t, const double *q, double *values);
+int sdae__mbs_damping_values(sdae_mbs_eval *e, double t, const double *q, double *values);
 int sdae__mbs_jacobian_values(sdae_mbs_eval *e, double t, const double *q, double *values);
 int sdae__mbs_jacobian_dot_values(sdae_mbs_eval *e, double t, const double *q, const double *v,
                                   double *values);

@@ -70,10 +70,15 @@ typedef struct sdae_mbs_linalg {
    * (n_q) holds the applied force and serves as scratch */
   int (*momentum_rate)(void *la, double t, const double *q, const double *v, double *F,
                        double *out);
-  /* the energy v^T M v / 2 + V(q) with the stored M; R = W^T D W (n_f x n_f) at q: the energy
-   * structure of the discrete gradients, which only a back-end with reduced_damping carries */
+  /* the energy v^T M v / 2 + V(q) with the stored M; out (n_q) = D(t, q) x, the damping's
+   * product (the energy structure of the discrete gradients: R = W^T D W by products) */
   int (*energy)(void *la, double t, const double *q, const double *v, double *E);
-  int (*reduced_damping)(void *la, double t, const double *q, double *R);
+  int (*damping_times)(void *la, double t, const double *q, const double *x, double *out);
+  /* optional (NULL: the implicit maps' Newton forms its own matrix): the velocity's factors at
+   * the point kept as Newton's (newton_keep), and with them w (n_q) such that G w = 0,
+   * W^T M w = b (b n_f): the reduced mass solved for at the cost of the factors' nonzeros */
+  void (*newton_keep)(void *la);
+  int (*newton_velocity)(void *la, const double *b, double *w);
   /* the chart: its dependent coordinates ascending (SDAE_ERR_CHART before the first), and its
    * measure where it was chosen or kept */
   int (*chart)(const void *la, size_t *dependent);

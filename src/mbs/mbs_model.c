@@ -3,7 +3,8 @@
  * G(t, xi, mu) = mu-dynamics at Phi^-1(t, xi, mu), q0 and Q by the rule of derive.c, and with a
  * potential the energy structure of the discrete gradients:
  *
- *   H(mu) = v^T M v / 2 + V(q) at Phi^-1(t, 0, mu),   S = J - R = [[0, I], [-I, -W^T D W]],
+ *   H(mu) = v^T M v / 2 + V(q) at Phi^-1(t, 0, mu),   S = J - R = [[0, I], [-I, -W^T D W]]
+ *   (applied by products, never formed),
  *   B u = (0, W^T F_in),   grad H = S^-1 (q0 - B u) = (-(q0 - B u)_p - R q0_q, q0_q),
  *
  * (q_I, p_I) being canonical on the manifold, so no further derivative is needed; F_in are the
@@ -68,32 +69,40 @@ static int grad_H(double t, const double *mu, double *out, void *params) {
   sdae_mbs_model *m = params;
   size_t n_f = m->n_f;
   int rc = sdae__derive_q0(&m->derive, t, mu, out);
-  if (rc == SDAE_OK) rc = sdae__mbs_damping_on(m->co, t, mu, m->R);
+  if (rc == SDAE_OK) rc = sdae__mbs_damping_on(m->co, t, mu, out, m->Rx);
   if (rc == SDAE_OK && m->input) rc = input_p(m, t, mu);
   if (rc != SDAE_OK) return code(m, rc);
   for (size_t a = 0; a < n_f && m->input; a++) out[n_f + a] -= m->Bu[a];
   for (size_t a = 0; a < n_f; a++) { /* out = (q0_q, q0_p) becomes (-q0_p - R q0_q, q0_q) */
     double qa = out[a];
-    m->row[a] = -out[n_f + a];
-    for (size_t b = 0; b < n_f; b++) m->row[a] -= m->R[a * n_f + b] * out[b];
+    m->row[a] = -out[n_f + a] - m->Rx[a];
     out[n_f + a] = qa;
   }
   memcpy(out, m->row, n_f * sizeof *out);
   return 0;
 }
 
-static int S(double t, const double *mu, double *out, void *params) {
+/* S g = (g_p, -g_q - R g_p) */
+static int S_apply(double t, const double *mu, const double *g, double *out, void *params) {
   sdae_mbs_model *m = params;
-  size_t n_f = m->n_f, n = 2 * n_f;
-  int rc = sdae__mbs_damping_on(m->co, t, mu, m->R);
+  size_t n_f = m->n_f;
+  int rc = sdae__mbs_damping_on(m->co, t, mu, g + n_f, m->Rx);
   if (rc != SDAE_OK) return code(m, rc);
-  memset(out, 0, n * n * sizeof *out);
   for (size_t a = 0; a < n_f; a++) {
-    out[a * n + n_f + a] = 1.0;
-    out[(n_f + a) * n + a] = -1.0;
-    for (size_t b = 0; b < n_f; b++) out[(n_f + a) * n + n_f + b] = -m->R[a * n_f + b];
+    out[a] = g[n_f + a];
+    out[n_f + a] = -g[a] - m->Rx[a];
   }
   return 0;
+}
+
+static int lsetup(double t, const double *mu, double a, void *params) {
+  sdae_mbs_model *m = params;
+  return code(m, sdae__mbs_lsetup(m->co, t, mu, a));
+}
+
+static int lsolve(const double *r, double *z, void *params) {
+  sdae_mbs_model *m = params;
+  return code(m, sdae__mbs_lsolve(m->co, r, z));
 }
 
 void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, sdae_mbs_coords *co) {
@@ -107,20 +116,20 @@ void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, sdae_mbs
   nf->n_mu = 2 * m->n_f;
   nf->q0 = q0;
   nf->Q_apply = Q_apply;
-  if (eval->sys.potential &&
-      sdae__mbs_coords_energy_structure(co)) { /* the energy structure: the discrete gradients */
+  if (eval->sys.potential) { /* the energy structure: the discrete gradients */
     nf->H = H;
     nf->grad_H = grad_H;
-    nf->S = S;
+    nf->S_apply = S_apply;
     if (m->input) nf->input = input;
   }
+  if (sdae__mbs_coords_solves(co)) nf->q0_lsetup = lsetup, nf->q0_lsolve = lsolve;
   nf->params = m;
 }
 
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a) {
   size_t n_f = m->n_f, structure = m->model.H ? n_f : 0; /* the energy structure's alone */
   sdae__derive_carve(&m->derive, 2 * m->n_c, 2 * n_f, rate, m, a);
-  m->R = sdae__take(a, structure, n_f);
+  m->Rx = sdae__take(a, structure, 1);
   m->row = sdae__take(a, structure, 1);
   m->Bu = sdae__take(a, structure, 1);
   m->Bu_mu = sdae__take(a, 2 * structure, 1);

@@ -19,7 +19,7 @@ typedef struct sdae_mbs_model {
   size_t n_c, n_f;
   int input;     /* the mechanism has forces from outside the Lagrangian (input_force) */
   int status;    /* the status behind the last failing callback of the normal form */
-  double *R;     /* n_f x n_f: R = W^T D W on the manifold */
+  double *Rx;    /* n_f: R x, R = W^T D W on the manifold */
   double *row;   /* n_f: grad H's first half while q0's is still read */
   double *Bu;    /* n_f: W^T F_in, the input's momentum part, taken from q0 in grad H */
   double *Bu_mu; /* n_mu: the mu Bu was evaluated at (with Bu_t), kept for the map's input */
@@ -28,8 +28,9 @@ typedef struct sdae_mbs_model {
   double *floor; /* 2 n_c: xi's floors at the step's start (derive.c skips below) */
 } sdae_mbs_model;
 
-/* the normal form of a mechanism in its coordinates co (the energy structure where their
- * back-end has one and the mechanism a potential); the arrays come from sdae__mbs_model_carve */
+/* the normal form of a mechanism in its coordinates co (the energy structure where the
+ * mechanism has a potential, the implicit maps' linear solve where the back-end keeps Newton's
+ * factors); the arrays come from sdae__mbs_model_carve */
 void sdae__mbs_model_init(sdae_mbs_model *m, const sdae_mbs_eval *eval, sdae_mbs_coords *co);
 void sdae__mbs_model_carve(sdae_mbs_model *m, sdae_arena *a);
 /* forgets the q0 and B u kept: another start of Phi^-1, another chart */

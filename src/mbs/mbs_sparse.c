@@ -13,17 +13,17 @@
 
 int sdae__mbs_sparse_applies(const sdae_mbs *sys, const sdae_options *o) {
   return sys->mass_pattern && sys->jacobian_pattern && sys->jacobian_dot && sys->mass_dot_v &&
-         o->map && !sdae__map_uses_newton(o->map);
+         o->map && (!sdae__map_uses_newton(o->map) || sdae__map_slope_known(o->map));
 }
 
 static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
   sdae_mbs_sparse *sp = p;
-  (void)o;
   eval->matrices = 0; /* the stencils' dense matrices grow with n_q^2 */
   sp->eval = eval;
   sp->n_q = eval->n_q;
   sp->n_c = eval->n_c;
   sp->n_f = sp->n_q - sp->n_c;
+  sp->implicit = sdae__map_uses_newton(o->map);
   return sdae__mbs_sparse_layout_init(&sp->ly, eval);
 }
 
@@ -38,6 +38,8 @@ static int carve(void *p, sdae_arena *a) {
   sp->ind = sdae__take_indices(a, sp->n_f);
   sp->K = sdae__take(a, sp->ly.Kp.nnz, 1);
   sdae__sparse_ldl_carve(&sp->kkt, &sp->ly.ksym, a);
+  if (sp->implicit) sdae__sparse_ldl_carve(&sp->newton, &sp->ly.ksym, a);
+  sp->Dv = sdae__take(a, sp->eval->sys.damping ? sp->ly.Mp->nnz : 0, 1);
   sp->G = sdae__take(a, gnz, 1), sp->M = sdae__take(a, sp->ly.Mp->nnz, 1);
   sp->Gd = sdae__take(a, gnz, 1);
   sp->nu = sdae__take(a, n_c, 1);
@@ -265,6 +267,42 @@ static int momentum_rate(void *p, double t, const double *q, const double *v, do
   return SDAE_OK;
 }
 
+/* ---- the energy structure and the implicit maps' Newton ---- */
+
+static int energy(void *p, double t, const double *q, const double *v, double *E) {
+  sdae_mbs_sparse *sp = p;
+  double V = 0.0, kinetic = 0.0;
+  int rc;
+  if (sp->eval->sys.potential && (rc = sdae__mbs_potential(sp->eval, t, q, &V)) != SDAE_OK)
+    return rc;
+  m_times(sp, v, sp->Mdv);
+  for (size_t i = 0; i < sp->n_q; i++) kinetic += v[i] * sp->Mdv[i];
+  *E = 0.5 * kinetic + V;
+  return SDAE_OK;
+}
+
+static int damping_times(void *p, double t, const double *q, const double *x, double *out) {
+  sdae_mbs_sparse *sp = p;
+  int rc = sdae__mbs_damping_values(sp->eval, t, q, sp->Dv);
+  if (rc == SDAE_OK) sdae__mbs_sparse_m_times(&sp->ly, sp->Dv, x, out);
+  return rc;
+}
+
+static void newton_keep(void *p) {
+  sdae_mbs_sparse *sp = p;
+  sdae__sparse_ldl_copy(&sp->newton, &sp->kkt);
+}
+
+/* [M G^T; G 0] [w; nu] = [P^T (0, b); 0] by the kept factors */
+static int newton_velocity(void *p, const double *b, double *w) {
+  sdae_mbs_sparse *sp = p;
+  memset(sp->rhs, 0, sp->ly.n_k * sizeof *sp->rhs);
+  for (size_t f = 0; f < sp->n_f; f++) sp->rhs[sp->ind[f]] = b[f];
+  sdae__sparse_ldl_solve(&sp->newton, sp->rhs, sp->sol);
+  memcpy(w, sp->sol, sp->n_q * sizeof *w);
+  return sdae__all_finite(w, sp->n_q) ? SDAE_OK : SDAE_ERR_NONFINITE;
+}
+
 /* ---- the chart's and the state's ---- */
 
 static int chart_dependent(const void *p, size_t *dep) {
@@ -355,6 +393,10 @@ const sdae_mbs_linalg sdae__mbs_sparse_linalg = {
     .velocity = velocity,
     .seed = seed,
     .momentum_rate = momentum_rate,
+    .energy = energy,
+    .damping_times = damping_times,
+    .newton_keep = newton_keep,
+    .newton_velocity = newton_velocity,
     .chart = chart_dependent,
     .measure = measure,
     .state = state,

@@ -9,8 +9,9 @@
  *   p' = W^T (F + (dM/dt) v + (dG/dt)^T nu).
  *
  * Used for a mechanism with both patterns, jacobian_dot and mass_dot_v, stepped by an explicit
- * map (sdae__mbs_sparse_applies). No energy structure: the discrete gradients are implicit
- * maps, stepped on the dense back-end. */
+ * map or by one whose Newton the model's linear solve serves (sdae__mbs_sparse_applies: the
+ * midpoint and discrete-gradient maps and their compositions), whose matrix is the velocity's
+ * system at the midpoint (mbs_coords.c, the implicit maps' linear solve). */
 #ifndef STABDAE_SRC_MBS_MBS_SPARSE_H
 #define STABDAE_SRC_MBS_MBS_SPARSE_H
 
@@ -39,6 +40,10 @@ typedef struct sdae_mbs_sparse {
   /* the saddle-point system's values and factors */
   double *K;
   sdae_sparse_ldl kkt;
+  /* an implicit map's: the factors kept for its Newton (sdae_mbs_linalg's newton_keep) */
+  int implicit;
+  sdae_sparse_ldl newton;
+  double *Dv; /* nnz(M): the damping's values, with a damping */
   /* at the point */
   double *G, *M, *Gd; /* nnz(G), nnz(M), nnz(G) */
   double *nu;         /* n_c: the multipliers of the velocity's system */
@@ -51,7 +56,7 @@ typedef struct sdae_mbs_sparse {
 } sdae_mbs_sparse;
 
 /* the sparse back-end serves this mechanism and options: both patterns, jacobian_dot and
- * mass_dot_v given, an explicit map */
+ * mass_dot_v given, an explicit map or one a model's linear solve serves */
 int sdae__mbs_sparse_applies(const sdae_mbs *sys, const sdae_options *o);
 
 extern const sdae_mbs_linalg sdae__mbs_sparse_linalg;

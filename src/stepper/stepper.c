@@ -35,6 +35,7 @@ int sdae__stepper_validate(const sdae_model *m, const sdae_options *o) {
   if (!m || !o) return SDAE_ERR_NULL;
   if (m->n_xi == 0 || m->n_mu == 0) return SDAE_ERR_DIM;
   if (!m->q0 || (!m->Q && !m->Q_apply)) return SDAE_ERR_NULL;
+  if (!m->q0_lsetup != !m->q0_lsolve) return SDAE_ERR_NULL;
   if (o->scheme != SDAE_SCHEME_EXPLICIT && o->scheme != SDAE_SCHEME_SEMI_IMPLICIT)
     return SDAE_ERR_OPTION;
   if (!(stab = sdae__stabilizer_type(o->stabilizer))) return SDAE_ERR_OPTION;
@@ -59,9 +60,15 @@ static void carve(sdae_stepper *s, sdae_arena *a) {
   s->xi_new = sdae__take(a, n_xi, 1);
   s->map.work = sdae__take(a, map->scratch ? map->scratch(m, &s->opt) : 0, 1);
   if (s->stabilizer->carve) s->stabilizer->carve(&s->stab, a);
-  if (sdae__map_uses_newton(map))
-    sdae__newton_carve(&s->newton, n_mu, sdae__banded(m, &s->opt) ? s->opt.bandwidth : n_mu - 1,
-                       s->opt.newton_tol, s->opt.newton_max_iter, a);
+  if (!sdae__map_uses_newton(map)) return;
+  if (sdae__map_model_solves(map, m)) { /* Newton-Krylov on the model's linear solve */
+    sdae__newton_carve_krylov(&s->newton, n_mu, SDAE_KRYLOV_DIM, SDAE_KRYLOV_RTOL,
+                              s->opt.newton_tol, s->opt.newton_max_iter, a);
+    s->map.mid = sdae__take(a, n_mu, 1);
+    return;
+  }
+  sdae__newton_carve(&s->newton, n_mu, sdae__banded(m, &s->opt) ? s->opt.bandwidth : n_mu - 1,
+                     s->opt.newton_tol, s->opt.newton_max_iter, a);
 }
 
 /* the stepper's parts wired to its model and options, arrays not yet handed out */
@@ -173,6 +180,8 @@ static int step(sdae_stepper *s, double t, double T, const double *xi, const dou
   const sdae_model *m = &s->model;
   int rc;
   if (s->opt.map->begin) s->opt.map->begin(&s->map);
+  /* the model's factors are its own, not in the state's bytes: set up at the step's first solve */
+  if (sdae__map_model_solves(s->opt.map, m)) sdae__newton_forget(&s->newton);
   rc = sdae__eval_Q(m, s->Q, t, xi, mu, s->Qxi, s->qnorm2);
   if (rc == SDAE_OK) rc = s->stabilizer->xi_update(&s->stab, T, xi, s->xi_new);
   if (rc == SDAE_OK) rc = mu_update(s, t, T, mu);
