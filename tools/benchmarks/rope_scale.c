@@ -3,11 +3,12 @@
  * (N point masses on unit rods hung from the origin, 2N Cartesian coordinates, N constraints,
  * exact derivatives), from N = 8 up: the front-end's rk4 step on the rope given by its patterns
  * (the sparse coordinates, src/mbs/mbs_sparse.c) and, up to --dense-max, on the rope given
- * densely (the dense coordinates), the implicit midpoint map on the rope's patterns (implicit
- * maps keep the dense coordinates: their Newton matrix on mu is dense anyway), and the classical
- * RK4 on the index-1 form from the same callbacks (index1_rk4.c, dense algebra); T = 1e-3,
- * median CPU time of the thread over the
- * repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the index-1
+ * densely (the dense coordinates) and the classical RK4 on the index-1 form from the same
+ * callbacks (index1_rk4.c, dense algebra); up to --implicit-max the implicit midpoint and
+ * discrete-gradient maps on the rope's patterns (Newton-Krylov on the sparse back-end's linear
+ * solve), with dgrad's Newton iterations and phi evaluations a step and its energy's largest
+ * change relative to its size over the warm-up run; T = 1e-3, median CPU time of the thread
+ * over the repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the index-1
  * form with KLU on the rope's patterns (tools/ida/ida_mbs.h: the iteration matrix by grouped
  * differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.25 s from the
  * same start (the rope falling from rest, and its first swing): the median CPU time of the thread
@@ -24,6 +25,7 @@
  * (its start needs N odd).
  *
  *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
+ *              [--implicit-max N (default 1024)]
  *              [--reps R (1..15, default 5)] [--rope open|closed (default open)]
  *              [--budget S (seconds of CPU per stepper and N, default 0.5)] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -92,6 +94,35 @@ static int run(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, s
   return rc;
 }
 
+/* the stepper s (an mbs one) from the rope's start over steps: the largest change of the energy
+ * relative to its size, and Newton iterations and phi evaluations a step */
+static int drift(sdae_mbs_stepper *s, const mech_rope *r, size_t steps, double *dE,
+                 double *iters, double *evals) {
+  size_t n = 2 * r->N;
+  double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), E0 = 0.0, E;
+  const sdae_mbs_stats *st;
+  int rc = q && v ? 0 : -1;
+  if (rc == 0) mech_rope_start(r, 0.3, q, v);
+  if (rc == 0) rc = sdae_mbs_energy(s, 0.0, q, v, &E0);
+  sdae_mbs_stepper_reset_stats(s);
+  *dE = 0.0;
+  for (size_t k = 0; k < steps && rc == 0; k++) {
+    rc = sdae_mbs_step(s, (double)k * T, T, q, v);
+    if (rc == 0) rc = sdae_mbs_energy(s, (double)(k + 1) * T, q, v, &E);
+    if (rc == 0) *dE = fmax(*dE, fabs(E - E0) / fabs(E0));
+  }
+  st = sdae_mbs_stepper_stats(s);
+  *iters = (double)st->step.newton_iters_total / (double)steps;
+  *evals = (double)st->step.phi_evals / (double)steps;
+  free(q), free(v);
+  return rc;
+}
+
+/* the steps a run takes: as many as fit the budget at probe seconds a step, at most 2000 */
+static size_t steps_of(int reps, double budget, double probe) {
+  return probe > 0.0 ? (size_t)fmax(1.0, fmin(2000.0, budget / (reps * probe))) : 2000;
+}
+
 /* the median seconds per step over reps runs (a warm-up first, which measures max abs(c)), as
  * many steps a run as fit the budget by the warm-up's single step */
 static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, int reps,
@@ -99,7 +130,7 @@ static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys,
   double probe, t[15];
   size_t steps;
   int rc = run(step, s, r, sys, 1, &probe, NULL);
-  steps = probe > 0.0 ? (size_t)fmax(1.0, fmin(2000.0, budget / (reps * probe))) : 2000;
+  steps = steps_of(reps, budget, probe);
   if (rc == 0) rc = run(step, s, r, sys, steps, &t[0], c_max);
   for (int i = 0; i < reps && rc == 0; i++) rc = run(step, s, r, sys, steps, &t[i], NULL);
   qsort(t, (size_t)reps, sizeof *t, cmp_double);
@@ -178,15 +209,43 @@ static void cell(double seconds) {
     printf(" - |");
 }
 
+/* the implicit maps on the rope's patterns: midpoint's and dgrad's seconds a step, and dgrad's
+ * energy drift, Newton iterations and phi evaluations a step over as many steps as rk4's warm-up
+ * took (the same stretch of the motion) */
+typedef struct implicit_cells {
+  double mid, dgrad, dE, iters, evals;
+} implicit_cells;
+
+static int implicit_row(const mech_rope *r, const sdae_mbs *sys, const sdae_options *o, int reps,
+                        double budget, size_t steps, implicit_cells *ic) {
+  sdae_options om = *o;
+  sdae_mbs_stepper *sm = NULL, *sg = NULL;
+  double c_other;
+  int rc;
+  om.map = sdae_map_midpoint;
+  if ((rc = sdae_mbs_stepper_alloc(&sm, sys, &om)) == 0)
+    rc = timed(frontend, sm, r, sys, reps, budget, &ic->mid, &c_other);
+  om.map = sdae_map_dgrad;
+  if (rc == 0 && (rc = sdae_mbs_stepper_alloc(&sg, sys, &om)) == 0)
+    rc = timed(frontend, sg, r, sys, reps, budget, &ic->dgrad, &c_other);
+  if (rc == 0) rc = drift(sg, r, steps, &ic->dE, &ic->iters, &ic->evals);
+  sdae_mbs_stepper_free(sm);
+  sdae_mbs_stepper_free(sg);
+  return rc;
+}
+
 /* the front-end on the rope given by its patterns (the sparse coordinates); up to dense_max
- * also on the rope given densely and the index-1 baseline (dense algebra) */
-static int row(size_t N, int closed, size_t dense_max, int reps, double budget, double *us_sparse) {
+ * also on the rope given densely and the index-1 baseline (dense algebra), up to implicit_max
+ * the implicit maps on the patterns */
+static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int reps,
+               double budget, double *us_sparse) {
   mech_rope r = mech_rope_unit(N, closed, 1), rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
-  sdae_mbs_stepper *s = NULL, *sd = NULL, *sm = NULL;
+  sdae_mbs_stepper *s = NULL, *sd = NULL;
   index1_rk4 *w = NULL;
-  double c_sparse, c_other, us_dense = 0.0, us_mid = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
+  implicit_cells ic = {0};
+  double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
   if (rc == 0) rc = mech_rope_system(&dense, &rd);
@@ -198,23 +257,24 @@ static int row(size_t N, int closed, size_t dense_max, int reps, double budget, 
   if (rc == 0 && N <= dense_max) {
     if ((rc = sdae_mbs_stepper_alloc(&sd, &dense, &o)) == 0)
       rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other);
-    sdae_options om = o;
-    om.map = sdae_map_midpoint;
-    if (rc == 0 && (rc = sdae_mbs_stepper_alloc(&sm, &sys, &om)) == 0)
-      rc = timed(frontend, sm, &r, &sys, reps, budget, &us_mid, &c_other);
     if (rc == 0 && !(w = index1_rk4_alloc(&dense))) rc = -1;
     if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other);
   }
+  if (rc == 0 && N <= implicit_max)
+    rc = implicit_row(&r, &sys, &o, reps, budget, steps_of(reps, budget, *us_sparse), &ic);
   if (rc == 0) {
     printf("| %zu | %zu | %zu |", N, 2 * N, sdae_mbs_stepper_size(&sys, &o));
-    cell(*us_sparse), cell(us_dense), cell(us_mid), cell(us_rk4);
+    cell(*us_sparse), cell(us_dense), cell(ic.mid), cell(ic.dgrad), cell(us_rk4);
     printf(" %.1e |", c_sparse);
+    if (N <= implicit_max)
+      printf(" %.1e | %.2f | %.1f |", ic.dE, ic.iters, ic.evals);
+    else
+      printf(" - | - | - |");
     cell(ida_ms);
     printf(" %.1e |\n", c_ida);
   }
   sdae_mbs_stepper_free(s);
   sdae_mbs_stepper_free(sd);
-  sdae_mbs_stepper_free(sm);
   index1_rk4_free(w);
   mech_rope_free(&r);
   mech_rope_free(&rd);
@@ -222,7 +282,7 @@ static int row(size_t N, int closed, size_t dense_max, int reps, double budget, 
 }
 
 int main(int argc, char **argv) {
-  double max_n = 4096, dense_max = 256, reps = 5, budget = 0.5, prev = 0.0;
+  double max_n = 4096, dense_max = 256, implicit_max = 1024, reps = 5, budget = 0.5, prev = 0.0;
   int closed = 0;
   for (int i = 1; i < argc; i += 2) {
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -232,6 +292,8 @@ int main(int argc, char **argv) {
       rc = wp_parse_positive("rope_scale", "--max-n", v, 4096, &max_n);
     else if (strcmp(argv[i], "--dense-max") == 0)
       rc = wp_parse_positive("rope_scale", "--dense-max", v, 4096, &dense_max);
+    else if (strcmp(argv[i], "--implicit-max") == 0)
+      rc = wp_parse_positive("rope_scale", "--implicit-max", v, 4096, &implicit_max);
     else if (strcmp(argv[i], "--reps") == 0)
       rc = wp_parse_positive("rope_scale", "--reps", v, WP_MAX_REPS, &reps);
     else if (strcmp(argv[i], "--budget") == 0)
@@ -246,12 +308,14 @@ int main(int argc, char **argv) {
   }
   if (max_n < 8) return wp_bad("rope_scale", "--max-n below 8: ", "the smallest rope");
   printf("| N | coordinates | stepper bytes (sparse) | rk4 sparse, us/step | rk4 dense, us/step | "
-         "midpoint (dense coordinates), us/step | index-1 RK4, us/step | max abs(c), sparse | "
-         "IDA/KLU index-1, us per 1e-3 s simulated | max abs(c), IDA end |\n"
-         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+         "midpoint sparse, us/step | dgrad sparse, us/step | index-1 RK4, us/step | "
+         "max abs(c), sparse | dgrad energy drift | dgrad Newton iterations/step | "
+         "dgrad phi evaluations/step | IDA/KLU index-1, us per 1e-3 s simulated | "
+         "max abs(c), IDA end |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (size_t N = closed ? 7 : 8; N <= (size_t)max_n; N = closed ? 2 * N + 1 : 2 * N) {
     double front;
-    if (row(N, closed, (size_t)dense_max, (int)reps, budget, &front) != 0) {
+    if (row(N, closed, (size_t)dense_max, (size_t)implicit_max, (int)reps, budget, &front) != 0) {
       fprintf(stderr, "rope_scale: N = %zu failed\n", N);
       return 1;
     }

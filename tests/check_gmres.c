@@ -1,0 +1,230 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* GMRES (core/gmres.c) and Newton-Krylov (core/newton.c with sdae__newton_carve_krylov): GMRES
+ * is exact in n steps on n unknowns and in one with the exact inverse as its preconditioner,
+ * its rotated residual is the true residual, it stops short at m steps and says so; Newton with
+ * GMRES as its linear solve converges where the chord on the same preconditioner cannot. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_linalg.h>
+
+#include "core/arena.h"
+#include "core/gmres.h"
+#include "core/newton.h"
+#include "testmodels.h"
+
+enum { N = 8 };
+
+/* a nonsymmetric matrix with the eigenvalues of its diagonal spread over [1, 8] */
+typedef struct linear {
+  double A[N * N];
+  double LU[N * N]; /* A's factors (GSL's), the exact preconditioner */
+  size_t perm[N];
+  int exact;        /* precondition by A^-1 (else by I) */
+  int fail_at;      /* apply fails at this call (0: never) */
+  int calls;
+} linear;
+
+static linear linear_case(void) {
+  linear L;
+  memset(&L, 0, sizeof L);
+  for (size_t i = 0; i < N; i++)
+    for (size_t j = 0; j < N; j++)
+      L.A[i * N + j] = i == j ? 1.0 + (double)i : 0.3 * sin(1.0 + (double)(3 * i + 7 * j));
+  memcpy(L.LU, L.A, sizeof L.A);
+  gsl_matrix_view lu = gsl_matrix_view_array(L.LU, N, N);
+  gsl_permutation p = {N, L.perm};
+  int sign;
+  ck_assert_int_eq(gsl_linalg_LU_decomp(&lu.matrix, &p, &sign), GSL_SUCCESS);
+  return L;
+}
+
+static void times(const double *A, const double *x, double *out) {
+  for (size_t i = 0; i < N; i++) {
+    out[i] = 0.0;
+    for (size_t j = 0; j < N; j++) out[i] += A[i * N + j] * x[j];
+  }
+}
+
+static int apply(void *ctx, const double *x, double *out) {
+  linear *L = ctx;
+  if (++L->calls == L->fail_at) return SDAE_ERR_CALLBACK_RECOVERABLE;
+  times(L->A, x, out);
+  return SDAE_OK;
+}
+
+/* x = A^-1 b by A's factors */
+static void lu_solve(linear *L, const double *b_in, double *x) {
+  gsl_matrix_view lu = gsl_matrix_view_array(L->LU, N, N);
+  gsl_permutation p = {N, L->perm};
+  gsl_vector_const_view bv = gsl_vector_const_view_array(b_in, N);
+  gsl_vector_view xv = gsl_vector_view_array(x, N);
+  ck_assert_int_eq(gsl_linalg_LU_solve(&lu.matrix, &p, &bv.vector, &xv.vector), GSL_SUCCESS);
+}
+
+static int precond(void *ctx, const double *r, double *z) {
+  linear *L = ctx;
+  if (L->exact)
+    lu_solve(L, r, z);
+  else
+    memcpy(z, r, N * sizeof *z);
+  return SDAE_OK;
+}
+
+static void *gmres_of(sdae_gmres *g, size_t m) {
+  sdae_arena count = {0}, a = {0};
+  sdae__gmres_carve(g, N, m, &count);
+  a.base = calloc(count.used, 1);
+  sdae__gmres_carve(g, N, m, &a);
+  return a.base;
+}
+
+static double residual_norm(const double *A, const double *b, const double *x) {
+  double Ax[N], s = 0.0;
+  times(A, x, Ax);
+  for (size_t i = 0; i < N; i++) s += (b[i] - Ax[i]) * (b[i] - Ax[i]);
+  return sqrt(s);
+}
+
+static const double b[N] = {1.0, -2.0, 0.5, 3.0, -1.0, 0.25, 2.0, -0.75};
+
+/* the Krylov space of an n x n matrix is the whole space after n steps: the solution to rounding
+ * without a preconditioner, as A's own factors give it */
+START_TEST(exact_in_n_steps) {
+  linear L = linear_case();
+  sdae_gmres g;
+  void *mem = gmres_of(&g, N);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N], ref[N];
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-15), SDAE_OK);
+  ck_assert_uint_le(g.iters, N);
+  lu_solve(&L, b, ref);
+  for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - ref[i]), 1e-13);
+  free(mem);
+}
+END_TEST
+
+/* with A^-1 as the preconditioner A P^-1 = I: one step */
+START_TEST(exact_preconditioner_one_step) {
+  linear L = linear_case();
+  sdae_gmres g;
+  void *mem = gmres_of(&g, N);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N];
+  L.exact = 1;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_OK);
+  ck_assert_uint_eq(g.iters, 1);
+  ck_assert_int_eq(g.reached, 1);
+  ck_assert_double_le(residual_norm(L.A, b, x), 1e-13);
+  free(mem);
+}
+END_TEST
+
+/* three steps of eight: short of the tolerance, said so (reached 0), and the residual the
+ * rotations carry, |g_3|, is the true ||b - A x||, below ||b|| (GMRES minimizes it over the
+ * Krylov space, which holds x = 0) */
+START_TEST(short_at_m_steps) {
+  linear L = linear_case();
+  sdae_gmres g;
+  void *mem = gmres_of(&g, 3);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N], zero[N] = {0}, bn = residual_norm(L.A, b, zero);
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_OK);
+  ck_assert_uint_eq(g.iters, 3);
+  ck_assert_int_eq(g.reached, 0);
+  double r = residual_norm(L.A, b, x);
+  ck_assert_double_lt(r, bn);
+  ck_assert_double_gt(r, 1e-12 * bn);
+  ck_assert_double_le(fabs(r - fabs(g.g[3])), 1e-12 * bn);
+  free(mem);
+}
+END_TEST
+
+/* a product that fails is the solve's status; b = 0 is x = 0 without a product */
+START_TEST(a_failing_product_and_a_zero_right_hand_side) {
+  linear L = linear_case();
+  sdae_gmres g;
+  void *mem = gmres_of(&g, N);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N], zero[N] = {0};
+  L.fail_at = 2;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_ERR_CALLBACK_RECOVERABLE);
+  L.calls = 0;
+  x[0] = 1.0;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, zero, x, 1e-12), SDAE_OK);
+  ck_assert_int_eq(L.calls, 0);
+  for (size_t i = 0; i < N; i++) ck_assert_double_eq(x[i], 0.0);
+  free(mem);
+}
+END_TEST
+
+/* ---- Newton-Krylov ---- */
+
+/* an implicit step y = x + h f(y), f_i(y) = -y_i^3 + (y_{i+1} - y_{i-1}), with the identity as
+ * the "linear solve" of the hooks: its error is h f'(y), above 1 at h = 0.5 and y near 1.2, so
+ * the chord on it does not contract, while GMRES on dR/dy by differences makes each update
+ * Newton's, to GMRES's 1e-3 */
+static int cubic_f(void *ctx, const double *y, double *out) {
+  (void)ctx;
+  for (size_t i = 0; i < N; i++)
+    out[i] = -y[i] * y[i] * y[i] + (i + 1 < N ? y[i + 1] : 0.0) - (i > 0 ? y[i - 1] : 0.0);
+  return SDAE_OK;
+}
+static int identity_setup(void *ctx, const double *y) {
+  (void)ctx, (void)y;
+  return SDAE_OK;
+}
+static int identity_solve(void *ctx, const double *R, double *dy) {
+  (void)ctx;
+  memcpy(dy, R, N * sizeof *dy);
+  return SDAE_OK;
+}
+
+static int cubic_solve(int krylov, double *y, unsigned *iters) {
+  static const double x[N] = {1.2, -1.1, 1.3, 1.0, -1.25, 1.15, -1.0, 1.2};
+  sdae_newton nw;
+  sdae_arena count = {0}, a = {0};
+  const sdae_newton_system sys = {
+      .f = cubic_f, .x = x, .setup = identity_setup, .solve = identity_solve};
+  int rc;
+  if (krylov)
+    sdae__newton_carve_krylov(&nw, N, N, 1e-3, 1e-13, 20, &count);
+  else
+    sdae__newton_carve_hooks(&nw, N, 1e-13, 20, &count);
+  a.base = calloc(count.used, 1);
+  if (krylov)
+    sdae__newton_carve_krylov(&nw, N, N, 1e-3, 1e-13, 20, &a);
+  else
+    sdae__newton_carve_hooks(&nw, N, 1e-13, 20, &a);
+  nw.keep = 1;
+  memcpy(y, x, sizeof x);
+  rc = sdae__newton_solve(&nw, &sys, 0.5, y);
+  *iters = nw.iters;
+  free(a.base);
+  return rc;
+}
+
+START_TEST(newton_krylov_converges_where_the_chord_cannot) {
+  double y[N], f[N];
+  unsigned iters;
+  int chord = cubic_solve(0, y, &iters); /* diverges: no root, or past the doubles */
+  ck_assert(chord == SDAE_ERR_NEWTON || chord == SDAE_ERR_NONFINITE);
+  ck_assert_int_eq(cubic_solve(1, y, &iters), SDAE_OK);
+  ck_assert_uint_le(iters, 10); /* Newton's, each update to GMRES's 1e-3 */
+  cubic_f(NULL, y, f);
+  static const double x[N] = {1.2, -1.1, 1.3, 1.0, -1.25, 1.15, -1.0, 1.2};
+  for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(y[i] - x[i] - 0.5 * f[i]), 1e-13);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("gmres");
+  ADD_CASE(s, exact_in_n_steps);
+  ADD_CASE(s, exact_preconditioner_one_step);
+  ADD_CASE(s, short_at_m_steps);
+  ADD_CASE(s, a_failing_product_and_a_zero_right_hand_side);
+  ADD_CASE(s, newton_krylov_converges_where_the_chord_cannot);
+  return run_suite(s);
+}
