@@ -2,7 +2,8 @@
 /* GMRES (core/gmres.c) and Newton-Krylov (core/newton.c with sdae__newton_carve_krylov): GMRES
  * is exact in n steps on n unknowns and in one with the exact inverse as its preconditioner,
  * its rotated residual is the true residual, it stops short at m steps and says so; Newton with
- * GMRES as its linear solve converges where the chord on the same preconditioner cannot. */
+ * GMRES as its linear solve converges where the chord on the same preconditioner cannot; and a
+ * model's own linear solve serves the stepper's implicit maps. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -219,6 +220,68 @@ START_TEST(newton_krylov_converges_where_the_chord_cannot) {
 }
 END_TEST
 
+/* ---- a model's own linear solve (sdae_model.q0_lsetup, q0_lsolve) ---- */
+
+/* the quartic oscillator with the exact I - a dq0/dmu at the point set up, inverted: each
+ * setup's t and a recorded */
+typedef struct solved_quartic {
+  quartic q; /* first: the quartic's callbacks read params as a quartic */
+  double inv[4], t, a;
+  int setups, solves;
+} solved_quartic;
+
+static int sq_setup(double t, const double *mu, double a, void *params) {
+  solved_quartic *p = params;
+  double J[4], A[4], det;
+  quartic_q0_jac(t, mu, J, &p->q);
+  for (int i = 0; i < 4; i++) A[i] = (i == 0 || i == 3 ? 1.0 : 0.0) - a * J[i];
+  det = A[0] * A[3] - A[1] * A[2];
+  p->inv[0] = A[3] / det, p->inv[1] = -A[1] / det, p->inv[2] = -A[2] / det, p->inv[3] = A[0] / det;
+  p->t = t, p->a = a, p->setups++;
+  return 0;
+}
+
+static int sq_solve(const double *r, double *z, void *params) {
+  solved_quartic *p = params;
+  z[0] = p->inv[0] * r[0] + p->inv[1] * r[1];
+  z[1] = p->inv[2] * r[0] + p->inv[3] * r[1];
+  p->solves++;
+  return 0;
+}
+
+/* 100 midpoint steps of T = 0.05 with the model's solve land where the dense Newton's do (the
+ * same equation, solved to its tolerance), the solve set up at the midpoint's time with
+ * a = T / 2 (the midpoint map's slope); one without the other is refused */
+START_TEST(a_models_linear_solve_serves_the_midpoint_map) {
+  solved_quartic sq = {.q = {.k = 1.0, .d = 0.1}};
+  sdae_model plain = quartic_model(&sq.q), solved = plain;
+  sdae_options o = quartic_options(sdae_map_midpoint, SDAE_SCHEME_SEMI_IMPLICIT);
+  sdae_stepper *a, *b;
+  double xi[2] = {0.0, 0.0}, mu[2] = {1.0, 0.0}, xi2[2] = {0.0, 0.0}, mu2[2] = {1.0, 0.0};
+  const double T = 0.05;
+  solved.params = &sq;
+  solved.q0_lsetup = sq_setup;
+  ck_assert_int_eq(sdae_stepper_alloc(&b, &solved, &o), SDAE_ERR_NULL);
+  solved.q0_lsetup = NULL, solved.q0_lsolve = sq_solve;
+  ck_assert_int_eq(sdae_stepper_alloc(&b, &solved, &o), SDAE_ERR_NULL);
+  solved.q0_lsetup = sq_setup;
+  ck_assert_int_eq(sdae_stepper_alloc(&a, &plain, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_stepper_alloc(&b, &solved, &o), SDAE_OK);
+  for (int k = 0; k < 100; k++) {
+    ck_assert_int_eq(sdae_step(a, k * T, T, xi, mu), SDAE_OK);
+    ck_assert_int_eq(sdae_step(b, k * T, T, xi2, mu2), SDAE_OK);
+    ck_assert_double_eq(sq.a, 0.5 * T);
+    ck_assert_double_eq(sq.t, k * T + 0.5 * T);
+  }
+  ck_assert_int_ge(sq.setups, 100); /* set up anew at each step's first solve */
+  ck_assert_int_gt(sq.solves, sq.setups);
+  for (int i = 0; i < 2; i++) ck_assert_double_le(fabs(mu[i] - mu2[i]), 1e-12);
+  ck_assert_double_gt(fabs(mu[0] - 1.0), 0.1); /* it moved */
+  sdae_stepper_free(a);
+  sdae_stepper_free(b);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("gmres");
   ADD_CASE(s, exact_in_n_steps);
@@ -226,5 +289,6 @@ int main(void) {
   ADD_CASE(s, short_at_m_steps);
   ADD_CASE(s, a_failing_product_and_a_zero_right_hand_side);
   ADD_CASE(s, newton_krylov_converges_where_the_chord_cannot);
+  ADD_CASE(s, a_models_linear_solve_serves_the_midpoint_map);
   return run_suite(s);
 }

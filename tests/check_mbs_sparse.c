@@ -128,22 +128,26 @@ START_TEST(constraints_at_the_rounding_of_q_on_a_long_rope) {
 END_TEST
 
 /* the block, and the chart's and the velocity system's factors, grow with the nonzeros: twice
- * the rope, at most twice (and a little) the bytes; on a chain the chart's factors have no fill
+ * the rope, at most twice (and a little) the bytes, under an explicit map and an implicit one
+ * (its Newton-Krylov's GMRES holds 41 vectors of n_mu); on a chain the chart's factors have no fill
  * (each link pivots on its outer mass, solved from the free end in), and the saddle-point
  * system's L holds G's entries and the fill of its Schur complement G M^-1 G^T alone, which is
  * tridiagonal (a mass couples the rods on either side of it): N - 1 entries */
 START_TEST(the_block_grows_with_the_nonzeros) {
-  sdae_options o = options(sdae_map_rk4);
-  size_t bytes[2];
-  for (int h = 0; h < 2; h++) {
-    mech_rope r = mech_rope_unit(h ? 4096 : 2048, 0, 1);
-    sdae_mbs sys;
-    ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
-    bytes[h] = sdae_mbs_stepper_size(&sys, &o);
-    ck_assert_uint_gt(bytes[h], 0);
-    mech_rope_free(&r);
+  const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad, sdae_map_dg4};
+  for (size_t k = 0; k < 3; k++) { /* an implicit map's too: no n_mu x n_mu matrix */
+    sdae_options o = options(maps[k]);
+    size_t bytes[2];
+    for (int h = 0; h < 2; h++) {
+      mech_rope r = mech_rope_unit(h ? 4096 : 2048, 0, 1);
+      sdae_mbs sys;
+      ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
+      bytes[h] = sdae_mbs_stepper_size(&sys, &o);
+      ck_assert_uint_gt(bytes[h], 0);
+      mech_rope_free(&r);
+    }
+    ck_assert_uint_le(bytes[1], 2 * bytes[0] + bytes[0] / 20);
   }
-  ck_assert_uint_le(bytes[1], 2 * bytes[0] + bytes[0] / 20);
   roped w;
   roped_init(&w, 1024, 0, 1, sdae_map_rk4);
   ck_assert_int_eq(steps(&w, 3, 1e-3), SDAE_OK);
@@ -180,15 +184,17 @@ START_TEST(lambda_energy_and_xi_as_the_dense_ones) {
 END_TEST
 
 /* a state taken after some steps and set into a fresh stepper, or into one that has stepped
- * elsewhere (its factors at a point of its own), continues bit for bit */
+ * elsewhere (its factors at a point of its own), continues bit for bit, under an explicit map
+ * and under an implicit one (Newton-Krylov's factors set up at each step's first solve) */
 START_TEST(the_state_continues_bit_for_bit) {
-  for (int elsewhere = 0; elsewhere < 2; elsewhere++) {
+  for (int elsewhere = 0; elsewhere < 4; elsewhere++) {
+    const sdae_map_type *map = elsewhere < 2 ? sdae_map_rk4 : sdae_map_dgrad;
     roped a, b;
     unsigned char *state;
     size_t len;
-    roped_init(&a, 7, 1, 1, sdae_map_rk4);
-    roped_init(&b, 7, 1, 1, sdae_map_rk4);
-    if (elsewhere) ck_assert_int_eq(steps(&b, 13, 7e-3), SDAE_OK);
+    roped_init(&a, 7, 1, 1, map);
+    roped_init(&b, 7, 1, 1, map);
+    if (elsewhere % 2) ck_assert_int_eq(steps(&b, 13, 7e-3), SDAE_OK);
     ck_assert_int_eq(steps(&a, 30, 1e-2), SDAE_OK);
     len = sdae_mbs_state_size(a.s);
     state = malloc(len);
@@ -221,10 +227,10 @@ static int flaky_constraint(double t, const double *q, double *c, void *params) 
   return f->constraint(t, q, c, &f->r);
 }
 
-START_TEST(a_failed_step_leaves_no_trace) {
+static void failed_step_leaves_no_trace(const sdae_map_type *map) {
   flaky f = {.r = mech_rope_unit(5, 0, 1)};
   sdae_mbs sys;
-  sdae_options o = options(sdae_map_rk4);
+  sdae_options o = options(map);
   sdae_mbs_stepper *s, *fresh;
   double q[10], v[10], q2[10], v2[10];
   unsigned char *before, *after, *state;
@@ -254,6 +260,11 @@ START_TEST(a_failed_step_leaves_no_trace) {
   free(before), free(after), free(state);
   sdae_mbs_stepper_free(s), sdae_mbs_stepper_free(fresh);
   mech_rope_free(&f.r);
+}
+
+START_TEST(a_failed_step_leaves_no_trace) {
+  for (int implicit = 0; implicit < 2; implicit++)
+    failed_step_leaves_no_trace(implicit ? sdae_map_dgrad : sdae_map_rk4);
 }
 END_TEST
 

@@ -66,13 +66,12 @@ typedef struct sdae_mbs {
    * every other map just sees F plus them. */
   int (*input_force)(double t, const double *q, const double *v, double *F, void *params);
   /* optional sparsity (<stabdae/pattern.h>), copied when the stepper is built and checked there
-   * (SDAE_ERR_PATTERN). With both patterns, jacobian_dot and mass_dot_v, an explicit map (euler,
-   * rk4, rk8) steps the mechanism at the cost of its nonzeros (the block and a step grow with
-   * them, not with n_q^2; M must then be positive definite, not only the reduced mass; a
-   * coordinate that many constraints share, as a cart carrying many pendulums, fills the
-   * saddle-point factor past its reserve, refused when the stepper is built with
-   * SDAE_ERR_PATTERN: give such a mechanism without patterns); an
-   * implicit map, or a mechanism without them, steps it as a dense one (docs/front-ends.md).
+   * (SDAE_ERR_PATTERN). With both patterns, jacobian_dot and mass_dot_v, every map of the
+   * library steps the mechanism at the cost of its nonzeros (the block and a step grow with
+   * them, not with n_q^2; the implicit maps' Newton by GMRES on the saddle-point factors, no
+   * n_mu x n_mu matrix; a pattern whose factors cannot fit is refused when the stepper is built
+   * with SDAE_ERR_PATTERN); a mechanism without them, or without those derivatives, is stepped
+   * as a dense one (docs/front-ends.md).
    * NULL: dense. n_q rows, both triangles, symmetric; with it mass() and damping() write nnz
    * values in pattern order */
   const sdae_pattern *mass_pattern;

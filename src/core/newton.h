@@ -21,7 +21,7 @@
  * to this relative residual; Newton then gains about three digits an iteration, where the
  * preconditioner alone as a chord gained less than half of one on a long rope in motion (the
  * chart's terms it leaves out grow with the velocity's multipliers, docs/performance.md) */
-#define SDAE_KRYLOV_DIM 20u
+#define SDAE_KRYLOV_DIM 40u
 #define SDAE_KRYLOV_RTOL 1e-3
 
 typedef struct sdae_newton_system {

@@ -62,8 +62,9 @@ static void carve(sdae_stepper *s, sdae_arena *a) {
   if (s->stabilizer->carve) s->stabilizer->carve(&s->stab, a);
   if (!sdae__map_uses_newton(map)) return;
   if (sdae__map_model_solves(map, m)) { /* Newton-Krylov on the model's linear solve */
-    sdae__newton_carve_krylov(&s->newton, n_mu, SDAE_KRYLOV_DIM, SDAE_KRYLOV_RTOL,
-                              s->opt.newton_tol, s->opt.newton_max_iter, a);
+    /* GMRES is exact in n_mu steps: no more are ever needed */
+    sdae__newton_carve_krylov(&s->newton, n_mu, n_mu < SDAE_KRYLOV_DIM ? n_mu : SDAE_KRYLOV_DIM,
+                              SDAE_KRYLOV_RTOL, s->opt.newton_tol, s->opt.newton_max_iter, a);
     s->map.mid = sdae__take(a, n_mu, 1);
     return;
   }
