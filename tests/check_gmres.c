@@ -23,8 +23,8 @@ typedef struct linear {
   double A[N * N];
   double LU[N * N]; /* A's factors (GSL's), the exact preconditioner */
   size_t perm[N];
-  int exact;        /* precondition by A^-1 (else by I) */
-  int fail_at;      /* apply fails at this call (0: never) */
+  int exact;   /* precondition by A^-1 (else by I) */
+  int fail_at; /* apply fails at this call (0: never) */
   int calls;
 } linear;
 

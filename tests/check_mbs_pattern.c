@@ -6,9 +6,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "mbs/mbs_impl.h"
 #include "mechanisms.h"
 #include "rope.h"
-#include "mbs/mbs_impl.h"
 #include "testmodels.h"
 
 static sdae_options options(const sdae_map_type *map) {

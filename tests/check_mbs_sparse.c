@@ -65,8 +65,8 @@ static void q_after(const sdae_map_type *map, double T, double *q) {
 /* a sparse mechanism with its derivatives takes the sparse coordinates under every map of the
  * library, explicit and implicit; a mechanism without a pattern or a derivative, the dense ones */
 START_TEST(the_sparse_coordinates_serve_every_map) {
-  const sdae_map_type *maps[] = {sdae_map_euler,    sdae_map_rk4,      sdae_map_rk8,
-                                 sdae_map_midpoint, sdae_map_dgrad,    sdae_map_dg4,
+  const sdae_map_type *maps[] = {sdae_map_euler,    sdae_map_rk4,       sdae_map_rk8,
+                                 sdae_map_midpoint, sdae_map_dgrad,     sdae_map_dg4,
                                  sdae_map_dg6,      sdae_map_midpoint4, sdae_map_midpoint6};
   for (size_t k = 0; k < sizeof maps / sizeof *maps; k++) {
     roped w;

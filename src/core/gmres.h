@@ -13,12 +13,12 @@
 
 typedef struct sdae_gmres {
   size_t n, m;
-  double *V;              /* (m + 1) x n: the Arnoldi basis */
-  double *Z;              /* m x n: the preconditioned basis */
-  double *H;              /* (m + 1) x m: the Hessenberg matrix, rotated to triangular */
+  double *V;               /* (m + 1) x n: the Arnoldi basis */
+  double *Z;               /* m x n: the preconditioned basis */
+  double *H;               /* (m + 1) x m: the Hessenberg matrix, rotated to triangular */
   double *cs, *sn, *g, *y; /* m, m, m + 1, m: the rotations, the rotated residual, the solution */
-  unsigned iters;         /* Arnoldi steps of the last solve */
-  int reached;            /* the last solve reached rtol (not stopped at m steps) */
+  unsigned iters;          /* Arnoldi steps of the last solve */
+  int reached;             /* the last solve reached rtol (not stopped at m steps) */
 } sdae_gmres;
 
 typedef struct sdae_gmres_ops {

@@ -355,7 +355,8 @@ typedef struct attempt_state {
 
 /* the updates stopped shrinking with a matrix from within reuse_below: the residual's noise */
 static int at_noise(const attempt_state *st, double del, double scale) {
-  return st->near && !st->short_solve && st->m > 0 && del > rate_diverging * st->prev && del <= noise_most * scale;
+  return st->near && !st->short_solve && st->m > 0 && del > rate_diverging * st->prev &&
+         del <= noise_most * scale;
 }
 
 /* converged after an update del (scale: 1 + ||y||): below tol, and for a chord at rounding or

@@ -75,8 +75,8 @@ typedef struct sdae_newton {
   double krylov_rtol;
   sdae_gmres gmres;
   unsigned long krylov_iters; /* GMRES steps, counted here alone */
-  unsigned long refreshes; /* matrices built with keep = 1 */
-  unsigned long retries;   /* solves retried from their start with a fresh matrix */
+  unsigned long refreshes;    /* matrices built with keep = 1 */
+  unsigned long retries;      /* solves retried from their start with a fresh matrix */
 } sdae_newton;
 
 /* its workspace for n unknowns and a Jacobian of bandwidth band (n - 1: dense), counted or

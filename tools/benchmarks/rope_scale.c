@@ -8,16 +8,16 @@
  * discrete-gradient maps on the rope's patterns (Newton-Krylov on the sparse back-end's linear
  * solve), with dgrad's Newton iterations and phi evaluations a step and its energy's largest
  * change relative to its size over the warm-up run; T = 1e-3, median CPU time of the thread
- * over the repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the index-1
- * form with KLU on the rope's patterns (tools/ida/ida_mbs.h: the iteration matrix by grouped
- * differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.25 s from the
- * same start (the rope falling from rest, and its first swing): the median CPU time of the thread
- * of the whole idambs_solve_with call (its consistent start, the matrix's structure and coloring,
- * about 4 % of it at N = 4096, and the run) per 1e-3 s simulated, the time a step of the others
- * covers, and max abs(c) at its end (index 1 lets c drift). Its interval is the same at every N and
- * not cut to the budget, which sizes the fixed-step runs only: IDA's cost per simulated time
- * depends on the interval (its first steps are short). A Markdown table on stdout, one row per N,
- * and on stderr the sparse step's growth exponent between successive N and IDA's matrix (order,
+ * over the repetitions, and max abs(c) over the sparse run. For every N also SUNDIALS IDA on the
+ * index-1 form with KLU on the rope's patterns (tools/ida/ida_mbs.h: the iteration matrix by
+ * grouped differences of the residual, 14 groups at every N), rtol = atol = 1e-8, over 0.25 s from
+ * the same start (the rope falling from rest, and its first swing): the median CPU time of the
+ * thread of the whole idambs_solve_with call (its consistent start, the matrix's structure and
+ * coloring, about 4 % of it at N = 4096, and the run) per 1e-3 s simulated, the time a step of the
+ * others covers, and max abs(c) at its end (index 1 lets c drift). Its interval is the same at
+ * every N and not cut to the budget, which sizes the fixed-step runs only: IDA's cost per simulated
+ * time depends on the interval (its first steps are short). A Markdown table on stdout, one row per
+ * N, and on stderr the sparse step's growth exponent between successive N and IDA's matrix (order,
  * nonzeros, column groups) and counters.
  *
  * With --rope closed, the rope fixed at both ends (its last mass on one more rod to an anchor
@@ -96,8 +96,8 @@ static int run(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, s
 
 /* the stepper s (an mbs one) from the rope's start over steps: the largest change of the energy
  * relative to its size, and Newton iterations and phi evaluations a step */
-static int drift(sdae_mbs_stepper *s, const mech_rope *r, size_t steps, double *dE,
-                 double *iters, double *evals) {
+static int drift(sdae_mbs_stepper *s, const mech_rope *r, size_t steps, double *dE, double *iters,
+                 double *evals) {
   size_t n = 2 * r->N;
   double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), E0 = 0.0, E;
   const sdae_mbs_stats *st;
@@ -237,8 +237,8 @@ static int implicit_row(const mech_rope *r, const sdae_mbs *sys, const sdae_opti
 /* the front-end on the rope given by its patterns (the sparse coordinates); up to dense_max
  * also on the rope given densely and the index-1 baseline (dense algebra), up to implicit_max
  * the implicit maps on the patterns */
-static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int reps,
-               double budget, double *us_sparse) {
+static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int reps, double budget,
+               double *us_sparse) {
   mech_rope r = mech_rope_unit(N, closed, 1), rd = r;
   sdae_mbs sys, dense;
   sdae_options o;
