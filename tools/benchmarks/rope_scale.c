@@ -123,19 +123,28 @@ static size_t steps_of(int reps, double budget, double probe) {
   return probe > 0.0 ? (size_t)fmax(1.0, fmin(2000.0, budget / (reps * probe))) : 2000;
 }
 
-/* the median seconds per step over reps runs (a warm-up first, which measures max abs(c)), as
- * many steps a run as fit the budget by the warm-up's single step */
-static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, int reps,
-                 double budget, double *median, double *c_max) {
-  double probe, t[15];
-  size_t steps;
-  int rc = run(step, s, r, sys, 1, &probe, NULL);
-  steps = steps_of(reps, budget, probe);
-  if (rc == 0) rc = run(step, s, r, sys, steps, &t[0], c_max);
+/* the median seconds per step over reps runs of steps each (a warm-up first, which measures max
+ * abs(c)) */
+static int timed_over(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, int reps,
+                      size_t steps, double *median, double *c_max) {
+  double t[15];
+  int rc = run(step, s, r, sys, steps, &t[0], c_max);
   for (int i = 0; i < reps && rc == 0; i++) rc = run(step, s, r, sys, steps, &t[i], NULL);
   qsort(t, (size_t)reps, sizeof *t, cmp_double);
   *median = t[reps / 2];
   return rc;
+}
+
+/* the same over as many steps a run as fit the budget by a single step's time, those steps into
+ * *taken unless NULL */
+static int timed(step_fn step, void *s, const mech_rope *r, const sdae_mbs *sys, int reps,
+                 double budget, double *median, double *c_max, size_t *taken) {
+  double probe;
+  size_t steps;
+  int rc = run(step, s, r, sys, 1, &probe, NULL);
+  steps = steps_of(reps, budget, probe);
+  if (taken) *taken = steps;
+  return rc ? rc : timed_over(step, s, r, sys, reps, steps, median, c_max);
 }
 
 /* the positions of an IDA run's last row */
@@ -209,25 +218,25 @@ static void cell(double seconds) {
     printf(" - |");
 }
 
-/* the implicit maps on the rope's patterns: midpoint's and dgrad's seconds a step, and dgrad's
- * energy drift, Newton iterations and phi evaluations a step over as many steps as rk4's warm-up
- * took (the same stretch of the motion) */
+/* the implicit maps on the rope's patterns over the steps rk4's runs took (the same stretch of
+ * the motion, the later steps costing more Newton iterations): midpoint's and dgrad's seconds a
+ * step, and dgrad's energy drift, Newton iterations and phi evaluations a step */
 typedef struct implicit_cells {
   double mid, dgrad, dE, iters, evals;
 } implicit_cells;
 
 static int implicit_row(const mech_rope *r, const sdae_mbs *sys, const sdae_options *o, int reps,
-                        double budget, size_t steps, implicit_cells *ic) {
+                        size_t steps, implicit_cells *ic) {
   sdae_options om = *o;
   sdae_mbs_stepper *sm = NULL, *sg = NULL;
   double c_other;
   int rc;
   om.map = sdae_map_midpoint;
   if ((rc = sdae_mbs_stepper_alloc(&sm, sys, &om)) == 0)
-    rc = timed(frontend, sm, r, sys, reps, budget, &ic->mid, &c_other);
+    rc = timed_over(frontend, sm, r, sys, reps, steps, &ic->mid, &c_other);
   om.map = sdae_map_dgrad;
   if (rc == 0 && (rc = sdae_mbs_stepper_alloc(&sg, sys, &om)) == 0)
-    rc = timed(frontend, sg, r, sys, reps, budget, &ic->dgrad, &c_other);
+    rc = timed_over(frontend, sg, r, sys, reps, steps, &ic->dgrad, &c_other);
   if (rc == 0) rc = drift(sg, r, steps, &ic->dE, &ic->iters, &ic->evals);
   sdae_mbs_stepper_free(sm);
   sdae_mbs_stepper_free(sg);
@@ -245,6 +254,7 @@ static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int 
   sdae_mbs_stepper *s = NULL, *sd = NULL;
   index1_rk4 *w = NULL;
   implicit_cells ic = {0};
+  size_t steps = 0;
   double c_sparse, c_other, us_dense = 0.0, us_rk4 = 0.0, ida_ms = 0.0, c_ida = 0.0;
   int rc = mech_rope_system(&sys, &r);
   rd.sparse = 0;
@@ -252,16 +262,15 @@ static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int 
   sdae_options_default(&o);
   o.map = sdae_map_rk4, o.delta = 2.0, o.epsilon = 1.0;
   if (rc == 0) rc = sdae_mbs_stepper_alloc(&s, &sys, &o);
-  if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_sparse, &c_sparse);
+  if (rc == 0) rc = timed(frontend, s, &r, &sys, reps, budget, us_sparse, &c_sparse, &steps);
   if (rc == 0) rc = ida_timed(&r, &sys, reps, &ida_ms, &c_ida);
   if (rc == 0 && N <= dense_max) {
     if ((rc = sdae_mbs_stepper_alloc(&sd, &dense, &o)) == 0)
-      rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other);
+      rc = timed(frontend, sd, &rd, &dense, reps, budget, &us_dense, &c_other, NULL);
     if (rc == 0 && !(w = index1_rk4_alloc(&dense))) rc = -1;
-    if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other);
+    if (rc == 0) rc = timed(baseline, w, &rd, &dense, reps, budget, &us_rk4, &c_other, NULL);
   }
-  if (rc == 0 && N <= implicit_max)
-    rc = implicit_row(&r, &sys, &o, reps, budget, steps_of(reps, budget, *us_sparse), &ic);
+  if (rc == 0 && N <= implicit_max) rc = implicit_row(&r, &sys, &o, reps, steps, &ic);
   if (rc == 0) {
     printf("| %zu | %zu | %zu |", N, 2 * N, sdae_mbs_stepper_size(&sys, &o));
     cell(*us_sparse), cell(us_dense), cell(ic.mid), cell(ic.dgrad), cell(us_rk4);
