@@ -28,12 +28,13 @@ typedef struct linear {
   int calls;
 } linear;
 
-static linear linear_case(void) {
+static linear linear_scaled(double scale) {
   linear L;
   memset(&L, 0, sizeof L);
   for (size_t i = 0; i < N; i++)
     for (size_t j = 0; j < N; j++)
-      L.A[i * N + j] = i == j ? 1.0 + (double)i : 0.3 * sin(1.0 + (double)(3 * i + 7 * j));
+      L.A[i * N + j] =
+          scale * (i == j ? 1.0 + (double)i : 0.3 * sin(1.0 + (double)(3 * i + 7 * j)));
   memcpy(L.LU, L.A, sizeof L.A);
   gsl_matrix_view lu = gsl_matrix_view_array(L.LU, N, N);
   gsl_permutation p = {N, L.perm};
@@ -42,6 +43,8 @@ static linear linear_case(void) {
   return L;
 }
 
+static linear linear_case(void) { return linear_scaled(1.0); }
+
 static void times(const double *A, const double *x, double *out) {
   for (size_t i = 0; i < N; i++) {
     out[i] = 0.0;
@@ -49,11 +52,12 @@ static void times(const double *A, const double *x, double *out) {
   }
 }
 
+/* the call numbered fail_at (products and preconditioner solves counted together) fails, its
+ * values written all the same */
 static int apply(void *ctx, const double *x, double *out) {
   linear *L = ctx;
-  if (++L->calls == L->fail_at) return SDAE_ERR_CALLBACK_RECOVERABLE;
   times(L->A, x, out);
-  return SDAE_OK;
+  return ++L->calls == L->fail_at ? SDAE_ERR_CALLBACK_RECOVERABLE : SDAE_OK;
 }
 
 /* x = A^-1 b by A's factors */
@@ -71,7 +75,7 @@ static int precond(void *ctx, const double *r, double *z) {
     lu_solve(L, r, z);
   else
     memcpy(z, r, N * sizeof *z);
-  return SDAE_OK;
+  return ++L->calls == L->fail_at ? SDAE_ERR_CALLBACK_FATAL : SDAE_OK;
 }
 
 static void *gmres_of(sdae_gmres *g, size_t m) {
@@ -94,15 +98,82 @@ static const double b[N] = {1.0, -2.0, 0.5, 3.0, -1.0, 0.25, 2.0, -0.75};
 /* the Krylov space of an n x n matrix is the whole space after n steps: the solution to rounding
  * without a preconditioner, as A's own factors give it */
 START_TEST(exact_in_n_steps) {
+  for (int scaled = 0; scaled < 2; scaled++) { /* entries near 1, and near 1e-3 */
+    linear L = linear_scaled(scaled ? 1e-3 : 1.0);
+    sdae_gmres g;
+    void *mem = gmres_of(&g, N);
+    sdae_gmres_ops ops = {apply, precond, &L};
+    double x[N], ref[N];
+    ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-15), SDAE_OK);
+    ck_assert_uint_le(g.iters, N);
+    lu_solve(&L, b, ref);
+    for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - ref[i]), 1e-13 * fabs(ref[0]));
+    free(mem);
+  }
+}
+END_TEST
+
+/* A = I: one step, x = b (the Hessenberg entry exactly 1); A = I + the shift down, b = e_1:
+ * every step's new direction of length exactly 1, N steps, x = (1, -1, 1, ...) */
+START_TEST(the_identity_in_one_step) {
+  linear L;
+  sdae_gmres g;
+  void *mem = gmres_of(&g, N);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N], e[N] = {1.0};
+  memset(&L, 0, sizeof L);
+  for (size_t i = 0; i < N; i++) L.A[i * N + i] = 1.0;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_OK);
+  ck_assert_uint_eq(g.iters, 1);
+  for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - b[i]), 1e-15 * fabs(b[i]));
+  for (size_t i = 1; i < N; i++) L.A[i * N + i - 1] = 1.0;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, e, x, 1e-12), SDAE_OK);
+  ck_assert_uint_eq(g.iters, N);
+  for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - (i % 2 ? -1.0 : 1.0)), 1e-12);
+  free(mem);
+}
+END_TEST
+
+/* A singular, b off its range (A = diag(1, ..., 1, 0), b = e_N): A b = 0, the Krylov space is
+ * invariant at once and its best is x = 0, ||b - A x|| = ||b||: x = 0 exactly, not reached */
+START_TEST(an_invariant_space_is_its_own_best) {
+  linear L;
+  sdae_gmres g;
+  void *mem = gmres_of(&g, N);
+  sdae_gmres_ops ops = {apply, precond, &L};
+  double x[N], e[N] = {0};
+  memset(&L, 0, sizeof L);
+  for (size_t i = 0; i + 1 < N; i++) L.A[i * N + i] = 1.0;
+  e[N - 1] = 1.0;
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, e, x, 1e-12), SDAE_OK);
+  ck_assert_uint_eq(g.iters, 1);
+  ck_assert_int_eq(g.reached, 0);
+  for (size_t i = 0; i < N; i++) ck_assert_double_eq(x[i], 0.0);
+  free(mem);
+}
+END_TEST
+
+/* GMRES stops at the first step whose residual is within rtol ||b||: with ||b|| far from 1
+ * (b times 1000), the steps one fewer leave more than that */
+START_TEST(stops_at_the_first_step_within_rtol) {
   linear L = linear_case();
   sdae_gmres g;
   void *mem = gmres_of(&g, N);
   sdae_gmres_ops ops = {apply, precond, &L};
-  double x[N], ref[N];
-  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-15), SDAE_OK);
-  ck_assert_uint_le(g.iters, N);
-  lu_solve(&L, b, ref);
-  for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - ref[i]), 1e-13);
+  double x[N], big[N], zero[N] = {0}, bn;
+  unsigned k;
+  for (size_t i = 0; i < N; i++) big[i] = 1e3 * b[i];
+  bn = residual_norm(L.A, big, zero);
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, big, x, 1e-2), SDAE_OK);
+  k = g.iters;
+  ck_assert_int_eq(g.reached, 1);
+  ck_assert_double_le(residual_norm(L.A, big, x), 1e-2 * bn * (1.0 + 1e-12));
+  ck_assert_uint_ge(k, 2);
+  free(mem);
+  mem = gmres_of(&g, k - 1);
+  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, big, x, 1e-2), SDAE_OK);
+  ck_assert_int_eq(g.reached, 0);
+  ck_assert_double_gt(residual_norm(L.A, big, x), 1e-2 * bn);
   free(mem);
 }
 END_TEST
@@ -143,15 +214,21 @@ START_TEST(short_at_m_steps) {
 }
 END_TEST
 
-/* a product that fails is the solve's status; b = 0 is x = 0 without a product */
+/* a product or a preconditioner solve that fails (its values written) is the solve's status,
+ * x left 0, whichever call it is; b = 0 is x = 0 without a call */
 START_TEST(a_failing_product_and_a_zero_right_hand_side) {
   linear L = linear_case();
   sdae_gmres g;
   void *mem = gmres_of(&g, N);
   sdae_gmres_ops ops = {apply, precond, &L};
   double x[N], zero[N] = {0};
-  L.fail_at = 2;
-  ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_ERR_CALLBACK_RECOVERABLE);
+  for (int at = 1; at <= 6; at++) { /* odd: a preconditioner solve, even: a product */
+    L.calls = 0, L.fail_at = at;
+    ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12),
+                     at % 2 ? SDAE_ERR_CALLBACK_FATAL : SDAE_ERR_CALLBACK_RECOVERABLE);
+    for (size_t i = 0; i < N; i++) ck_assert_double_eq(x[i], 0.0);
+  }
+  L.fail_at = 0;
   L.calls = 0;
   x[0] = 1.0;
   ck_assert_int_eq(sdae__gmres_solve(&g, &ops, zero, x, 1e-12), SDAE_OK);
@@ -285,6 +362,9 @@ END_TEST
 int main(void) {
   Suite *s = suite_create("gmres");
   ADD_CASE(s, exact_in_n_steps);
+  ADD_CASE(s, the_identity_in_one_step);
+  ADD_CASE(s, an_invariant_space_is_its_own_best);
+  ADD_CASE(s, stops_at_the_first_step_within_rtol);
   ADD_CASE(s, exact_preconditioner_one_step);
   ADD_CASE(s, short_at_m_steps);
   ADD_CASE(s, a_failing_product_and_a_zero_right_hand_side);

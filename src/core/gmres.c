@@ -47,7 +47,9 @@ static void rotate(sdae_gmres *g, size_t j) {
   }
   a = H[j * m + j], b = H[(j + 1) * m + j];
   r = hypot(a, b);
-  g->cs[j] = r > 0.0 ? a / r : 1.0, g->sn[j] = r > 0.0 ? b / r : 0.0;
+  /* a zero column (A z_j in the space so far): the rotation that leaves the residual where it
+   * was, not one that would report it solved */
+  g->cs[j] = r > 0.0 ? a / r : 0.0, g->sn[j] = r > 0.0 ? b / r : 1.0;
   H[j * m + j] = r, H[(j + 1) * m + j] = 0.0;
   g->g[j + 1] = -g->sn[j] * g->g[j];
   g->g[j] = g->cs[j] * g->g[j];
@@ -86,11 +88,12 @@ int sdae__gmres_solve(sdae_gmres *g, const sdae_gmres_ops *ops, const double *b,
     g->H[(k + 1) * g->m + k] = h;
     rotate(g, k);
     k++;
+    /* h = 0: the Krylov space is invariant under A, no further step can do better */
     if (fabs(g->g[k]) <= rtol * beta || h == 0.0) break;
-    g->reached = k < g->m;
     for (size_t l = 0; l < n; l++) w[l] /= h;
   }
   g->iters = (unsigned)k;
+  g->reached = fabs(g->g[k]) <= rtol * beta;
   if (rc == SDAE_OK) combine(g, k, x);
   return rc;
 }

@@ -30,8 +30,9 @@ typedef struct sdae_gmres_ops {
 
 /* the arrays for n unknowns and at most m steps, counted or handed out */
 void sdae__gmres_carve(sdae_gmres *g, size_t n, size_t m, sdae_arena *a);
-/* x with ||b - A x||_2 <= rtol ||b||_2, or the best of m steps: SDAE_OK, or the status of an
- * apply or precond that failed; x = 0 for b = 0 */
+/* x with ||b - A x||_2 <= rtol ||b||_2 (reached), or the best of m steps or of an invariant
+ * Krylov space (not reached): SDAE_OK; or the status of an apply or precond that failed, x then
+ * 0; x = 0 for b = 0 */
 int sdae__gmres_solve(sdae_gmres *g, const sdae_gmres_ops *ops, const double *b, double *x,
                       double rtol);
 
