@@ -25,7 +25,8 @@
  * (its start needs N odd).
  *
  *   rope_scale [--max-n N (8..4096, default 4096)] [--dense-max N (default 256)]
- *              [--implicit-max N (default 1024)]
+ *              [--implicit-max N (default 1024)] [--stretch K (steps every run takes;
+ *              default: as many as fit the budget, at most 2000)]
  *              [--reps R (1..15, default 5)] [--rope open|closed (default open)]
  *              [--budget S (seconds of CPU per stepper and N, default 0.5)] */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -118,8 +119,13 @@ static int drift(sdae_mbs_stepper *s, const mech_rope *r, size_t steps, double *
   return rc;
 }
 
-/* the steps a run takes: as many as fit the budget at probe seconds a step, at most 2000 */
+/* --stretch: the steps every run takes (0: by the budget) */
+static size_t stretch = 0;
+
+/* the steps a run takes: --stretch, or as many as fit the budget at probe seconds a step, at
+ * most 2000 */
 static size_t steps_of(int reps, double budget, double probe) {
+  if (stretch > 0) return stretch;
   return probe > 0.0 ? (size_t)fmax(1.0, fmin(2000.0, budget / (reps * probe))) : 2000;
 }
 
@@ -292,6 +298,7 @@ static int row(size_t N, int closed, size_t dense_max, size_t implicit_max, int 
 
 int main(int argc, char **argv) {
   double max_n = 4096, dense_max = 256, implicit_max = 1024, reps = 5, budget = 0.5, prev = 0.0;
+  double stretch_steps = 0;
   int closed = 0;
   for (int i = 1; i < argc; i += 2) {
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -301,7 +308,10 @@ int main(int argc, char **argv) {
       rc = wp_parse_positive("rope_scale", "--max-n", v, 4096, &max_n);
     else if (strcmp(argv[i], "--dense-max") == 0)
       rc = wp_parse_positive("rope_scale", "--dense-max", v, 4096, &dense_max);
-    else if (strcmp(argv[i], "--implicit-max") == 0)
+    else if (strcmp(argv[i], "--stretch") == 0) {
+      rc = wp_parse_positive("rope_scale", "--stretch", v, 1e5, &stretch_steps);
+      stretch = (size_t)stretch_steps;
+    } else if (strcmp(argv[i], "--implicit-max") == 0)
       rc = wp_parse_positive("rope_scale", "--implicit-max", v, 4096, &implicit_max);
     else if (strcmp(argv[i], "--reps") == 0)
       rc = wp_parse_positive("rope_scale", "--reps", v, WP_MAX_REPS, &reps);

@@ -9,7 +9,8 @@
  * included; the median of the repetitions) against the error of the positions at the end,
  * max_j abs(q_j - q_ref,j) over
  * max_j abs(q_ref,j), q_ref by GSL's rk8pd on the index-1 ODE at 1e-14 (index1_rk4.h). stabdae
- * by rk4 and rk8 over a sweep of T, IDA over a sweep of rtol (atol the same). A markdown table
+ * by rk4 and rk8 and by the implicit dgrad and dg4 (Newton-Krylov on the sparse back-end) over a
+ * sweep of T, IDA over a sweep of rtol (atol the same). A markdown table
  * on stdout; with --csv FILE the points as mechanism,solver,setting,seconds,error.
  *
  *   sparse_race [--reps R (1..15, default 3)] [--budget S (CPU seconds a point, default 2)]
@@ -120,11 +121,16 @@ static int race_init(race *r, const char *name, double tf) {
 static void race_all(race *r, int reps, double budget, FILE *csv) {
   static const double rk4_T[] = {1e-2, 5e-3, 2.5e-3, 1.25e-3, 6.25e-4};
   static const double rk8_T[] = {2e-2, 1e-2, 5e-3, 2.5e-3};
+  static const double dg_T[] = {1e-2, 5e-3, 2.5e-3, 1.25e-3};
   static const double rtol[] = {1e-4, 1e-6, 1e-8, 1e-10};
   for (size_t i = 0; i < sizeof rk4_T / sizeof *rk4_T; i++)
     race_point(r, sdae_map_rk4, rk4_T[i], reps, budget, csv);
   for (size_t i = 0; i < sizeof rk8_T / sizeof *rk8_T; i++)
     race_point(r, sdae_map_rk8, rk8_T[i], reps, budget, csv);
+  for (size_t i = 0; i < sizeof dg_T / sizeof *dg_T; i++) /* the implicit maps: energy kept */
+    race_point(r, sdae_map_dgrad, dg_T[i], reps, budget, csv);
+  for (size_t i = 0; i < sizeof dg_T / sizeof *dg_T; i++)
+    race_point(r, sdae_map_dg4, dg_T[i], reps, budget, csv);
   for (size_t i = 0; i < sizeof rtol / sizeof *rtol; i++)
     race_point(r, NULL, rtol[i], reps, budget, csv);
 }
