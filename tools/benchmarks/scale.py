@@ -209,7 +209,8 @@ def time_mujoco(mj: ModuleType, n: int, reps: int, budget: float) -> float:
 LABELS = {
     "rk4 sparse, us/step": "stabdae rk4, sparse (2N Cartesian)",
     "rk4 dense, us/step": "stabdae rk4, dense (2N Cartesian)",
-    "midpoint (dense coordinates), us/step": "stabdae midpoint, dense (2N Cartesian)",
+    "midpoint sparse, us/step": "stabdae midpoint, sparse (2N Cartesian)",
+    "dgrad sparse, us/step": "stabdae dgrad, sparse (2N Cartesian)",
     "index-1 RK4, us/step": "index-1 RK4, dense Cholesky (2N Cartesian)",
 }
 
