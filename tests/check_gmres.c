@@ -244,8 +244,13 @@ END_TEST
  * the "linear solve" of the hooks: its error is h f'(y), above 1 at h = 0.5 and y near 1.2, so
  * the chord on it does not contract, while GMRES on dR/dy by differences makes each update
  * Newton's, to GMRES's 1e-3 */
+/* the cubic's f fails at this evaluation (0: never), and the hooks' solve is singular (z = 0) */
+static unsigned cubic_fail_at, cubic_calls;
+static int cubic_singular;
+
 static int cubic_f(void *ctx, const double *y, double *out) {
   (void)ctx;
+  if (++cubic_calls == cubic_fail_at) return SDAE_ERR_CALLBACK_FATAL;
   for (size_t i = 0; i < N; i++)
     out[i] = -y[i] * y[i] * y[i] + (i + 1 < N ? y[i + 1] : 0.0) - (i > 0 ? y[i - 1] : 0.0);
   return SDAE_OK;
@@ -256,7 +261,10 @@ static int identity_setup(void *ctx, const double *y) {
 }
 static int identity_solve(void *ctx, const double *R, double *dy) {
   (void)ctx;
-  memcpy(dy, R, N * sizeof *dy);
+  if (cubic_singular)
+    memset(dy, 0, N * sizeof *dy);
+  else
+    memcpy(dy, R, N * sizeof *dy);
   return SDAE_OK;
 }
 
@@ -278,6 +286,7 @@ static int cubic_solve(int krylov, double *y, unsigned *iters) {
     sdae__newton_carve_hooks(&nw, N, 1e-13, 20, &a);
   nw.keep = 1;
   memcpy(y, x, sizeof x);
+  cubic_calls = 0;
   rc = sdae__newton_solve(&nw, &sys, 0.5, y);
   *iters = nw.iters;
   free(a.base);
@@ -359,6 +368,20 @@ START_TEST(a_models_linear_solve_serves_the_midpoint_map) {
 }
 END_TEST
 
+/* a residual that fails inside a GMRES product is the solve's status (fatal: not retried); a
+ * preconditioner that maps everything to 0 gives GMRES no direction: no update is taken for
+ * convergence, and the solve fails by name, never at y unchanged with SDAE_OK */
+START_TEST(newton_krylov_failures_are_named) {
+  double y[N];
+  unsigned iters;
+  cubic_fail_at = 3; /* the residual, then its first product's evaluation and the next */
+  ck_assert_int_eq(cubic_solve(1, y, &iters), SDAE_ERR_CALLBACK_FATAL);
+  cubic_fail_at = 0, cubic_singular = 1;
+  ck_assert_int_eq(cubic_solve(1, y, &iters), SDAE_ERR_NEWTON);
+  cubic_singular = 0;
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("gmres");
   ADD_CASE(s, exact_in_n_steps);
@@ -369,6 +392,7 @@ int main(void) {
   ADD_CASE(s, short_at_m_steps);
   ADD_CASE(s, a_failing_product_and_a_zero_right_hand_side);
   ADD_CASE(s, newton_krylov_converges_where_the_chord_cannot);
+  ADD_CASE(s, newton_krylov_failures_are_named);
   ADD_CASE(s, a_models_linear_solve_serves_the_midpoint_map);
   return run_suite(s);
 }

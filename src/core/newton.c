@@ -348,7 +348,8 @@ static const double keep_coeff_change = 0.3;
  * update 0; near: and that update was within reuse_below), the last update, the rate */
 typedef struct attempt_state {
   int chord, fresh, near;
-  int short_solve; /* the last update's GMRES stopped short of its tolerance */
+  int short_solve; /* the last update's GMRES stopped short of its tolerance: neither
+                    * convergence nor the residual's noise */
   unsigned m;
   double prev, rate;
 } attempt_state;
@@ -363,7 +364,9 @@ static int at_noise(const attempt_state *st, double del, double scale) {
  * predicted to leave nothing; a step of Newton (the matrix at its own iterate, or without
  * chord the last iterate's within reuse_below) leaves its square times Newton's constant */
 static int converged(const sdae_newton *nw, const attempt_state *st, double del, double scale) {
-  if (del > nw->tol * scale) return 0;
+  /* a small update from a GMRES that stopped short says nothing of the residual (a singular
+   * preconditioner gives none at all) */
+  if (del > nw->tol * scale || st->short_solve) return 0;
   if (!st->chord || (st->fresh && st->m == 0)) return 1;
   return del <= chord_moved * scale ||
          (st->m >= 2 && st->rate < 1.0 && st->rate / (1.0 - st->rate) * del <= chord_left * scale);
