@@ -113,16 +113,22 @@ START_TEST(exact_in_n_steps) {
 }
 END_TEST
 
+/* A = diag(1, ..., 1, last), no factors (the identity's preconditioner) */
+static linear linear_diagonal(double last) {
+  linear L;
+  memset(&L, 0, sizeof L);
+  for (size_t i = 0; i < N; i++) L.A[i * N + i] = i + 1 < N ? 1.0 : last;
+  return L;
+}
+
 /* A = I: one step, x = b (the Hessenberg entry exactly 1); A = I + the shift down, b = e_1:
  * every step's new direction of length exactly 1, N steps, x = (1, -1, 1, ...) */
 START_TEST(the_identity_in_one_step) {
-  linear L;
+  linear L = linear_diagonal(1.0);
   sdae_gmres g;
   void *mem = gmres_of(&g, N);
   sdae_gmres_ops ops = {apply, precond, &L};
   double x[N], e[N] = {1.0};
-  memset(&L, 0, sizeof L);
-  for (size_t i = 0; i < N; i++) L.A[i * N + i] = 1.0;
   ck_assert_int_eq(sdae__gmres_solve(&g, &ops, b, x, 1e-12), SDAE_OK);
   ck_assert_uint_eq(g.iters, 1);
   for (size_t i = 0; i < N; i++) ck_assert_double_le(fabs(x[i] - b[i]), 1e-15 * fabs(b[i]));
@@ -137,13 +143,11 @@ END_TEST
 /* A singular, b off its range (A = diag(1, ..., 1, 0), b = e_N): A b = 0, the Krylov space is
  * invariant at once and its best is x = 0, ||b - A x|| = ||b||: x = 0 exactly, not reached */
 START_TEST(an_invariant_space_is_its_own_best) {
-  linear L;
+  linear L = linear_diagonal(0.0);
   sdae_gmres g;
   void *mem = gmres_of(&g, N);
   sdae_gmres_ops ops = {apply, precond, &L};
   double x[N], e[N] = {0};
-  memset(&L, 0, sizeof L);
-  for (size_t i = 0; i + 1 < N; i++) L.A[i * N + i] = 1.0;
   e[N - 1] = 1.0;
   ck_assert_int_eq(sdae__gmres_solve(&g, &ops, e, x, 1e-12), SDAE_OK);
   ck_assert_uint_eq(g.iters, 1);
