@@ -14,6 +14,7 @@
 #include "core/sparse_lu.h"
 #include "rope.h"
 #include "testmodels.h"
+#include "truss.h"
 
 /* a factorization of A with its own block (malloc'd: the test's, not the library's) */
 typedef struct factored {
@@ -21,14 +22,30 @@ typedef struct factored {
   void *mem;
 } factored;
 
-static void factored_init(factored *f, size_t m, size_t n, size_t nnz) {
+/* A's orders (sdae__sparse_lu_orders), its block (malloc'd: the test's, not the library's) */
+static size_t *orders_of(const sdae_pattern *p, size_t m, size_t n) {
+  size_t len = sdae__sparse_lu_orders_min(m, n, p->nnz) + 9 * p->nnz; /* the hubs' whole graph */
+  SuiteSparse_long *work = malloc(len * sizeof *work);
+  size_t *orders = malloc(SDAE_SPARSE_LU_ORDERS * (m ? m : 1) * sizeof *orders);
+  ck_assert_ptr_nonnull(work);
+  ck_assert_ptr_nonnull(orders);
+  ck_assert_int_eq(sdae__sparse_lu_orders(p, m, n, work, len, orders), SDAE_OK);
+  free(work);
+  return orders;
+}
+
+/* a factorization of A with its own block, in the leaves' order */
+static void factored_init(factored *f, const sdae_pattern *p, size_t m, size_t n) {
   sdae_arena a = {0};
-  sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
+  size_t *orders = orders_of(p, m, n);
+  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, &a);
   ck_assert(!a.overflow);
   f->mem = calloc(1, a.used + 64);
   ck_assert_ptr_nonnull(f->mem);
   a = (sdae_arena){.base = f->mem};
-  sdae__sparse_lu_carve(&f->lu, m, n, nnz, &a);
+  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, &a);
+  memcpy(f->lu.order, orders + SDAE_SPARSE_LU_LEAVES * m, m * sizeof *orders);
+  free(orders);
 }
 
 /* a rope of N links (closed: N + 1) at a random configuration, its G's values */
@@ -143,7 +160,7 @@ START_TEST(rope_charts_solve_as_dense_algebra) {
     rope_g_at(&g, 3 + (size_t)trial % 9, trial % 2, rng);
     size_t m = g.sys.n_c, n = g.sys.n_q;
     double *A = dense(&g.r.jacobian_pattern, g.G, m, n);
-    factored_init(&f, m, n, g.r.jacobian_pattern.nnz);
+    factored_init(&f, &g.r.jacobian_pattern, m, n);
     ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &g.r.jacobian_pattern, g.G), SDAE_OK);
     double ratio = against_dense(&f.lu, A, rng);
     ck_assert_double_ge(ratio, 1.0 / 3.0);
@@ -176,7 +193,7 @@ START_TEST(random_wide_matrices_solve_as_dense_algebra) {
     sdae_pattern p = {k, start, col};
     double *A = dense(&p, values, m, n);
     ck_assert_int_eq(sdae__pattern_check(&p, m, n, 0), SDAE_OK);
-    factored_init(&f, m, n, k);
+    factored_init(&f, &p, m, n);
     ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_OK);
     ck_assert_double_ge(against_dense(&f.lu, A, rng), 1.0 / 3.0);
     free(A), free(f.mem);
@@ -191,7 +208,7 @@ START_TEST(dependent_rows_are_rank) {
   static const double values[] = {1.0, 2.0, 3.0, -1.0, 1.0, 5.0, -1.0}; /* row 2 = row 0 + 1 */
   sdae_pattern p = {7, start, col};
   factored f;
-  factored_init(&f, 3, 5, 7);
+  factored_init(&f, &p, 3, 5);
   ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_ERR_RANK);
   free(f.mem);
 }
@@ -207,7 +224,7 @@ START_TEST(refactor_keeps_the_pivots) {
   rope_g_at(&g, 7, 0, rng);
   rope_g_at(&h, 7, 0, rng);
   size_t m = g.sys.n_c, n = g.sys.n_q, pivots[8];
-  factored_init(&f, m, n, g.r.jacobian_pattern.nnz);
+  factored_init(&f, &g.r.jacobian_pattern, m, n);
   ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &g.r.jacobian_pattern, g.G), SDAE_OK);
   memcpy(pivots, f.lu.pivot, m * sizeof *pivots);
   ck_assert_int_eq(sdae__sparse_lu_refactor(&f.lu, &h.r.jacobian_pattern, h.G), SDAE_OK);
@@ -238,7 +255,7 @@ START_TEST(a_rope_of_4096_links_factors_in_its_nonzeros) {
     const sdae_pattern *p = &g.r.jacobian_pattern;
     size_t m = g.sys.n_c, n = g.sys.n_q;
     double *b = malloc(m * sizeof *b), *x = malloc(m * sizeof *x), worst = 0.0, size = 0.0;
-    factored_init(&f, m, n, p->nnz);
+    factored_init(&f, p, m, n);
     ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, p, g.G), SDAE_OK);
     ck_assert_uint_le(f.lu.u_start[m] + f.lu.l_start[m], 3 * p->nnz);
     for (size_t i = 0; i < m; i++) b[i] = gsl_rng_uniform(rng) - 0.5;
@@ -274,7 +291,7 @@ START_TEST(a_closed_rope_in_straight_runs_opens_its_loop) {
   double *q = malloc(n * sizeof *q), *v = malloc(n * sizeof *v), *G = malloc(p->nnz * sizeof *G);
   ck_assert_int_eq(mech_rope_start(&r, 0.3, q, v), 0);
   ck_assert_int_eq(sys.jacobian(0.0, q, G, sys.params), 0);
-  factored_init(&f, m, n, p->nnz);
+  factored_init(&f, p, m, n);
   ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, p, G), SDAE_OK);
   ck_assert_uint_eq(f.lu.l_start[m - 1], 0);
   ck_assert_uint_le(f.lu.l_start[m], m - 1);
@@ -292,11 +309,132 @@ START_TEST(a_single_row_and_its_norm) {
   sdae_pattern p = {3, start, col};
   factored f;
   double x[3], z[3];
-  factored_init(&f, 1, 3, 3);
+  factored_init(&f, &p, 1, 3);
   ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_OK);
   ck_assert_uint_eq(f.lu.pivot[0], 2);
   ck_assert_double_eq_tol(sdae__sparse_lu_norm1(&f.lu, x, z), 2.0 / 3.0, 1e-15);
   free(f.mem);
+}
+END_TEST
+
+/* a truss (examples/models/truss.h) at its start, its G's values */
+typedef struct truss_g {
+  mech_truss t;
+  sdae_mbs sys;
+  double *q, *G;
+} truss_g;
+
+static void truss_g_at(truss_g *g, int (*build)(mech_truss *, size_t, int), size_t size) {
+  ck_assert_int_eq(build(&g->t, size, 1), 0);
+  ck_assert_int_eq(mech_truss_system(&g->sys, &g->t), 0);
+  g->q = malloc(2 * g->sys.n_q * sizeof *g->q);
+  g->G = malloc(g->t.jacobian_pattern.nnz * sizeof *g->G);
+  mech_truss_start(&g->t, g->q, g->q + g->sys.n_q);
+  ck_assert_int_eq(g->sys.jacobian(0.0, g->q, g->G, g->sys.params), 0);
+}
+
+static void truss_g_free(truss_g *g) {
+  free(g->q), free(g->G);
+  mech_truss_free(&g->t);
+}
+
+static int (*const builders[])(mech_truss *, size_t, int) = {mech_truss_star, mech_truss_ladder,
+                                                             mech_truss_cloth, mech_truss_tree};
+static const size_t sizes[] = {50, 16, 8, 6};
+
+/* each order sdae__sparse_lu_orders finds takes every row once, on every topology of a truss,
+ * with workspace at its least (the hubs' bound halved to nothing) and with room */
+START_TEST(every_order_takes_each_row_once) {
+  for (int kind = 0; kind < 4; kind++)
+    for (int room = 0; room < 2; room++) {
+      truss_g g;
+      truss_g_at(&g, builders[kind], sizes[kind]);
+      const sdae_pattern *p = &g.t.jacobian_pattern;
+      size_t m = g.sys.n_c, n = g.sys.n_q, len = sdae__sparse_lu_orders_min(m, n, p->nnz);
+      SuiteSparse_long *work = malloc((len + 9 * p->nnz) * sizeof *work);
+      size_t *orders = malloc(SDAE_SPARSE_LU_ORDERS * m * sizeof *orders);
+      unsigned char *seen = malloc(m);
+      ck_assert_int_eq(sdae__sparse_lu_orders(p, m, n, work, len - 1, orders), SDAE_ERR_BUFFER);
+      ck_assert_int_eq(sdae__sparse_lu_orders(p, m, n, work, len + room * 9 * p->nnz, orders),
+                       SDAE_OK);
+      for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
+        memset(seen, 0, m);
+        for (size_t k = 0; k < m; k++) {
+          ck_assert_uint_lt(orders[o * m + k], m);
+          ck_assert(!seen[orders[o * m + k]]);
+          seen[orders[o * m + k]] = 1;
+        }
+      }
+      free(work), free(orders), free(seen);
+      truss_g_free(&g);
+    }
+}
+END_TEST
+
+/* The best of the orders by the hysteresis rule (a later order's chart replaces the one kept
+ * when smaller by the factor): the kept chart's estimate of ||B||_1 is then at most the factor
+ * times every order's that fits (the kept one's only falls), its factors solve as dense algebra
+ * does, and on each topology at least one order fits */
+START_TEST(the_best_order_keeps_a_chart_within_the_factor_of_each) {
+  const double by = 1.5;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 13);
+  for (int kind = 0; kind < 4; kind++) {
+    truss_g g;
+    factored f;
+    truss_g_at(&g, builders[kind], sizes[kind]);
+    const sdae_pattern *p = &g.t.jacobian_pattern;
+    size_t m = g.sys.n_c, n = g.sys.n_q, *orders = orders_of(p, m, n);
+    double *x = malloc(2 * n * sizeof *x), *z = x + n, kept, *A = dense(p, g.G, m, n);
+    factored_init(&f, p, m, n);
+    ck_assert_int_eq(
+        sdae__sparse_lu_choose_best(&f.lu, p, g.G, orders, SDAE_SPARSE_LU_ORDERS, by, x, z),
+        SDAE_OK);
+    kept = sdae__sparse_lu_norm1(&f.lu, x, z);
+    against_dense(&f.lu, A, rng);
+    for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
+      factored one;
+      factored_init(&one, p, m, n);
+      memcpy(one.lu.order, orders + o * m, m * sizeof *orders);
+      if (sdae__sparse_lu_choose(&one.lu, p, g.G) == SDAE_OK)
+        ck_assert_double_le(kept, by * sdae__sparse_lu_norm1(&one.lu, x, z));
+      free(one.mem);
+    }
+    free(x), free(A), free(orders), free(f.mem);
+    truss_g_free(&g);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
+/* A ladder of 64 four-bar cells, a long row of loops: the leaves first (each loop opened by a
+ * row set aside, which eliminates through the rest of the ladder) fills L, and minimum degree
+ * (whose elimination tree on a band is a path, every independent column carried through each
+ * row above it) fills U, past the reserve (4 nnz(G) + n_c) both; nested dissection's tree, of
+ * depth log n_c, fits, and its factors solve as dense algebra does */
+START_TEST(a_long_row_of_loops_fits_by_dissection) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  truss_g g;
+  factored f;
+  gsl_rng_set(rng, 17);
+  truss_g_at(&g, mech_truss_ladder, 64);
+  const sdae_pattern *p = &g.t.jacobian_pattern;
+  size_t m = g.sys.n_c, n = g.sys.n_q, *orders = orders_of(p, m, n);
+  double *x = malloc(2 * n * sizeof *x), *A = dense(p, g.G, m, n);
+  factored_init(&f, p, m, n);
+  for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
+    memcpy(f.lu.order, orders + o * m, m * sizeof *orders);
+    ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, p, g.G),
+                     o == SDAE_SPARSE_LU_DISSECTION ? SDAE_OK : SDAE_ERR_PATTERN);
+  }
+  ck_assert_int_eq(
+      sdae__sparse_lu_choose_best(&f.lu, p, g.G, orders, SDAE_SPARSE_LU_ORDERS, 1.5, x, x + n),
+      SDAE_OK);
+  ck_assert_mem_eq(f.lu.order, orders + SDAE_SPARSE_LU_DISSECTION * m, m * sizeof *orders);
+  against_dense(&f.lu, A, rng);
+  free(x), free(A), free(orders), free(f.mem);
+  truss_g_free(&g);
+  gsl_rng_free(rng);
 }
 END_TEST
 
@@ -309,5 +447,8 @@ int main(void) {
   ADD_CASE(s, dependent_rows_are_rank);
   ADD_CASE(s, refactor_keeps_the_pivots);
   ADD_CASE(s, a_rope_of_4096_links_factors_in_its_nonzeros);
+  ADD_CASE(s, every_order_takes_each_row_once);
+  ADD_CASE(s, the_best_order_keeps_a_chart_within_the_factor_of_each);
+  ADD_CASE(s, a_long_row_of_loops_fits_by_dissection);
   return run_suite(s);
 }

@@ -37,9 +37,6 @@ void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, s
   lu->pending = sdae__take_array(a, m, 1, 1);
   lu->w = sdae__take(a, m, 1);
   lu->v = sdae__take(a, m, 1);
-  lu->t_start = sdae__take_indices(a, n + 1);
-  lu->t_row = sdae__take_indices(a, nnz);
-  lu->queue = sdae__take_indices(a, 2 * n); /* a column leaves one row at most twice */
   lu->done = sdae__take_array(a, m, 1, 1);
 }
 
@@ -159,32 +156,7 @@ static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t *u_used) {
   return rc;
 }
 
-/* ---- the rows' order ---- */
-
-/* A^T's pattern: the rows holding each column, and the columns only one row holds queued */
-static void leaves_init(sdae_sparse_lu *lu, const sdae_pattern *A, size_t *n_queue) {
-  size_t n = lu->n, *at = lu->t_start;
-  memset(at, 0, (n + 1) * sizeof *at);
-  for (size_t e = 0; e < A->nnz; e++) at[A->col[e] + 1]++;
-  for (size_t c = 0; c < n; c++) at[c + 1] += at[c];
-  for (size_t r = 0; r < lu->m; r++) /* at[c] moves on as column c's rows are written */
-    for (size_t e = A->row_start[r]; e < A->row_start[r + 1]; e++) lu->t_row[at[A->col[e]]++] = r;
-  for (size_t c = n; c > 0; c--) at[c] = at[c - 1]; /* each now at the next column's start */
-  at[0] = 0;
-  memset(lu->done, 0, lu->m);
-  *n_queue = 0;
-  for (size_t c = 0; c < n; c++)
-    if (lu->count[c] == 1) lu->queue[(*n_queue)++] = lu->t_row[at[c]];
-}
-
-/* a queued leaf not taken yet into *r: 1, or 0 when none is queued */
-static int next_leaf(sdae_sparse_lu *lu, size_t *n_queue, size_t *r) {
-  while (*n_queue > 0) {
-    *r = lu->queue[--*n_queue];
-    if (!lu->done[*r]) return 1;
-  }
-  return 0;
-}
+/* ---- the choice's counts ---- */
 
 /* each column's count of the rows holding it */
 static void column_counts(sdae_sparse_lu *lu, const sdae_pattern *A) {
@@ -197,46 +169,9 @@ static void count_out(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar) {
   for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) lu->count[A->col[e]]--;
 }
 
-/* A's row ar placed: counted out, and a column it leaves to one row queues that row */
-static void taken(sdae_sparse_lu *lu, const sdae_pattern *A, size_t ar, size_t *n_queue) {
-  lu->done[ar] = 1;
-  count_out(lu, A, ar);
-  for (size_t e = A->row_start[ar]; e < A->row_start[ar + 1]; e++) {
-    size_t c = A->col[e];
-    if (lu->count[c] != 1) continue;
-    for (size_t k = lu->t_start[c]; k < lu->t_start[c + 1]; k++)
-      if (!lu->done[lu->t_row[k]]) lu->queue[(*n_queue)++] = lu->t_row[k];
-  }
-}
-
-/* The rows' order, found before the elimination: a queued leaf whenever there is
- * one. When none is (every column left is held by two rows or more: a closed loop), the first
- * row not yet placed is set aside for the end, counted out as if taken, which opens the loop
- * into a chain with leaves; the rows set aside come last (the first of them last), each
- * eliminating through its loop: one row of fill per loop, where taking the loop's rows in turn
- * grows the fill along it (the rows of a straight run cancel the coordinate a leaf would
- * pivot on, and the next one's is taken, a row longer each time). */
-static void order_rows(sdae_sparse_lu *lu, const sdae_pattern *A) {
-  size_t n_queue, first = 0, placed = 0, aside = lu->m;
-  column_counts(lu, A);
-  leaves_init(lu, A, &n_queue);
-  while (placed < aside) {
-    size_t r;
-    if (next_leaf(lu, &n_queue, &r)) {
-      lu->order[placed++] = r;
-    } else {
-      while (lu->done[first]) first++;
-      r = first, lu->order[--aside] = r;
-    }
-    taken(lu, A, r, &n_queue);
-  }
-}
-
-/* a choice's start: no column a pivot, the rows' order, and the elimination's Markowitz counts
- * (from all rows again) */
+/* a choice's start: no column a pivot, and the elimination's Markowitz counts */
 static void choice_start(sdae_sparse_lu *lu, const sdae_pattern *A) {
   for (size_t c = 0; c < lu->n; c++) lu->row_of[c] = lu->m;
-  order_rows(lu, A);
   column_counts(lu, A);
 }
 
@@ -290,6 +225,39 @@ int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const doub
   int rc = factor(lu, A, values, 1);
   if (rc == SDAE_OK) split(lu);
   return rc;
+}
+
+/* a later order's chart better than the one kept (measure, entries): its measure smaller by
+ * factor, or the same to rounding with fewer entries */
+static int better(double measure, size_t entries, double best, size_t least, double by) {
+  double tie = 1e-9 * best;
+  return measure * by < best || (fabs(measure - best) <= tie && entries < least);
+}
+
+int sdae__sparse_lu_choose_best(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values,
+                                const size_t *orders, size_t k, double by, double *x, double *z) {
+  size_t m = lu->m, best = k, least = SIZE_MAX;
+  double top = HUGE_VAL;
+  int rc = SDAE_ERR_PATTERN;
+  for (size_t i = 0; i < k; i++) {
+    int got;
+    memcpy(lu->order, orders + i * m, m * sizeof *lu->order);
+    if ((got = factor(lu, A, values, 1)) == SDAE_OK) {
+      size_t entries = lu->l_start[m] + lu->u_start[m];
+      double measure;
+      split(lu);
+      measure = sdae__sparse_lu_norm1(lu, x, z);
+      if (best == k || better(measure, entries, top, least, by))
+        best = i, top = measure, least = entries;
+    }
+    if (got == SDAE_ERR_RANK) rc = got;
+  }
+  if (best == k) return rc;
+  if (best != k - 1) { /* the last one tried is not the best: its factors again */
+    memcpy(lu->order, orders + best * m, m * sizeof *lu->order);
+    if (factor(lu, A, values, 1) == SDAE_OK) split(lu);
+  }
+  return SDAE_OK;
 }
 
 int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values) {

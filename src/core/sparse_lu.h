@@ -8,11 +8,10 @@
  *
  *   A = L U,   A_D = L U_D,   B = A_D^-1 A_I = U_D^-1 U_I,
  *
- * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order of
- * their own (a row holding a column no row still to come holds, whenever there is
- * one, as a chain's outer link before the link inside it, so that a pivot there is never taken
- * out again; when there is none, as around a closed loop, a row is set aside for the end,
- * which opens the loop). The pivot of row r is, among its
+ * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order
+ * found from A's pattern (sdae__sparse_lu_orders: the leaves first, minimum degree, nested
+ * dissection; the best of them for the topology kept by sdae__sparse_lu_choose_best, by the
+ * fill it makes). The pivot of row r is, among its
  * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
  * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
  * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its
@@ -26,6 +25,8 @@
 
 #include <stddef.h>
 
+#include <SuiteSparse_config.h>
+
 #include "arena.h"
 #include "pattern.h"
 
@@ -33,6 +34,15 @@
 #define SDAE_SPARSE_LU_FILL 4
 /* the threshold of the pivot choice: a candidate at least this fraction of the row's largest */
 #define SDAE_SPARSE_LU_TAU 0.5
+/* a column held by more rows than this is left out of the orders' graph (sparse_lu_order.c) */
+#define SDAE_SPARSE_LU_HUB 8
+/* the orders sdae__sparse_lu_orders finds, each m long, one after the other */
+enum {
+  SDAE_SPARSE_LU_LEAVES,
+  SDAE_SPARSE_LU_AMD,
+  SDAE_SPARSE_LU_DISSECTION,
+  SDAE_SPARSE_LU_ORDERS
+};
 
 typedef struct sdae_sparse_lu {
   size_t m, n, cap;
@@ -52,20 +62,33 @@ typedef struct sdae_sparse_lu {
   double *x;
   size_t *list, *heap, *count;
   unsigned char *in_row, *pending;
-  /* the order's: A^T's pattern (the rows holding each column), the rows taken, the leaves
-   * (2 n: each column queues a row when A holds it in one row, and when the rows taken leave it
-   * in one) */
-  size_t *t_start, *t_row, *queue;
-  unsigned char *done;
-  double *w, *v; /* m each: the solves', the estimate's */
+  unsigned char *done; /* m: the owner's scratch, a mark per row */
+  double *w, *v;       /* m each: the solves', the estimate's */
 } sdae_sparse_lu;
 
 /* its arrays for A of m x n with nnz nonzeros, counted or handed out */
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a);
-/* the pivots chosen and A factored (values in A's pattern order): SDAE_OK; SDAE_ERR_RANK when a
- * row is dependent on those before it (its largest remaining value at rounding);
- * SDAE_ERR_PATTERN when the factors outgrow their reserve */
+/* the entries of workspace sdae__sparse_lu_orders needs at least, for A of m x n with nnz
+ * nonzeros; more lets it keep more columns in its graph (the hubs' bound halved until it fits) */
+size_t sdae__sparse_lu_orders_min(size_t m, size_t n, size_t nnz);
+/* orders (SDAE_SPARSE_LU_ORDERS x m): A's rows the leaves first, in AMD's minimum-degree order of
+ * the graph of A A^T (two rows adjacent where they share a column; the columns held by more
+ * than SDAE_SPARSE_LU_HUB rows left out), and in its nested dissection; work: len entries.
+ * SDAE_ERR_BUFFER when len is below sdae__sparse_lu_orders_min. */
+int sdae__sparse_lu_orders(const sdae_pattern *A, size_t m, size_t n, SuiteSparse_long *work,
+                           size_t len, size_t *orders);
+/* the pivots chosen and A factored (values in A's pattern order) in the rows' order lu->order:
+ * SDAE_OK; SDAE_ERR_RANK when a row is dependent on those before it (its largest remaining value
+ * at rounding); SDAE_ERR_PATTERN when the factors outgrow their reserve */
 int sdae__sparse_lu_choose(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);
+/* the pivots chosen in each of the k orders (k x m, as sdae__sparse_lu_orders gives them), the
+ * factors of the best chart kept, its order in lu->order: the first that fits, replaced by a
+ * later one whose estimate of ||B||_1 (sdae__sparse_lu_norm1, x and z its workspace) is smaller
+ * by the factor by (the owner's hysteresis), or the same with fewer entries in L and U. SDAE_OK
+ * when one fits; else SDAE_ERR_RANK if an order found a dependent row, SDAE_ERR_PATTERN if none
+ * fits */
+int sdae__sparse_lu_choose_best(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values,
+                                const size_t *orders, size_t k, double by, double *x, double *z);
 /* A factored again with the pivots kept (A's values changed, not its pattern): SDAE_ERR_RANK
  * when a pivot falls to rounding */
 int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values);

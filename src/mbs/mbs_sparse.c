@@ -27,6 +27,13 @@ static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
   return sdae__mbs_sparse_layout_init(&sp->ly, eval);
 }
 
+/* the orders the chart's factorization tries, found in the analysis' AMD workspace, done with
+ * (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least pass sdae__sparse_lu_orders_min) */
+static int chart_orders(sdae_mbs_sparse *sp) {
+  sdae_sparse_ldl_symbolic *s = &sp->ly.ksym;
+  return sdae__sparse_lu_orders(sp->Gp, sp->n_c, sp->n_q, s->amd_work, s->amd_len, sp->orders);
+}
+
 /* the arrays, counted or handed out; handed out, the layout's analysis may refuse them */
 static int carve(void *p, sdae_arena *a) {
   sdae_mbs_sparse *sp = p;
@@ -35,6 +42,7 @@ static int carve(void *p, sdae_arena *a) {
   sp->Gp = sp->ly.Gp;
   sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, a);
   sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, a);
+  sp->orders = sdae__take_indices(a, SDAE_SPARSE_LU_ORDERS * n_c);
   sp->ind = sdae__take_indices(a, sp->n_f);
   sp->K = sdae__take(a, sp->ly.Kp.nnz, 1);
   sdae__sparse_ldl_carve(&sp->kkt, &sp->ly.ksym, a);
@@ -49,7 +57,7 @@ static int carve(void *p, sdae_arena *a) {
   sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1), sp->res = sdae__take(a, n_c, 1);
   sp->est_x = sdae__take(a, n_q, 1), sp->est_z = sdae__take(a, n_q, 1);
   sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, a);
-  return rc;
+  return rc == SDAE_OK && sp->orders ? chart_orders(sp) : rc;
 }
 
 /* ---- W^T ---- */
@@ -92,6 +100,21 @@ static int same_chart(const sdae_mbs_sparse *sp) {
   return 1;
 }
 
+/* the best chart into factorization which: in the current chart's order, or where there is
+ * none or its factors outgrow their reserve, in the best of the orders for the fill */
+static int propose(sdae_mbs_sparse *sp, int which) {
+  sdae_sparse_lu *lu = &sp->lu[which];
+  int rc = SDAE_ERR_PATTERN;
+  if (sp->have) {
+    memcpy(lu->order, chart(sp)->order, sp->n_c * sizeof *lu->order);
+    rc = sdae__sparse_lu_choose(lu, sp->Gp, sp->G);
+  }
+  return rc == SDAE_ERR_PATTERN
+             ? sdae__sparse_lu_choose_best(lu, sp->Gp, sp->G, sp->orders, SDAE_SPARSE_LU_ORDERS,
+                                           SDAE_MBS_CHART_FACTOR, sp->est_x, sp->est_z)
+             : rc;
+}
+
 /* The rule of both back-ends (sdae__mbs_chart_keeps): the best chart (sdae__sparse_lu_choose's,
  * measured by the estimate of ||G_D^-1 G_I||_1) sought at every start, the current one, where
  * it is still regular, kept unless worse by SDAE_MBS_CHART_FACTOR (or force_best). Kept only
@@ -104,7 +127,7 @@ static int choose_chart(sdae_mbs_sparse *sp, int force_best, int reuse) {
   current =
       sp->have && (reuse || sdae__sparse_lu_refactor(&sp->lu[sp->cur], sp->Gp, sp->G) == SDAE_OK);
   if (current) now = estimate(sp, sp->cur);
-  if ((rc = sdae__sparse_lu_choose(&sp->lu[other], sp->Gp, sp->G)) != SDAE_OK) {
+  if ((rc = propose(sp, other)) != SDAE_OK) {
     if (!current) return rc;
     sp->measure = now; /* the current one serves */
     return SDAE_OK;

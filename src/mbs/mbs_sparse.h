@@ -34,6 +34,7 @@ typedef struct sdae_mbs_sparse {
   /* the chart: the current factorization and a candidate's, swapped on a switch */
   sdae_sparse_lu lu[2];
   int cur, have, kept;
+  size_t *orders; /* the rows' orders the factorization tries (sdae__sparse_lu_orders) */
   size_t *ind;    /* n_f: the current chart's q_I, ascending */
   int switched;   /* the last choice replaced the chart (the first one does not) */
   double measure; /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
