@@ -906,7 +906,7 @@ END_TEST
  * not SDAE_ERR_CHART (a configuration next to a singular one, which the dense back-end shows it
  * is not), and the state as it was. The cloth of 32 x 32 fills 20.9 nnz(G) in L the leaves
  * first, 5.1 in U by minimum degree, 10.8 by dissection (docs/performance.md); a ladder of 32
- * cells, which overflowed the leaves' order, steps in the dissection's (U: 1.9 nnz(G)) */
+ * cells, which overflowed the leaves' order, steps in the dissection's (U: 1.65 nnz(G)) */
 START_TEST(a_chart_past_its_reserve_is_named) {
   for (int big = 0; big < 2; big++) {
     mech_truss p;

@@ -253,11 +253,9 @@ int sdae__sparse_lu_choose_best(sdae_sparse_lu *lu, const sdae_pattern *A, const
     if (got == SDAE_ERR_RANK) rc = got;
   }
   if (best == k) return rc;
-  if (best != k - 1) { /* the last one tried is not the best: its factors again */
-    memcpy(lu->order, orders + best * m, m * sizeof *lu->order);
-    if (factor(lu, A, values, 1) == SDAE_OK) split(lu);
-  }
-  return SDAE_OK;
+  if (best == k - 1) return SDAE_OK; /* the last one tried: its factors in place */
+  memcpy(lu->order, orders + best * m, m * sizeof *lu->order);
+  return sdae__sparse_lu_choose(lu, A, values);
 }
 
 int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values) {
