@@ -202,15 +202,21 @@ START_TEST(random_wide_matrices_solve_as_dense_algebra) {
 }
 END_TEST
 
-/* a row that is a combination of the rows before it has no pivot: SDAE_ERR_RANK */
+/* a row that is a combination of the others has no pivot: SDAE_ERR_RANK, in every order */
 START_TEST(dependent_rows_are_rank) {
   static const size_t start[] = {0, 2, 4, 7}, col[] = {0, 1, 1, 2, 0, 1, 2};
   static const double values[] = {1.0, 2.0, 3.0, -1.0, 1.0, 5.0, -1.0}; /* row 2 = row 0 + 1 */
   sdae_pattern p = {7, start, col};
   factored f;
+  size_t *orders = orders_of(&p, 3, 5);
+  double x[5], z[5];
   factored_init(&f, &p, 3, 5);
   ck_assert_int_eq(sdae__sparse_lu_choose(&f.lu, &p, values), SDAE_ERR_RANK);
-  free(f.mem);
+  /* in every order: the rank is the matrix's */
+  ck_assert_int_eq(
+      sdae__sparse_lu_choose_best(&f.lu, &p, values, orders, SDAE_SPARSE_LU_ORDERS, 1.5, x, z),
+      SDAE_ERR_RANK);
+  free(orders), free(f.mem);
 }
 END_TEST
 
@@ -338,18 +344,26 @@ static void truss_g_free(truss_g *g) {
   mech_truss_free(&g->t);
 }
 
-static int (*const builders[])(mech_truss *, size_t, int) = {mech_truss_star, mech_truss_ladder,
-                                                             mech_truss_cloth, mech_truss_tree};
-static const size_t sizes[] = {50, 16, 8, 6}; /* a size of each */
+/* every topology of a truss: a cart under 50 pendulums, ladders of 8 and 16 cells, a cloth of
+ * 8 x 8, a binary tree of depth 6 */
+static const struct {
+  int (*build)(mech_truss *, size_t, int);
+  size_t size;
+} trusses[] = {{mech_truss_star, 50},
+               {mech_truss_ladder, 8},
+               {mech_truss_ladder, 16},
+               {mech_truss_cloth, 8},
+               {mech_truss_tree, 6}};
+enum { TRUSSES = sizeof trusses / sizeof *trusses };
 
 /* each order sdae__sparse_lu_orders finds takes every row once, on every topology of a truss,
  * with workspace at its least (the hubs' bound halved to fit) and with room; one entry less is
  * refused */
 START_TEST(every_order_takes_each_row_once) {
-  for (int kind = 0; kind < 4; kind++)
+  for (size_t c = 0; c < TRUSSES; c++)
     for (int room = 0; room < 2; room++) {
       truss_g g;
-      truss_g_at(&g, builders[kind], sizes[kind]);
+      truss_g_at(&g, trusses[c].build, trusses[c].size);
       const sdae_pattern *p = &g.t.jacobian_pattern;
       size_t m = g.sys.n_c, n = g.sys.n_q, len = sdae__sparse_lu_orders_min(m, n, p->nnz);
       size_t given = len + (size_t)room * 9 * p->nnz;
@@ -379,16 +393,13 @@ END_TEST
  * 8 cells: 4.30 the leaves, 4.29 the others), its factors solve as dense algebra does, and on
  * each topology at least one order fits */
 START_TEST(the_best_order_keeps_a_chart_within_the_factor_of_each) {
-  static int (*const build[])(mech_truss *, size_t, int) = {
-      mech_truss_star, mech_truss_ladder, mech_truss_ladder, mech_truss_cloth, mech_truss_tree};
-  static const size_t size[] = {50, 8, 16, 8, 6};
   const double by = 1.5, tie = 1e-9;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 13);
-  for (size_t c = 0; c < sizeof size / sizeof *size; c++) {
+  for (size_t c = 0; c < TRUSSES; c++) {
     truss_g g;
     factored f;
-    truss_g_at(&g, build[c], size[c]);
+    truss_g_at(&g, trusses[c].build, trusses[c].size);
     const sdae_pattern *p = &g.t.jacobian_pattern;
     size_t m = g.sys.n_c, n = g.sys.n_q, *orders = orders_of(p, m, n);
     double *x = malloc(2 * n * sizeof *x), *z = x + n, kept, first = 0.0, least = HUGE_VAL;

@@ -10,8 +10,8 @@
  *
  * U_D (U's pivot columns, in pivot order) upper triangular; the rows are taken in an order
  * found from A's pattern (sdae__sparse_lu_orders: the leaves first, minimum degree, nested
- * dissection; the best of them for the topology kept by sdae__sparse_lu_choose_best, by the
- * fill it makes). The pivot of row r is, among its
+ * dissection; the best chart of those that fit kept by sdae__sparse_lu_choose_best, by its
+ * measure, then its fill). The pivot of row r is, among its
  * columns not yet pivots whose |value| is at least tau times the largest, the one fewest rows
  * still to come hold (Markowitz's count, which keeps the fill down: on a chain a link's far end,
  * which no later link holds but the next), the larger value on a tie. Nothing is dropped by its

@@ -101,7 +101,7 @@ static int same_chart(const sdae_mbs_sparse *sp) {
 }
 
 /* the best chart into factorization which: in the current chart's order, or where there is
- * none or its factors outgrow their reserve, in the best of the orders for the fill */
+ * none or its factors outgrow their reserve, the best of every order's (choose_best's rule) */
 static int propose(sdae_mbs_sparse *sp, int which) {
   sdae_sparse_lu *lu = &sp->lu[which];
   int rc = SDAE_ERR_PATTERN;
