@@ -42,7 +42,7 @@ static walk take_all(sdae_arena *ar) {
 
 START_TEST(counts_and_aligns) {
   static max_align_t block[32];
-  sdae_arena count = {0}, hand = {(char *)block, 0, 0};
+  sdae_arena count = {0}, hand = {.base = (char *)block};
   size_t oa = 0, ob = oa + 3 * sizeof(double) + RZ;
   size_t ob_at = round_up(ob, alignof(unsigned));
   size_t oc = round_up(ob_at + 3 * sizeof(unsigned) + RZ, alignof(double));
@@ -118,35 +118,35 @@ START_TEST(overflow_each_check) {
   overflowed(&a);
   /* rounding used up to the alignment: SIZE_MAX - 7 = 2^N - 8 is aligned to 8, one more is
    * not and rounds past SIZE_MAX */
-  a = (sdae_arena){NULL, SIZE_MAX - 7, 0};
+  a = (sdae_arena){.used = SIZE_MAX - 7};
   sdae__take_array(&a, 0, 8, 8);
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, SIZE_MAX - 7);
-  a = (sdae_arena){NULL, SIZE_MAX - 6, 0};
+  a = (sdae_arena){.used = SIZE_MAX - 6};
   sdae__take_array(&a, 0, 8, 8);
   overflowed(&a);
   /* the array past the end: 8 + (SIZE_MAX - 8) = SIZE_MAX fits (with its redzone), one byte
    * more does not */
-  a = (sdae_arena){NULL, 8, 0};
+  a = (sdae_arena){.used = 8};
   sdae__take_array(&a, SIZE_MAX - 8 - RZ, 1, 1);
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, SIZE_MAX);
-  a = (sdae_arena){NULL, 8, 0};
+  a = (sdae_arena){.used = 8};
   sdae__take_array(&a, SIZE_MAX - 7 - RZ, 1, 1);
   overflowed(&a);
-  a = (sdae_arena){NULL, 0, 0};
+  a = (sdae_arena){.used = 0};
   sdae__take_array(&a, SIZE_MAX - RZ, 1, 1); /* the whole of size_t, from 0 */
   ck_assert_int_eq(a.overflow, 0);
   ck_assert_uint_eq(a.used, SIZE_MAX);
   /* the header: used + header must fit */
-  a = (sdae_arena){NULL, 10, 0};
+  a = (sdae_arena){.used = 10};
   ck_assert_int_eq(sdae__arena_bytes(&a, SIZE_MAX - 10, &bytes), SDAE_OK);
   ck_assert_uint_eq(bytes, SIZE_MAX);
   ck_assert_int_eq(sdae__arena_bytes(&a, SIZE_MAX - 9, &bytes), SDAE_ERR_OVERFLOW);
   /* an overflow sticks: a later small array is neither counted nor handed out */
   {
     static max_align_t block[4];
-    sdae_arena b = {(char *)block, 0, 0};
+    sdae_arena b = {.base = (char *)block};
     sdae__take(&b, SIZE_MAX, SIZE_MAX);
     ck_assert_ptr_null(sdae__take(&b, 1, 1));
     ck_assert_ptr_null(sdae__take_pivots(&b, 1));
@@ -182,7 +182,7 @@ END_TEST
  * not absorbed by the next array. */
 START_TEST(the_gaps_between_arrays_are_poisoned) {
   static max_align_t block[16];
-  sdae_arena a = {(char *)block, 0, 0};
+  sdae_arena a = {.base = (char *)block};
   double *x = sdae__take(&a, 3, 1);
   unsigned char *flags = sdae__take_array(&a, 5, 1, 1);
   double *y = sdae__take(&a, 2, 1);
@@ -202,8 +202,42 @@ START_TEST(the_gaps_between_arrays_are_poisoned) {
 }
 END_TEST
 
+/* Workspace lent and reclaimed: the next array starts where it did, zeroed whatever the
+ * workspace held and, under AddressSanitizer, readable where the workspace's redzone was; the
+ * block is the larger of the workspace's end and the arrays', counted as handed out. */
+START_TEST(lent_workspace_is_overlaid) {
+  static max_align_t block[32];
+  size_t mark, bytes, first = round_up(2 * sizeof(double) + RZ, 8);
+  sdae_arena count = {0}, a = {.base = (char *)block};
+  for (int pass = 0; pass < 2; pass++) {
+    sdae_arena *b = pass ? &a : &count;
+    sdae__take(b, 2, 1);
+    double *w = sdae__arena_lend(b, 10, sizeof(double), alignof(double), &mark);
+    ck_assert_uint_eq(mark, first);
+    for (int i = 0; pass && i < 10; i++) w[i] = 1.0;
+    sdae__arena_reclaim(b, mark);
+    double *x = sdae__take(b, 3, 1);
+    ck_assert_int_eq(sdae__arena_bytes(b, 0, &bytes), SDAE_OK);
+    ck_assert_uint_eq(bytes, first + 10 * sizeof(double) + RZ); /* the workspace's end */
+    if (pass) {
+      ck_assert_ptr_eq(x, w);
+      for (int i = 0; i < 3; i++) ck_assert(x[i] == 0.0);
+#ifdef SDAE_ARENA_ASAN
+      ck_assert(!__asan_address_is_poisoned(x + 3 + RZ / sizeof(double)));
+#endif
+    }
+    sdae__take(b, 20, 1); /* past the workspace: the arrays' end */
+    ck_assert_int_eq(sdae__arena_bytes(b, 0, &bytes), SDAE_OK);
+    ck_assert_uint_eq(bytes, b->used);
+  }
+  ck_assert_uint_eq(count.used, a.used);
+  sdae__arena_release(block, sizeof block);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("arena");
+  ADD_CASE(s, lent_workspace_is_overlaid);
   ADD_CASE(s, counts_and_aligns);
   ADD_CASE(s, empty_arrays);
   ADD_CASE(s, overflow_each_check);

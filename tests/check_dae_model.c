@@ -269,7 +269,7 @@ typedef struct poly_derive {
 } poly_derive;
 
 static void poly_init(poly_derive *pd) {
-  sdae_arena a = {(char *)pd->mem, 0, 0};
+  sdae_arena a = {.base = (char *)pd->mem};
   memset(&pd->p, 0, sizeof pd->p);
   sdae__derive_carve(&pd->d, 2, 2, poly_rate, &pd->p, &a);
   ck_assert_uint_le(a.used, sizeof pd->mem);

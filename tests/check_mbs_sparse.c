@@ -160,6 +160,63 @@ START_TEST(the_block_grows_with_the_nonzeros) {
 }
 END_TEST
 
+/* an allocator that counts what is out, and refuses every call once refuse is set */
+typedef struct counted {
+  size_t out, calls;
+  int refuse;
+} counted;
+
+static void *counted_alloc(void *ud, size_t size) {
+  counted *c = ud;
+  if (c->refuse) return NULL;
+  c->out += size, c->calls++;
+  return malloc(size);
+}
+
+static void counted_free(void *ud, void *ptr, size_t size) {
+  ((counted *)ud)->out -= size;
+  free(ptr);
+}
+
+/* The saddle-point system's factors sized by its analysis, which the size runs in memory of
+ * its own: init in the caller's block of exactly the size (the analysis in that block: no
+ * allocation), one byte or the analysis' room short SDAE_ERR_BUFFER; alloc_with takes the
+ * analysis' memory from its allocator too, gives it back, and keeps the block alone; an
+ * allocator with no room SDAE_ERR_NOMEM. L holds a chain's count: nnz(G) + n_c - 1. */
+START_TEST(the_block_is_what_the_analysis_counts) {
+  const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad};
+  mech_rope r = mech_rope_unit(1024, 0, 1);
+  sdae_mbs sys;
+  ck_assert_int_eq(mech_rope_system(&sys, &r), 0);
+  for (int k = 0; k < 2; k++) {
+    sdae_options o = options(maps[k]);
+    size_t len = sdae_mbs_stepper_size(&sys, &o);
+    counted c = {0, 0, 0};
+    sdae_allocator a = {counted_alloc, counted_free, &c};
+    int marker;
+    sdae_mbs_stepper *s = (sdae_mbs_stepper *)&marker;
+    void *mem = malloc(len);
+    ck_assert_uint_gt(len, 0);
+    ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, 64, &sys, &o), SDAE_ERR_BUFFER);
+    ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, len - 1, &sys, &o), SDAE_ERR_BUFFER);
+    ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+    ck_assert_int_eq(sdae_mbs_stepper_init(&s, mem, len, &sys, &o), SDAE_OK);
+    ck_assert_uint_eq(s->sparse.ly.ksym.lnz, sys.jacobian_pattern->nnz + sys.n_c - 1);
+    sdae_mbs_stepper_free(s);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &a), SDAE_OK);
+    ck_assert_uint_ge(c.calls, 2); /* the analysis' memory, then the block */
+    ck_assert_uint_eq(c.out, len);
+    sdae_mbs_stepper_free(s);
+    ck_assert_uint_eq(c.out, 0);
+    c.refuse = 1, s = (sdae_mbs_stepper *)&marker;
+    ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &a), SDAE_ERR_NOMEM);
+    ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+    free(mem);
+  }
+  mech_rope_free(&r);
+}
+END_TEST
+
 /* lambda, the energy and xi at a state are the same quantities in either coordinates: the
  * sparse saddle-point solve against the dense null-space one, to rounding */
 START_TEST(lambda_energy_and_xi_as_the_dense_ones) {
@@ -1023,6 +1080,7 @@ int main(void) {
   ADD_CASE(s, rk4_and_rk8_keep_their_orders);
   ADD_CASE(s, constraints_at_the_rounding_of_q_on_a_long_rope);
   ADD_CASE(s, the_block_grows_with_the_nonzeros);
+  ADD_CASE(s, the_block_is_what_the_analysis_counts);
   ADD_CASE(s, lambda_energy_and_xi_as_the_dense_ones);
   ADD_CASE(s, the_state_continues_bit_for_bit);
   ADD_CASE(s, a_failed_step_leaves_no_trace);

@@ -110,7 +110,9 @@ typedef struct sdae_mbs_stats {
   double chart_measure;         /* max |G_D^-1 G_I| of the current chart where it was chosen */
 } sdae_mbs_stats;
 
-/* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid. */
+/* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid. Given
+ * patterns, the saddle-point system is analysed to size its factors: in memory from malloc here,
+ * given back; from the allocator under _alloc_with; in the caller's block under _init. */
 SDAE_API size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o);
 /* Builds the stepper in the caller's block (no malloc); sys and o are copied. On failure *s is
  * left as it was. SDAE_ERR_MAP for a discrete-gradient map without potential. */

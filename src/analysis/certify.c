@@ -151,7 +151,7 @@ static int take_block(search *S, void **block, size_t *bytes) {
   carve(S, &a);
   if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
   if (!(*block = sdae__alloc(sdae__stepper_allocator(S->s), *bytes))) return SDAE_ERR_NOMEM;
-  a = (sdae_arena){*block, 0, 0};
+  a = (sdae_arena){.base = *block};
   carve(S, &a);
   for (size_t j = 0, f = 0; j < S->dim; j++)
     if (S->lo[j] < S->hi[j]) S->free[f++] = j;

@@ -194,7 +194,7 @@ static int take_block(work *w, const sdae_allocator *al, char **block, size_t *b
   if (sdae__arena_bytes(&a, 0, bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
   if (!(*block = sdae__alloc(al, *bytes))) return SDAE_ERR_NOMEM;
   memset(*block, 0, *bytes);
-  a = (sdae_arena){*block, 0, 0};
+  a = (sdae_arena){.base = *block};
   carve(w, &a);
   return SDAE_OK;
 }

@@ -54,9 +54,26 @@ void sdae__block_free(const sdae_block *b) {
   sdae__free(&copy.allocator, copy.mem, copy.bytes);
 }
 
+int sdae__scratch_take(const sdae_scratch *s, size_t bytes, void **p) {
+  if (s->mem) {
+    *p = s->mem;
+    return bytes <= s->len ? SDAE_OK : SDAE_ERR_BUFFER;
+  }
+  *p = sdae__alloc(s->allocator, bytes);
+  return *p ? SDAE_OK : SDAE_ERR_NOMEM;
+}
+
+void sdae__scratch_give(const sdae_scratch *s, void *p, size_t bytes) {
+  if (s->mem)
+    sdae__arena_release(p, bytes);
+  else
+    sdae__free(s->allocator, p, bytes);
+}
+
 size_t sdae__block_size(const sdae_block_type *t, const void *args) {
+  const sdae_scratch malloc_scratch = {NULL, 0, NULL};
   size_t bytes;
-  return t->measure(args, &bytes) == SDAE_OK ? bytes : 0;
+  return t->measure(args, &malloc_scratch, &bytes) == SDAE_OK ? bytes : 0;
 }
 
 int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size_t len,
@@ -66,7 +83,8 @@ int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size
   void *o;
   int rc;
   if (!mem) return SDAE_ERR_NULL;
-  if ((rc = t->measure(args, &bytes)) != SDAE_OK) return rc;
+  const sdae_scratch in_place = {mem, len, NULL};
+  if ((rc = t->measure(args, &in_place, &bytes)) != SDAE_OK) return rc;
   if (len < bytes) return SDAE_ERR_BUFFER;
   if ((rc = t->build(mem, args, &o, &block)) != SDAE_OK) {
     sdae__arena_release(mem, len); /* the caller's bytes as they were lent */
@@ -83,8 +101,9 @@ int sdae__block_new(const sdae_block_type *t, const void *args, const sdae_alloc
   sdae_block *block;
   size_t bytes;
   void *mem, *o;
+  const sdae_scratch from_a = {NULL, 0, a};
   int rc;
-  if ((rc = t->measure(args, &bytes)) != SDAE_OK) return rc;
+  if ((rc = t->measure(args, &from_a, &bytes)) != SDAE_OK) return rc;
   if (!(mem = sdae__block_alloc(&given, a, bytes))) return SDAE_ERR_NOMEM;
   if ((rc = t->build(mem, args, &o, &block)) != SDAE_OK) {
     sdae__block_free(&given);

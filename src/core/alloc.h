@@ -32,13 +32,29 @@ void sdae__block_caller(sdae_block *b, void *mem, size_t len);
 /* gives back the block *b describes (which may hold *b itself); nothing for mem NULL */
 void sdae__block_free(const sdae_block *b);
 
+/* Where a measure works out what its sizes depend on (a sparse mechanism's analysis): the
+ * caller's memory when the object goes there (mem, len bytes: what the work needs is part of
+ * the block, so a short block is short for it too), else bytes from the allocator (NULL:
+ * malloc), given back before the measure returns. */
+typedef struct sdae_scratch {
+  void *mem;
+  size_t len;
+  const sdae_allocator *allocator;
+} sdae_scratch;
+
+/* bytes of scratch (bytes > 0) into *p: SDAE_OK, SDAE_ERR_BUFFER when the caller's memory is
+ * shorter, SDAE_ERR_NOMEM when the allocator has no room */
+int sdae__scratch_take(const sdae_scratch *s, size_t bytes, void **p);
+/* gives back what sdae__scratch_take gave, bytes long, whole again (core/arena.h) */
+void sdae__scratch_give(const sdae_scratch *s, void *p, size_t bytes);
+
 /* An object that lives in one block (a stepper, a DAE's model, a mechanical stepper): what its
  * public size, init, alloc_with and free share, written once (alloc.c). measure validates the
- * arguments and gives the block's bytes (with room to align a caller's block); build makes the
- * object in mem (measure's bytes long) and says where it and its sdae_block are. A failed
- * build leaves nothing behind but the block. */
+ * arguments and gives the block's bytes (with room to align a caller's block), working in
+ * scratch where it must; build makes the object in mem (measure's bytes long) and says where
+ * it and its sdae_block are. A failed build leaves nothing behind but the block. */
 typedef struct sdae_block_type {
-  int (*measure)(const void *args, size_t *bytes);
+  int (*measure)(const void *args, const sdae_scratch *scratch, size_t *bytes);
   int (*build)(void *mem, const void *args, void **obj, sdae_block **block);
 } sdae_block_type;
 

@@ -50,6 +50,17 @@ void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align) {
 
 void sdae__arena_release(void *mem, size_t bytes) { UNPOISON(mem, bytes); }
 
+void *sdae__arena_lend(sdae_arena *a, size_t n, size_t size, size_t align, size_t *mark) {
+  *mark = a->used;
+  return sdae__take_array(a, n, size, align);
+}
+
+void sdae__arena_reclaim(sdae_arena *a, size_t mark) {
+  if (a->used > a->reach) a->reach = a->used;
+  if (a->base) UNPOISON(a->base + mark, a->used - mark); /* the redzones lent with it */
+  a->used = mark;
+}
+
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2) {
   size_t n;
   if (!mul_ok(n1, n2, &n)) {
@@ -68,8 +79,9 @@ size_t *sdae__take_indices(sdae_arena *a, size_t n) {
 }
 
 int sdae__arena_bytes(const sdae_arena *a, size_t header, size_t *bytes) {
-  if (a->overflow || a->used > SIZE_MAX - header) return SDAE_ERR_OVERFLOW;
-  *bytes = header + a->used;
+  size_t end = a->used > a->reach ? a->used : a->reach;
+  if (a->overflow || end > SIZE_MAX - header) return SDAE_ERR_OVERFLOW;
+  *bytes = header + end;
   return SDAE_OK;
 }
 
@@ -90,7 +102,7 @@ void *sdae__block_start(void *mem, size_t header, sdae_arena *a) {
   size_t al = alignof(max_align_t), pad = (al - (size_t)((uintptr_t)mem % al)) % al;
   char *at = (char *)mem + pad;
   a->base = at + header_room(header);
-  a->used = 0;
+  a->used = a->reach = 0;
   a->overflow = 0;
   return at;
 }

@@ -25,6 +25,7 @@
 typedef struct sdae_arena {
   char *base; /* NULL: count only; else aligned for any type */
   size_t used;
+  size_t reach; /* the end of lent workspace (sdae__arena_lend) */
   int overflow;
 } sdae_arena;
 
@@ -33,6 +34,12 @@ void *sdae__take_array(sdae_arena *a, size_t n, size_t size, size_t align);
 double *sdae__take(sdae_arena *a, size_t n1, size_t n2); /* n1 x n2 doubles */
 unsigned *sdae__take_pivots(sdae_arena *a, size_t n);
 size_t *sdae__take_indices(sdae_arena *a, size_t n);
+/* Workspace a part's set-up uses once (an analysis'), lent from where the arrays taken after
+ * it go: n elements of size bytes, aligned to align, and *mark where they start; handed back
+ * by sdae__arena_reclaim before the next take, which overlays them. The block holds the
+ * larger of the two. */
+void *sdae__arena_lend(sdae_arena *a, size_t n, size_t size, size_t align, size_t *mark);
+void sdae__arena_reclaim(sdae_arena *a, size_t mark);
 /* a block's bytes made whole again (its redzones unpoisoned) before it is given back: a
  * caller's allocator may hand them out anew */
 void sdae__arena_release(void *mem, size_t bytes);

@@ -26,7 +26,7 @@ static sslong *take_longs(sdae_arena *a, size_t n) {
  * off-diagonal entries with a fifth more and n of room to work in, as amd_order gives it), and
  * after Iw, apart from it, the order found (n) */
 static size_t iw_len(size_t n, size_t nnz) { return nnz + nnz / 5 + n; }
-static size_t amd_ints(size_t n, size_t nnz) { return 8 * n + iw_len(n, nnz); }
+size_t sdae__sparse_ldl_work_len(size_t n, size_t nnz) { return 8 * n + iw_len(n, nnz); }
 
 int sdae__sparse_ldl_fits(size_t n, size_t nnz) {
   /* every count below (AMD's 8 n + 1.2 nnz + n, L's at most n^2 / 2) in SuiteSparse_long:
@@ -39,19 +39,16 @@ int sdae__sparse_ldl_fits(size_t n, size_t nnz) {
 void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
                                      size_t nnz, sdae_arena *a) {
   s->n = n, s->n_pos = n_pos, s->nnz = nnz;
-  s->cap = SDAE_SPARSE_LDL_FILL * nnz + n; /* nnz < 2^30 (2^26 in 32 bits): no overflow */
   s->Ap = take_longs(a, n + 1);
   s->Ai = take_longs(a, nnz);
   s->P = take_longs(a, n), s->Pinv = take_longs(a, n);
   s->Lp = take_longs(a, n + 1), s->Parent = take_longs(a, n);
-  s->amd_len = amd_ints(n, nnz);
-  s->amd_work = take_longs(a, s->amd_len);
   s->cls = sdae__take_array(a, n, 1, 1);
 }
 
 /* AMD's minimum-degree order of K's graph into found (n), its workspace before found */
-static void minimum_degree(sdae_sparse_ldl_symbolic *s, sslong *found) {
-  sslong n = (sslong)s->n, *w = s->amd_work, pfree = 0;
+static void minimum_degree(sdae_sparse_ldl_symbolic *s, sslong *w, sslong *found) {
+  sslong n = (sslong)s->n, pfree = 0;
   sslong *Pe = w, *Nv = Pe + n, *Elen = Nv + n, *Degree = Elen + n, *Len = Degree + n;
   sslong *Head = Len + n, *W = Head + n, *Iw = W + n;
   double control[AMD_CONTROL], info[AMD_INFO];
@@ -127,23 +124,23 @@ static void classify(sdae_sparse_ldl_symbolic *s, unsigned char *cls, sslong *ta
 /* the order: AMD's, its rows taken class by class (classify), in AMD's order within each.
  * The constrained minimum degree (CAMD's) would choose them together, but Debian's libcamd.a
  * is not position-independent and so cannot be linked into an FMU. */
-static void order(sdae_sparse_ldl_symbolic *s) {
-  sslong *found = s->amd_work + 7 * s->n + iw_len(s->n, s->nnz), k = 0;
-  minimum_degree(s, found);
-  classify(s, s->cls, s->amd_work, s->amd_work + s->n); /* AMD's workspace, done with */
+static void order(sdae_sparse_ldl_symbolic *s, sslong *work) {
+  sslong *found = work + 7 * s->n + iw_len(s->n, s->nnz), k = 0;
+  minimum_degree(s, work, found);
+  classify(s, s->cls, work, work + s->n); /* AMD's workspace, done with */
   for (unsigned char pass = 0; pass < 4; pass++)
     for (size_t r = 0; r < s->n; r++)
       if (s->cls[found[r]] == pass) s->P[k++] = found[r];
   for (k = 0; k < (sslong)s->n; k++) s->Pinv[s->P[k]] = k;
 }
 
-int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K) {
-  sslong *Lnz = s->amd_work, *Flag = Lnz + s->n; /* AMD's workspace, done with */
+void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K, sslong *work) {
+  sslong *Lnz = work, *Flag = Lnz + s->n; /* AMD's workspace, done with */
   for (size_t i = 0; i <= s->n; i++) s->Ap[i] = (sslong)K->row_start[i];
   for (size_t e = 0; e < K->nnz; e++) s->Ai[e] = (sslong)K->col[e];
-  order(s);
+  order(s, work);
   ldl_l_symbolic((sslong)s->n, s->Ap, s->Ai, s->Lp, s->Parent, Lnz, Flag, s->P, s->Pinv);
-  return (size_t)s->Lp[s->n] <= s->cap ? SDAE_OK : SDAE_ERR_PATTERN;
+  s->lnz = (size_t)s->Lp[s->n];
 }
 
 void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym,
@@ -151,8 +148,8 @@ void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *
   size_t n = sym->n;
   f->sym = sym;
   f->Lnz = take_longs(a, n), f->Flag = take_longs(a, n), f->Pattern = take_longs(a, n);
-  f->Li = take_longs(a, sym->cap);
-  f->Lx = sdae__take(a, sym->cap, 1);
+  f->Li = take_longs(a, sym->lnz);
+  f->Lx = sdae__take(a, sym->lnz, 1);
   f->D = sdae__take(a, n, 1), f->Y = sdae__take(a, n, 1), f->x = sdae__take(a, n, 1);
 }
 

@@ -9,14 +9,14 @@
  * take every array from their caller, so all of it is carved from the owner's block:
  *
  *   analyse (once, when the owner is built): AMD's ordering (amd_l2, its workspace and the
- *            copy of the pattern it consumes carved here) and LDL's symbolic factorization
+ *            copy of the pattern it consumes lent by the owner) and LDL's symbolic factorization
  *            (ldl_l_symbolic: L's column counts and the elimination tree);
  *   factor  (each time the values change): ldl_l_numeric, O(nnz(L)) flops, no allocation;
  *   solve:  ldl_l_perm, ldl_l_lsolve, ldl_l_dsolve, ldl_l_ltsolve, ldl_l_permt.
  *
  * The symbolic part is shared by every numeric factorization of the same pattern (a stepper's
- * and its query's). L's entries are reserved at SDAE_SPARSE_LDL_FILL times K's nonzeros plus one
- * per row; the analysis knows the exact count and refuses a pattern that needs more. */
+ * and its query's), and L's entries are what it counts: the factors are carved after it, their
+ * owner measured by an analysis of its own in scratch (core/alloc.h). */
 #ifndef STABDAE_SRC_CORE_SPARSE_LDL_H
 #define STABDAE_SRC_CORE_SPARSE_LDL_H
 
@@ -27,20 +27,17 @@
 #include "arena.h"
 #include "pattern.h"
 
-/* the entries L may hold: this many times K's nonzeros (both triangles), plus one per row */
-#define SDAE_SPARSE_LDL_FILL 4
 /* a coordinate held by more constraints than this is taken after the multipliers (a hub: the
  * k constraints of a cart under k pendulums would fill k (k - 1) / 2 entries the other way) */
 #define SDAE_SPARSE_LDL_HUB 8
 
 /* indices as SuiteSparse's long versions take them (amd_l2, ldl_l_*): 64 bits */
 typedef struct sdae_sparse_ldl_symbolic {
-  size_t n, n_pos, nnz, cap;
+  size_t n, n_pos, nnz;
+  size_t lnz;                    /* L's entries, counted by the analysis (0 before it) */
   SuiteSparse_long *Ap, *Ai;     /* K's pattern as LDL reads it (symmetric: rows are columns) */
   SuiteSparse_long *P, *Pinv;    /* the order: P[k] the row taken k-th */
   SuiteSparse_long *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
-  SuiteSparse_long *amd_work;    /* AMD's: the pattern it consumes, its workspace, its order */
-  size_t amd_len;                /* entries of amd_work */
   unsigned char *cls;            /* n: each row's class in the order (sparse_ldl.c) */
 } sdae_sparse_ldl_symbolic;
 
@@ -56,14 +53,19 @@ typedef struct sdae_sparse_ldl {
  * counted or handed out */
 void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size_t n_pos,
                                      size_t nnz, sdae_arena *a);
+/* the entries of the analysis' workspace (AMD's: the pattern it consumes, its workspace, the
+ * order found), used once: the owner lends it (core/arena.h) */
+size_t sdae__sparse_ldl_work_len(size_t n, size_t nnz);
 /* the order and L's structure of K's pattern (symmetric, its multipliers' block empty as in
- * [M G^T; G 0]; its sizes fit, sdae__sparse_ldl_fits,
- * which the owner asks before it carves): SDAE_OK, or SDAE_ERR_PATTERN when L needs more
- * entries than reserved */
-int sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K);
+ * [M G^T; G 0]; its sizes fit, sdae__sparse_ldl_fits, which the owner asks before it carves),
+ * and s->lnz; work: sdae__sparse_ldl_work_len entries */
+void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K,
+                              SuiteSparse_long *work);
 /* whether a pattern of n rows and nnz entries keeps every count of AMD's and LDL's in range */
 int sdae__sparse_ldl_fits(size_t n, size_t nnz);
 
+/* a factorization's arrays, L's sym->lnz entries among them (sym analysed, or its lnz set as
+ * an analysis of the same pattern counted it) */
 void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym, sdae_arena *a);
 /* K's values (in the pattern's order) factored, and f->least the least |pivot| / scale over the
  * multipliers (about sin^2 of the least angle between a constraint's gradient and the others'):

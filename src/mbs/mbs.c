@@ -65,9 +65,9 @@ typedef struct args {
   const sdae_options *o;
 } args;
 
-/* the block's bytes (with room to align a caller's block): the parts' and the normal form's
- * stepper's */
-static int measure(const void *p, size_t *bytes) {
+/* the block's bytes (with room to align a caller's block): the parts' (as the coordinates'
+ * analysis in scratch sizes them) and the normal form's stepper's */
+static int measure(const void *p, const sdae_scratch *scratch, size_t *bytes) {
   const args *g = p;
   sdae_mbs_stepper probe;
   sdae_arena a = {0};
@@ -76,6 +76,7 @@ static int measure(const void *p, size_t *bytes) {
   if (rc != SDAE_OK || (rc = wire(&probe, g->sys, g->o)) != SDAE_OK) return rc;
   if ((rc = sdae__stepper_validate(&probe.nf.model, &probe.opt)) != SDAE_OK) return rc;
   if ((inner = sdae_stepper_size(&probe.nf.model, &probe.opt)) == 0) return SDAE_ERR_OVERFLOW;
+  if ((rc = sdae__mbs_coords_analyse(&probe.coords, scratch)) != SDAE_OK) return rc;
   carve(&probe, &a, inner);
   return sdae__block_bytes(&a, sizeof(sdae_mbs_stepper), bytes);
 }

@@ -58,6 +58,10 @@ int sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, const sdae_m
  * a choice at the step's start and a state read (a set state, a roll-back) */
 static void split(sdae_mbs_coords *co) { co->linalg->split(co->la, &co->dep, &co->ind); }
 
+int sdae__mbs_coords_analyse(sdae_mbs_coords *co, const sdae_scratch *scratch) {
+  return co->linalg->analyse ? co->linalg->analyse(co->la, scratch) : SDAE_OK;
+}
+
 int sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a) {
   size_t n_q = co->n_q, n_c = co->n_c;
   int rc = co->linalg->carve(co->la, a);

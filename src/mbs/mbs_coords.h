@@ -66,6 +66,8 @@ typedef struct sdae_mbs_coords {
  * build refuses */
 int sdae__mbs_coords_init(sdae_mbs_coords *co, sdae_mbs_eval *eval, const sdae_mbs_linalg *linalg,
                           void *la, const sdae_options *o);
+/* the back-end's analysis in scratch, before a block is measured (its refusal) */
+int sdae__mbs_coords_analyse(sdae_mbs_coords *co, const sdae_scratch *scratch);
 int sdae__mbs_coords_carve(sdae_mbs_coords *co, sdae_arena *a);
 
 /* a step's start at (t, q, v): c, G and dc/dt there (at the point Phi^-1 left, the last step's

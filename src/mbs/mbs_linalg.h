@@ -11,6 +11,7 @@
 
 #include <stabdae/stabdae.h>
 
+#include "core/alloc.h"
 #include "core/arena.h"
 #include "core/bytes.h"
 #include "mbs_eval.h"
@@ -31,10 +32,12 @@ static inline int sdae__mbs_chart_keeps(int force_best, double now, double best)
 
 typedef struct sdae_mbs_linalg {
   const char *name;
-  /* wired to the callbacks and the options (SDAE_ERR_OVERFLOW: sizes it cannot index); its
-   * arrays counted or handed out by carve, which may refuse what its analysis at the build
-   * refuses */
+  /* wired to the callbacks and the options (SDAE_ERR_OVERFLOW: sizes it cannot index); what
+   * its sizes depend on beyond the dimensions found by analyse in scratch (NULL: nothing),
+   * before its arrays are counted; the arrays counted or handed out by carve, which may refuse
+   * what its analysis at the build refuses */
   int (*init)(void *la, sdae_mbs_eval *eval, const sdae_options *o);
+  int (*analyse)(void *la, const sdae_scratch *scratch);
   int (*carve)(void *la, sdae_arena *a);
   /* G and M at (t, q) into the back-end's own storage, and M's symmetry (SDAE_ERR_MASS) */
   int (*jacobian)(void *la, double t, const double *q);

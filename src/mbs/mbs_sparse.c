@@ -27,22 +27,38 @@ static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
   return sdae__mbs_sparse_layout_init(&sp->ly, eval);
 }
 
-/* the orders the chart's factorization tries, found in the analysis' AMD workspace, done with
- * (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least pass sdae__sparse_lu_orders_min) */
-static int chart_orders(sdae_mbs_sparse *sp) {
-  sdae_sparse_ldl_symbolic *s = &sp->ly.ksym;
-  return sdae__sparse_lu_orders(sp->Gp, sp->n_c, sp->n_q, s->amd_work, s->amd_len, sp->orders);
+static int analyse(void *p, const sdae_scratch *scratch) {
+  sdae_mbs_sparse *sp = p;
+  return sdae__mbs_sparse_layout_measure(&sp->ly, scratch);
 }
 
-/* the arrays, counted or handed out; handed out, the layout's analysis may refuse them */
+/* K analysed and the orders the chart's factorization tries found, in workspace lent for it
+ * (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least pass sdae__sparse_lu_orders_min) */
+static int analyse_in_block(sdae_mbs_sparse *sp, sdae_arena *a) {
+  size_t len = sdae__mbs_sparse_layout_work_len(&sp->ly), mark;
+  SuiteSparse_long *work =
+      sdae__arena_lend(a, len, sizeof *work, _Alignof(SuiteSparse_long), &mark);
+  int rc = SDAE_OK;
+  if (work) {
+    sdae__mbs_sparse_layout_analyse(&sp->ly, work);
+    rc = sdae__sparse_lu_orders(sp->Gp, sp->n_c, sp->n_q, work, len, sp->orders);
+  }
+  sdae__arena_reclaim(a, mark);
+  return rc;
+}
+
+/* the arrays, counted or handed out: the layout's and the orders first, then the analysis
+ * (run again in the block) in workspace the arrays after it overlay, sizing the
+ * factorizations; handed out, the chart's orders may refuse G */
 static int carve(void *p, sdae_arena *a) {
   sdae_mbs_sparse *sp = p;
-  int rc = sdae__mbs_sparse_layout_carve(&sp->ly, a);
+  sdae__mbs_sparse_layout_carve(&sp->ly, a);
   size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->ly.n_k, gnz = sp->ly.Gp->nnz;
   sp->Gp = sp->ly.Gp;
+  sp->orders = sdae__take_indices(a, SDAE_SPARSE_LU_ORDERS * n_c);
+  int rc = analyse_in_block(sp, a);
   sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, a);
   sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, a);
-  sp->orders = sdae__take_indices(a, SDAE_SPARSE_LU_ORDERS * n_c);
   sp->ind = sdae__take_indices(a, sp->n_f);
   sp->K = sdae__take(a, sp->ly.Kp.nnz, 1);
   sdae__sparse_ldl_carve(&sp->kkt, &sp->ly.ksym, a);
@@ -57,7 +73,7 @@ static int carve(void *p, sdae_arena *a) {
   sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1), sp->res = sdae__take(a, n_c, 1);
   sp->est_x = sdae__take(a, n_q, 1), sp->est_z = sdae__take(a, n_q, 1);
   sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, a);
-  return rc == SDAE_OK && sp->orders ? chart_orders(sp) : rc;
+  return rc;
 }
 
 /* ---- W^T ---- */
@@ -398,6 +414,7 @@ static int query_lambda(void *p, double t, const double *q, const double *v, dou
 const sdae_mbs_linalg sdae__mbs_sparse_linalg = {
     .name = "sparse",
     .init = init,
+    .analyse = analyse,
     .carve = carve,
     .jacobian = jacobian,
     .mass = mass,

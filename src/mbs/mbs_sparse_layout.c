@@ -61,7 +61,7 @@ static void build_k(sdae_mbs_sparse_layout *ly, size_t *start, size_t *col, size
       ly->m_mirror[e] = find(M, M->col[e], i);
 }
 
-int sdae__mbs_sparse_layout_carve(sdae_mbs_sparse_layout *ly, sdae_arena *a) {
+void sdae__mbs_sparse_layout_carve(sdae_mbs_sparse_layout *ly, sdae_arena *a) {
   const sdae_mbs *sys = &ly->eval->sys;
   size_t gnz = sys->jacobian_pattern->nnz, mnz = sys->mass_pattern->nnz, knz = mnz + 2 * gnz;
   size_t *start, *col, *fill;
@@ -75,9 +75,38 @@ int sdae__mbs_sparse_layout_carve(sdae_mbs_sparse_layout *ly, sdae_arena *a) {
   ly->k_of_gt = sdae__take_indices(a, gnz);
   sdae__sparse_ldl_symbolic_carve(&ly->ksym, ly->n_k, ly->n_q, knz, a);
   ly->Kp = (sdae_pattern){knz, start, col};
-  if (!start) return SDAE_OK; /* counted, not handed out */
-  build_k(ly, start, col, fill);
-  return sdae__sparse_ldl_analyse(&ly->ksym, &ly->Kp);
+  if (start) build_k(ly, start, col, fill); /* handed out, not only counted */
+}
+
+size_t sdae__mbs_sparse_layout_work_len(const sdae_mbs_sparse_layout *ly) {
+  return sdae__sparse_ldl_work_len(ly->n_k, ly->Kp.nnz);
+}
+
+void sdae__mbs_sparse_layout_analyse(sdae_mbs_sparse_layout *ly, SuiteSparse_long *work) {
+  sdae__sparse_ldl_analyse(&ly->ksym, &ly->Kp, work);
+}
+
+/* the layout's arrays, then the workspace, in scratch */
+static void carve_with_work(sdae_mbs_sparse_layout *ly, sdae_arena *a, SuiteSparse_long **work) {
+  sdae__mbs_sparse_layout_carve(ly, a);
+  *work = sdae__take_array(a, sdae__mbs_sparse_layout_work_len(ly), sizeof **work,
+                           _Alignof(SuiteSparse_long));
+}
+
+int sdae__mbs_sparse_layout_measure(sdae_mbs_sparse_layout *ly, const sdae_scratch *scratch) {
+  sdae_arena a = {0};
+  SuiteSparse_long *work;
+  size_t bytes;
+  void *mem;
+  int rc;
+  carve_with_work(ly, &a, &work);
+  if ((rc = sdae__block_bytes(&a, 0, &bytes)) != SDAE_OK) return rc;
+  if ((rc = sdae__scratch_take(scratch, bytes, &mem)) != SDAE_OK) return rc;
+  sdae__block_start(mem, 0, &a);
+  carve_with_work(ly, &a, &work); /* ly's arrays lent: carved again, in the block */
+  sdae__mbs_sparse_layout_analyse(ly, work);
+  sdae__scratch_give(scratch, mem, bytes);
+  return SDAE_OK;
 }
 
 /* ---- products through the patterns ---- */

@@ -90,7 +90,8 @@ typedef struct args {
 } args;
 
 /* Bytes for the block, with room to align a caller's block. */
-static int measure(const void *p, size_t *bytes) {
+static int measure(const void *p, const sdae_scratch *scratch, size_t *bytes) {
+  (void)scratch; /* the sizes follow from the dimensions */
   const args *g = p;
   sdae_stepper probe;
   sdae_arena a = {0};
