@@ -38,12 +38,12 @@ static size_t *orders_of(const sdae_pattern *p, size_t m, size_t n) {
 static void factored_init(factored *f, const sdae_pattern *p, size_t m, size_t n) {
   sdae_arena a = {0};
   size_t *orders = orders_of(p, m, n);
-  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, &a);
+  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, sdae__sparse_lu_reserve(m, p->nnz), &a);
   ck_assert(!a.overflow);
   f->mem = calloc(1, a.used + 64);
   ck_assert_ptr_nonnull(f->mem);
   a = (sdae_arena){.base = f->mem};
-  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, &a);
+  sdae__sparse_lu_carve(&f->lu, m, n, p->nnz, sdae__sparse_lu_reserve(m, p->nnz), &a);
   memcpy(f->lu.order, orders + SDAE_SPARSE_LU_LEAVES * m, m * sizeof *orders);
   free(orders);
 }
@@ -464,8 +464,59 @@ START_TEST(a_long_row_of_loops_fits_by_dissection) {
 }
 END_TEST
 
+/* George and Ng's bound: whatever the pivots (G's values scaled at random, entry by entry, so
+ * that each trial pivots elsewhere), L holds at most the strictly lower entries of the Cholesky
+ * factor of G G^T in the rows' order, on every topology of a truss and in every order; on an
+ * open rope, whose G G^T is tridiagonal (two links share a mass), the leaves' order and
+ * minimum degree, paths both, bound it at n_c - 1 */
+START_TEST(l_stays_within_its_bound) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 19);
+  for (size_t c = 0; c <= TRUSSES; c++) {
+    truss_g g;
+    rope_g r;
+    const sdae_pattern *p;
+    double *G;
+    size_t m, n;
+    if (c < TRUSSES) {
+      truss_g_at(&g, trusses[c].build, trusses[c].size);
+      p = &g.t.jacobian_pattern, G = g.G, m = g.sys.n_c, n = g.sys.n_q;
+    } else {
+      rope_g_at(&r, 64, 0, rng);
+      p = &r.r.jacobian_pattern, G = r.G, m = r.sys.n_c, n = r.sys.n_q;
+    }
+    size_t *orders = orders_of(p, m, n), len = sdae__sparse_lu_orders_min(m, n, p->nnz);
+    SuiteSparse_long *work = malloc(len * sizeof *work);
+    double *scaled = malloc(p->nnz * sizeof *scaled);
+    for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
+      size_t most = sdae__sparse_lu_l_bound(p, m, n, orders + o * m, work), fits = 0;
+      if (c == TRUSSES && o != SDAE_SPARSE_LU_DISSECTION) ck_assert_uint_eq(most, m - 1);
+      for (int trial = 0; trial < 8; trial++) {
+        factored f;
+        for (size_t e = 0; e < p->nnz; e++) scaled[e] = G[e] * (0.5 + 1.5 * gsl_rng_uniform(rng));
+        factored_init(&f, p, m, n);
+        memcpy(f.lu.order, orders + o * m, m * sizeof *orders);
+        if (sdae__sparse_lu_choose(&f.lu, p, scaled) == SDAE_OK) {
+          ck_assert_uint_le(f.lu.l_start[m], most);
+          fits++;
+        }
+        free(f.mem);
+      }
+      ck_assert_uint_gt(fits + (o != SDAE_SPARSE_LU_DISSECTION), 0); /* dissection fits all */
+    }
+    free(work), free(scaled), free(orders);
+    if (c < TRUSSES)
+      truss_g_free(&g);
+    else
+      rope_g_free(&r);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sparse_lu");
+  ADD_CASE(s, l_stays_within_its_bound);
   ADD_CASE(s, a_closed_rope_in_straight_runs_opens_its_loop);
   ADD_CASE(s, a_single_row_and_its_norm);
   ADD_CASE(s, rope_charts_solve_as_dense_algebra);

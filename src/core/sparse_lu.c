@@ -6,6 +6,7 @@
  * wide matrix by its values in its nonzeros' time. */
 #include <float.h>
 #include <math.h>
+#include <stdalign.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -13,22 +14,31 @@
 
 #include "sparse_lu.h"
 
-void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a) {
-  size_t cap =
-      nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
-  lu->m = m, lu->n = n, lu->cap = cap;
+/* cap 32-bit indices below n; n past them: an array no count holds */
+static uint32_t *take_entries(sdae_arena *a, size_t n, size_t cap) {
+  return sdae__take_array(a, n > UINT32_MAX ? SIZE_MAX : cap, sizeof(uint32_t), alignof(uint32_t));
+}
+
+size_t sdae__sparse_lu_reserve(size_t m, size_t nnz) {
+  return nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
+}
+
+void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, size_t l_cap,
+                           sdae_arena *a) {
+  size_t cap = sdae__sparse_lu_reserve(m, nnz);
+  lu->m = m, lu->n = n, lu->cap = cap, lu->l_cap = l_cap;
   lu->order = sdae__take_indices(a, m);
   lu->pivot = sdae__take_indices(a, m);
   lu->row_of = sdae__take_indices(a, n);
   lu->u_start = sdae__take_indices(a, m + 1);
   lu->u_diag = sdae__take_indices(a, m);
   lu->u_dend = sdae__take_indices(a, m);
-  lu->u_col = sdae__take_indices(a, cap);
-  lu->u_step = sdae__take_indices(a, cap);
+  lu->u_col = take_entries(a, n, cap);
+  lu->u_step = take_entries(a, n, cap);
   lu->u_val = sdae__take(a, cap, 1);
   lu->l_start = sdae__take_indices(a, m + 1);
-  lu->l_col = sdae__take_indices(a, cap);
-  lu->l_val = sdae__take(a, cap, 1);
+  lu->l_col = take_entries(a, n, l_cap);
+  lu->l_val = sdae__take(a, l_cap, 1);
   lu->x = sdae__take(a, n, 1);
   lu->list = sdae__take_indices(a, n);
   lu->heap = sdae__take_indices(a, m);
@@ -99,12 +109,12 @@ static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *va
   while (n_heap > 0) {
     size_t k = heap_pop(lu, &n_heap), p = lu->pivot[k];
     double l = lu->x[p] / lu->u_val[lu->u_diag[k]];
-    if (*l_used == lu->cap) {
+    if (*l_used == lu->l_cap) {
       lu->pending[k] = 0;
       while (n_heap > 0) lu->pending[heap_pop(lu, &n_heap)] = 0;
       return SDAE_ERR_PATTERN;
     }
-    lu->l_col[*l_used] = k, lu->l_val[(*l_used)++] = l;
+    lu->l_col[*l_used] = (uint32_t)k, lu->l_val[(*l_used)++] = l;
     for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++) {
       size_t c = lu->u_col[e];
       touch(lu, r, c, n_list, &n_heap);
@@ -150,7 +160,7 @@ static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t *u_used) {
       continue;
     }
     if (c == lu->pivot[r]) lu->u_diag[r] = *u_used;
-    lu->u_col[*u_used] = c, lu->u_val[(*u_used)++] = lu->x[c];
+    lu->u_col[*u_used] = (uint32_t)c, lu->u_val[(*u_used)++] = lu->x[c];
   }
   lu->u_start[r + 1] = *u_used;
   return rc;
@@ -209,15 +219,16 @@ static void split(sdae_sparse_lu *lu) {
   for (size_t k = 0; k < lu->m; k++) {
     size_t a = lu->u_start[k], len = lu->u_start[k + 1] - a, d = a + 1;
     for (size_t i = 0; i < len; i++) col[i] = lu->u_col[a + i], val[i] = lu->u_val[a + i];
-    lu->u_col[a] = lu->pivot[k], lu->u_val[a] = val[lu->u_diag[k] - a];
+    lu->u_col[a] = (uint32_t)lu->pivot[k], lu->u_val[a] = val[lu->u_diag[k] - a];
     lu->u_diag[k] = a;
     for (size_t i = 0; i < len; i++) { /* later pivots' columns (none is an earlier one's) */
       size_t j = lu->row_of[col[i]];
-      if (j != k && j < lu->m) lu->u_col[d] = col[i], lu->u_val[d] = val[i], lu->u_step[d++] = j;
+      if (j != k && j < lu->m)
+        lu->u_col[d] = (uint32_t)col[i], lu->u_val[d] = val[i], lu->u_step[d++] = (uint32_t)j;
     }
     lu->u_dend[k] = d;
     for (size_t i = 0; i < len; i++) /* q_I's */
-      if (lu->row_of[col[i]] == lu->m) lu->u_col[d] = col[i], lu->u_val[d++] = val[i];
+      if (lu->row_of[col[i]] == lu->m) lu->u_col[d] = (uint32_t)col[i], lu->u_val[d++] = val[i];
   }
 }
 
@@ -268,7 +279,7 @@ int sdae__sparse_lu_refactor(sdae_sparse_lu *lu, const sdae_pattern *A, const do
 
 /* x = U_D^-1 y (both by pivot), row by row from the last */
 static void back(const sdae_sparse_lu *lu, const double *y, double *x) {
-  const size_t *step = lu->u_step;
+  const uint32_t *step = lu->u_step;
   const double *u = lu->u_val;
   for (size_t k = lu->m; k-- > 0;) {
     double s = y[k];
@@ -279,7 +290,7 @@ static void back(const sdae_sparse_lu *lu, const double *y, double *x) {
 
 /* w = U_D^-T w in place (by pivot), each row's part pushed to the later rows */
 static void forward_t(const sdae_sparse_lu *lu, double *w) {
-  const size_t *step = lu->u_step;
+  const uint32_t *step = lu->u_step;
   const double *u = lu->u_val;
   for (size_t k = 0; k < lu->m; k++) {
     w[k] /= u[lu->u_start[k]];

@@ -18,19 +18,22 @@
  * value (nor is a zero kept out), so the factors' structure is set by A's pattern and the
  * pivots alone, and a
  * refactorization with the pivots kept fills the same places. Every array is carved when the
- * owner is built: SDAE_ERR_PATTERN when the factors would need more than their reserve
- * (SDAE_SPARSE_LU_FILL). */
+ * owner is built: L's reserve is the bound on it in the orders tried (sdae__sparse_lu_l_bound,
+ * George and Ng's) where that is below U's (SDAE_SPARSE_LU_FILL), for which no static count
+ * is useful; SDAE_ERR_PATTERN when the factors would need more than their reserve. */
 #ifndef STABDAE_SRC_CORE_SPARSE_LU_H
 #define STABDAE_SRC_CORE_SPARSE_LU_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include <SuiteSparse_config.h>
 
 #include "arena.h"
 #include "pattern.h"
 
-/* the entries L and U may hold, each: this many times A's nonzeros, plus one per row */
+/* the entries U may hold (and L, where its bound is larger): this many times A's nonzeros,
+ * plus one per row */
 #define SDAE_SPARSE_LU_FILL 4
 /* the threshold of the pivot choice: a candidate at least this fraction of the row's largest */
 #define SDAE_SPARSE_LU_TAU 0.5
@@ -45,7 +48,7 @@ enum {
 };
 
 typedef struct sdae_sparse_lu {
-  size_t m, n, cap;
+  size_t m, n, cap, l_cap; /* the entries U and L hold */
   /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
   size_t *order, *pivot, *row_of;
   /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's
@@ -53,9 +56,11 @@ typedef struct sdae_sparse_lu {
    * then its entries in later pivots' columns (up to u_dend[k], u_step their steps), then those
    * in the other columns, each group in its order: the solves run over one group, no test per
    * entry */
-  size_t *u_start, *u_col, *u_diag, *u_dend, *u_step;
+  size_t *u_start, *u_diag, *u_dend;
+  uint32_t *u_col, *u_step; /* 32 bits: n < 2^32 (sdae__sparse_lu_carve) */
   double *u_val;
-  size_t *l_start, *l_col;
+  size_t *l_start;
+  uint32_t *l_col;
   double *l_val;
   /* the elimination's workspace: the row (dense, n), its columns (a list and a mark), the pivot
    * rows to take out (a heap, smallest first, with a mark), the rows to come holding a column */
@@ -66,8 +71,14 @@ typedef struct sdae_sparse_lu {
   double *w, *v;       /* m each: the solves', the estimate's */
 } sdae_sparse_lu;
 
-/* its arrays for A of m x n with nnz nonzeros, counted or handed out */
-void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, sdae_arena *a);
+/* the entries U's reserve holds for A of m rows and nnz nonzeros: SDAE_SPARSE_LU_FILL nnz + m
+ * (SIZE_MAX past size_t), and L's where the bound on it is not less */
+size_t sdae__sparse_lu_reserve(size_t m, size_t nnz);
+/* its arrays for A of m x n with nnz nonzeros and l_cap entries of L, counted or handed out;
+ * the factors' entries index by 32 bits (a fifth less memory than size_t's 64), so n of 2^32
+ * or more overflows the count */
+void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, size_t l_cap,
+                           sdae_arena *a);
 /* the entries of workspace sdae__sparse_lu_orders needs at least, for A of m x n with nnz
  * nonzeros; more lets it keep more columns in its graph (the hubs' bound halved until it fits) */
 size_t sdae__sparse_lu_orders_min(size_t m, size_t n, size_t nnz);
@@ -77,6 +88,11 @@ size_t sdae__sparse_lu_orders_min(size_t m, size_t n, size_t nnz);
  * SDAE_ERR_BUFFER when len is below sdae__sparse_lu_orders_min. */
 int sdae__sparse_lu_orders(const sdae_pattern *A, size_t m, size_t n, SuiteSparse_long *work,
                            size_t len, size_t *orders);
+/* the most entries L can hold in the rows' order order (m), whatever the pivots: the strictly
+ * lower entries of the Cholesky factor of A A^T in that order (sparse_lu_order.c); work: at
+ * least sdae__sparse_lu_orders_min entries */
+size_t sdae__sparse_lu_l_bound(const sdae_pattern *A, size_t m, size_t n, const size_t *order,
+                               SuiteSparse_long *work);
 /* the pivots chosen and A factored (values in A's pattern order) in the rows' order lu->order:
  * SDAE_OK; SDAE_ERR_RANK when a row is dependent on those before it (its largest remaining value
  * at rounding); SDAE_ERR_PATTERN when the factors outgrow their reserve */

@@ -27,23 +27,50 @@ static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
   return sdae__mbs_sparse_layout_init(&sp->ly, eval);
 }
 
-static int analyse(void *p, const sdae_scratch *scratch) {
-  sdae_mbs_sparse *sp = p;
-  return sdae__mbs_sparse_layout_measure(&sp->ly, scratch);
-}
-
-/* K analysed and the orders the chart's factorization tries found, in workspace lent for it
- * (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least pass sdae__sparse_lu_orders_min) */
+/* K analysed (its L's count), the orders the chart's factorization tries found and the bound
+ * on their L taken, in workspace lent for it (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least
+ * pass sdae__sparse_lu_orders_min); nothing when only counted */
 static int analyse_in_block(sdae_mbs_sparse *sp, sdae_arena *a) {
-  size_t len = sdae__mbs_sparse_layout_work_len(&sp->ly), mark;
+  size_t len = sdae__mbs_sparse_layout_work_len(&sp->ly), mark, m = sp->n_c;
   SuiteSparse_long *work =
       sdae__arena_lend(a, len, sizeof *work, _Alignof(SuiteSparse_long), &mark);
   int rc = SDAE_OK;
   if (work) {
     sdae__mbs_sparse_layout_analyse(&sp->ly, work);
-    rc = sdae__sparse_lu_orders(sp->Gp, sp->n_c, sp->n_q, work, len, sp->orders);
+    rc = sdae__sparse_lu_orders(sp->Gp, m, sp->n_q, work, len, sp->orders);
+    sp->l_cap = sdae__sparse_lu_reserve(m, sp->Gp->nnz);
+    for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS && rc == SDAE_OK; o++) {
+      size_t most = sdae__sparse_lu_l_bound(sp->Gp, m, sp->n_q, sp->orders + o * m, work);
+      if (o == 0 || most > sp->l_bound) sp->l_bound = most;
+    }
+    if (sp->l_bound < sp->l_cap) sp->l_cap = sp->l_bound;
   }
   sdae__arena_reclaim(a, mark);
+  return rc;
+}
+
+/* the layout's arrays and the orders, then the analysis: what the arrays after them are sized
+ * by */
+static int carve_analysed(sdae_mbs_sparse *sp, sdae_arena *a) {
+  sdae__mbs_sparse_layout_carve(&sp->ly, a);
+  sp->Gp = sp->ly.Gp;
+  sp->orders = sdae__take_indices(a, SDAE_SPARSE_LU_ORDERS * sp->n_c);
+  return analyse_in_block(sp, a);
+}
+
+/* the analysis run in scratch, for a block measured before it is built */
+static int analyse(void *p, const sdae_scratch *scratch) {
+  sdae_mbs_sparse *sp = p;
+  sdae_arena a = {0};
+  size_t bytes;
+  void *mem;
+  int rc;
+  carve_analysed(sp, &a);
+  if ((rc = sdae__block_bytes(&a, 0, &bytes)) != SDAE_OK) return rc;
+  if ((rc = sdae__scratch_take(scratch, bytes, &mem)) != SDAE_OK) return rc;
+  sdae__block_start(mem, 0, &a);
+  rc = carve_analysed(sp, &a); /* the arrays lent: carved again, in the block */
+  sdae__scratch_give(scratch, mem, bytes);
   return rc;
 }
 
@@ -52,13 +79,10 @@ static int analyse_in_block(sdae_mbs_sparse *sp, sdae_arena *a) {
  * factorizations; handed out, the chart's orders may refuse G */
 static int carve(void *p, sdae_arena *a) {
   sdae_mbs_sparse *sp = p;
-  sdae__mbs_sparse_layout_carve(&sp->ly, a);
+  int rc = carve_analysed(sp, a);
   size_t n_q = sp->n_q, n_c = sp->n_c, n_k = sp->ly.n_k, gnz = sp->ly.Gp->nnz;
-  sp->Gp = sp->ly.Gp;
-  sp->orders = sdae__take_indices(a, SDAE_SPARSE_LU_ORDERS * n_c);
-  int rc = analyse_in_block(sp, a);
-  sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, a);
-  sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, a);
+  sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, sp->l_cap, a);
+  sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, sp->l_cap, a);
   sp->ind = sdae__take_indices(a, sp->n_f);
   sp->K = sdae__take(a, sp->ly.Kp.nnz, 1);
   sdae__sparse_ldl_carve(&sp->kkt, &sp->ly.ksym, a);

@@ -86,29 +86,6 @@ void sdae__mbs_sparse_layout_analyse(sdae_mbs_sparse_layout *ly, SuiteSparse_lon
   sdae__sparse_ldl_analyse(&ly->ksym, &ly->Kp, work);
 }
 
-/* the layout's arrays, then the workspace, in scratch */
-static void carve_with_work(sdae_mbs_sparse_layout *ly, sdae_arena *a, SuiteSparse_long **work) {
-  sdae__mbs_sparse_layout_carve(ly, a);
-  *work = sdae__take_array(a, sdae__mbs_sparse_layout_work_len(ly), sizeof **work,
-                           _Alignof(SuiteSparse_long));
-}
-
-int sdae__mbs_sparse_layout_measure(sdae_mbs_sparse_layout *ly, const sdae_scratch *scratch) {
-  sdae_arena a = {0};
-  SuiteSparse_long *work;
-  size_t bytes;
-  void *mem;
-  int rc;
-  carve_with_work(ly, &a, &work);
-  if ((rc = sdae__block_bytes(&a, 0, &bytes)) != SDAE_OK) return rc;
-  if ((rc = sdae__scratch_take(scratch, bytes, &mem)) != SDAE_OK) return rc;
-  sdae__block_start(mem, 0, &a);
-  carve_with_work(ly, &a, &work); /* ly's arrays lent: carved again, in the block */
-  sdae__mbs_sparse_layout_analyse(ly, work);
-  sdae__scratch_give(scratch, mem, bytes);
-  return SDAE_OK;
-}
-
 /* ---- products through the patterns ---- */
 
 void sdae__mbs_sparse_g_times(const sdae_mbs_sparse_layout *ly, const double *vals, const double *x,

@@ -6,7 +6,6 @@
 #ifndef STABDAE_SRC_MBS_MBS_SPARSE_LAYOUT_H
 #define STABDAE_SRC_MBS_MBS_SPARSE_LAYOUT_H
 
-#include "core/alloc.h"
 #include "core/arena.h"
 #include "core/pattern.h"
 #include "core/sparse_ldl.h"
@@ -31,9 +30,6 @@ void sdae__mbs_sparse_layout_carve(sdae_mbs_sparse_layout *ly, sdae_arena *a);
  * factorizations carved after it hold), once K's pattern is built */
 size_t sdae__mbs_sparse_layout_work_len(const sdae_mbs_sparse_layout *ly);
 void sdae__mbs_sparse_layout_analyse(sdae_mbs_sparse_layout *ly, SuiteSparse_long *work);
-/* ksym.lnz found by the same carve and analysis in scratch, for a block measured before it is
- * built (sdae__scratch_take's refusal) */
-int sdae__mbs_sparse_layout_measure(sdae_mbs_sparse_layout *ly, const sdae_scratch *scratch);
 
 /* out (n_c) = G x + add (add may be NULL), out (n_q) = M x, for G's and M's values; M
  * symmetric to rounding (SDAE_ERR_MASS otherwise); K's values from M's and G's */
