@@ -55,14 +55,15 @@ static void saddle_init(saddle *k, size_t n_q, size_t n_c, const double *M, cons
  * factorization's arrays, as many entries of L as it counted, in another */
 static void saddle_analyse(saddle *k) {
   sdae_arena a = {0};
-  sdae_pattern p = {k->nnz, k->row_start, k->col};
   sdae__sparse_ldl_symbolic_carve(&k->sym, k->n, k->n_q, k->nnz, &a);
   ck_assert(!a.overflow);
   k->mem = calloc(1, a.used + 64);
   a = (sdae_arena){.base = k->mem};
   sdae__sparse_ldl_symbolic_carve(&k->sym, k->n, k->n_q, k->nnz, &a);
   SuiteSparse_long *work = malloc(sdae__sparse_ldl_work_len(k->n, k->nnz) * sizeof *work);
-  sdae__sparse_ldl_analyse(&k->sym, &p, work);
+  for (size_t i = 0; i <= k->n; i++) k->sym.Ap[i] = (SuiteSparse_long)k->row_start[i];
+  for (size_t e = 0; e < k->nnz; e++) k->sym.Ai[e] = (SuiteSparse_long)k->col[e];
+  sdae__sparse_ldl_analyse(&k->sym, work);
   free(work);
   ck_assert_uint_le(k->sym.lnz, k->n * (k->n - 1) / 2); /* L strictly lower */
   a = (sdae_arena){0};

@@ -134,10 +134,8 @@ static void order(sdae_sparse_ldl_symbolic *s, sslong *work) {
   for (k = 0; k < (sslong)s->n; k++) s->Pinv[s->P[k]] = k;
 }
 
-void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K, sslong *work) {
+void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, sslong *work) {
   sslong *Lnz = work, *Flag = Lnz + s->n; /* AMD's workspace, done with */
-  for (size_t i = 0; i <= s->n; i++) s->Ap[i] = (sslong)K->row_start[i];
-  for (size_t e = 0; e < K->nnz; e++) s->Ai[e] = (sslong)K->col[e];
   order(s, work);
   ldl_l_symbolic((sslong)s->n, s->Ap, s->Ai, s->Lp, s->Parent, Lnz, Flag, s->P, s->Pinv);
   s->lnz = (size_t)s->Lp[s->n];

@@ -25,7 +25,6 @@
 #include <SuiteSparse_config.h>
 
 #include "arena.h"
-#include "pattern.h"
 
 /* a coordinate held by more constraints than this is taken after the multipliers (a hub: the
  * k constraints of a cart under k pendulums would fill k (k - 1) / 2 entries the other way) */
@@ -34,9 +33,9 @@
 /* indices as SuiteSparse's long versions take them (amd_l2, ldl_l_*): 64 bits */
 typedef struct sdae_sparse_ldl_symbolic {
   size_t n, n_pos, nnz;
-  size_t lnz;                    /* L's entries, counted by the analysis (0 before it) */
-  SuiteSparse_long *Ap, *Ai;     /* K's pattern as LDL reads it (symmetric: rows are columns) */
-  SuiteSparse_long *P, *Pinv;    /* the order: P[k] the row taken k-th */
+  size_t lnz;                 /* L's entries, counted by the analysis (0 before it) */
+  SuiteSparse_long *Ap, *Ai;  /* K's pattern, the owner's to write (symmetric: rows are columns) */
+  SuiteSparse_long *P, *Pinv; /* the order: P[k] the row taken k-th */
   SuiteSparse_long *Lp, *Parent; /* L's column starts (n + 1) and the elimination tree */
   unsigned char *cls;            /* n: each row's class in the order (sparse_ldl.c) */
 } sdae_sparse_ldl_symbolic;
@@ -56,11 +55,11 @@ void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size
 /* the entries of the analysis' workspace (AMD's: the pattern it consumes, its workspace, the
  * order found), used once: the owner lends it (core/arena.h) */
 size_t sdae__sparse_ldl_work_len(size_t n, size_t nnz);
-/* the order and L's structure of K's pattern (symmetric, its multipliers' block empty as in
- * [M G^T; G 0]; its sizes fit, sdae__sparse_ldl_fits, which the owner asks before it carves),
- * and s->lnz; work: sdae__sparse_ldl_work_len entries */
-void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, const sdae_pattern *K,
-                              SuiteSparse_long *work);
+/* the order and L's structure of K's pattern, as the owner wrote it in s->Ap and s->Ai
+ * (symmetric, its multipliers' block empty as in [M G^T; G 0]; its sizes fit,
+ * sdae__sparse_ldl_fits, which the owner asks before it carves), and s->lnz; work:
+ * sdae__sparse_ldl_work_len entries */
+void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, SuiteSparse_long *work);
 /* whether a pattern of n rows and nnz entries keeps every count of AMD's and LDL's in range */
 int sdae__sparse_ldl_fits(size_t n, size_t nnz);
 

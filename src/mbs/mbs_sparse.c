@@ -84,7 +84,7 @@ static int carve(void *p, sdae_arena *a) {
   sdae__sparse_lu_carve(&sp->lu[0], n_c, n_q, gnz, sp->l_cap, a);
   sdae__sparse_lu_carve(&sp->lu[1], n_c, n_q, gnz, sp->l_cap, a);
   sp->ind = sdae__take_indices(a, sp->n_f);
-  sp->K = sdae__take(a, sp->ly.Kp.nnz, 1);
+  sp->K = sdae__take(a, sp->ly.knz, 1);
   sdae__sparse_ldl_carve(&sp->kkt, &sp->ly.ksym, a);
   if (sp->implicit) sdae__sparse_ldl_carve(&sp->newton, &sp->ly.ksym, a);
   sp->Dv = sdae__take(a, sp->eval->sys.damping ? sp->ly.Mp->nnz : 0, 1);
@@ -272,14 +272,13 @@ static int velocity_factor(void *p, int reuse) {
  * 2.6e-10). A rope's pivots are near their scales: no refinement. */
 #define REFINE 1e-2
 static void kkt_solve(sdae_mbs_sparse *sp) {
-  const sdae_pattern *K = &sp->ly.Kp;
+  const SuiteSparse_long *start = sp->ly.ksym.Ap, *col = sp->ly.ksym.Ai;
   size_t n = sp->ly.n_k;
   sdae__sparse_ldl_solve(&sp->kkt, sp->rhs, sp->sol);
   if (!(sp->kkt.least < REFINE)) return;
   for (size_t i = 0; i < n; i++) {
     double acc = sp->rhs[i];
-    for (size_t e = K->row_start[i]; e < K->row_start[i + 1]; e++)
-      acc -= sp->K[e] * sp->sol[K->col[e]];
+    for (SuiteSparse_long e = start[i]; e < start[i + 1]; e++) acc -= sp->K[e] * sp->sol[col[e]];
     sp->k_res[i] = acc;
   }
   sdae__sparse_ldl_solve(&sp->kkt, sp->k_res, sp->k_dx);

@@ -27,34 +27,35 @@ static size_t find(const sdae_pattern *p, size_t i, size_t j) {
   return (size_t)-1;
 }
 
-/* K = [M G^T; G 0] in compressed rows, columns ascending: row i < n_q holds M's row i, then the
- * constraints whose rows hold column i; row n_q + j holds G's row j. start (n_k + 1) is G^T's
- * row counts first. */
-static void build_k(sdae_mbs_sparse_layout *ly, size_t *start, size_t *col, size_t *fill) {
+/* K = [M G^T; G 0] in compressed rows, columns ascending, in LDL's arrays (SuiteSparse_long):
+ * row i < n_q holds M's row i, then the constraints whose rows hold column i; row n_q + j holds
+ * G's row j. start (n_k + 1) is G^T's row counts first. */
+static void build_k(sdae_mbs_sparse_layout *ly, SuiteSparse_long *start, SuiteSparse_long *col,
+                    size_t *fill) {
   const sdae_pattern *M = ly->Mp, *G = ly->Gp;
   size_t n_q = ly->n_q;
   memset(fill, 0, n_q * sizeof *fill);
   for (size_t e = 0; e < G->nnz; e++) fill[G->col[e]]++;
   start[0] = 0;
   for (size_t i = 0; i < n_q; i++)
-    start[i + 1] = start[i] + (M->row_start[i + 1] - M->row_start[i]) + fill[i];
+    start[i + 1] = start[i] + (SuiteSparse_long)(M->row_start[i + 1] - M->row_start[i] + fill[i]);
   for (size_t j = 0; j < ly->n_c; j++)
-    start[n_q + j + 1] = start[n_q + j] + (G->row_start[j + 1] - G->row_start[j]);
+    start[n_q + j + 1] = start[n_q + j] + (SuiteSparse_long)(G->row_start[j + 1] - G->row_start[j]);
   for (size_t i = 0; i < n_q; i++) { /* M's row, then G^T's entries appended below */
-    fill[i] = start[i];
+    fill[i] = (size_t)start[i];
     for (size_t e = M->row_start[i]; e < M->row_start[i + 1]; e++) {
       ly->k_of_m[e] = fill[i];
-      col[fill[i]++] = M->col[e];
+      col[fill[i]++] = (SuiteSparse_long)M->col[e];
     }
   }
   for (size_t j = 0; j < ly->n_c; j++) /* rows j ascending: G^T's columns ascending */
     for (size_t e = G->row_start[j]; e < G->row_start[j + 1]; e++) {
       size_t i = G->col[e];
       ly->k_of_gt[e] = fill[i];
-      col[fill[i]++] = n_q + j;
-      size_t k = start[n_q + j] + (e - G->row_start[j]);
+      col[fill[i]++] = (SuiteSparse_long)(n_q + j);
+      size_t k = (size_t)start[n_q + j] + (e - G->row_start[j]);
       ly->k_of_g[e] = k;
-      col[k] = i;
+      col[k] = (SuiteSparse_long)i;
     }
   for (size_t i = 0; i < n_q; i++) /* the mirror of each mass entry (i, j): (j, i) */
     for (size_t e = M->row_start[i]; e < M->row_start[i + 1]; e++)
@@ -63,27 +64,26 @@ static void build_k(sdae_mbs_sparse_layout *ly, size_t *start, size_t *col, size
 
 void sdae__mbs_sparse_layout_carve(sdae_mbs_sparse_layout *ly, sdae_arena *a) {
   const sdae_mbs *sys = &ly->eval->sys;
-  size_t gnz = sys->jacobian_pattern->nnz, mnz = sys->mass_pattern->nnz, knz = mnz + 2 * gnz;
-  size_t *start, *col, *fill;
+  size_t gnz = sys->jacobian_pattern->nnz, mnz = sys->mass_pattern->nnz, mark;
+  size_t *fill;
   ly->Gp = sys->jacobian_pattern, ly->Mp = sys->mass_pattern;
+  ly->knz = mnz + 2 * gnz;
   ly->m_mirror = sdae__take_indices(a, mnz);
-  start = sdae__take_indices(a, ly->n_k + 1);
-  col = sdae__take_indices(a, knz);
-  fill = sdae__take_indices(a, ly->n_q);
   ly->k_of_m = sdae__take_indices(a, mnz);
   ly->k_of_g = sdae__take_indices(a, gnz);
   ly->k_of_gt = sdae__take_indices(a, gnz);
-  sdae__sparse_ldl_symbolic_carve(&ly->ksym, ly->n_k, ly->n_q, knz, a);
-  ly->Kp = (sdae_pattern){knz, start, col};
-  if (start) build_k(ly, start, col, fill); /* handed out, not only counted */
+  sdae__sparse_ldl_symbolic_carve(&ly->ksym, ly->n_k, ly->n_q, ly->knz, a);
+  fill = sdae__arena_lend(a, ly->n_q, sizeof *fill, _Alignof(size_t), &mark);
+  if (fill) build_k(ly, ly->ksym.Ap, ly->ksym.Ai, fill); /* handed out, not only counted */
+  sdae__arena_reclaim(a, mark);
 }
 
 size_t sdae__mbs_sparse_layout_work_len(const sdae_mbs_sparse_layout *ly) {
-  return sdae__sparse_ldl_work_len(ly->n_k, ly->Kp.nnz);
+  return sdae__sparse_ldl_work_len(ly->n_k, ly->knz);
 }
 
 void sdae__mbs_sparse_layout_analyse(sdae_mbs_sparse_layout *ly, SuiteSparse_long *work) {
-  sdae__sparse_ldl_analyse(&ly->ksym, &ly->Kp, work);
+  sdae__sparse_ldl_analyse(&ly->ksym, work);
 }
 
 /* ---- products through the patterns ---- */

@@ -16,9 +16,10 @@ typedef struct sdae_mbs_sparse_layout {
   size_t n_q, n_c, n_k;        /* n_k = n_q + n_c: the saddle-point system's size */
   const sdae_pattern *Gp, *Mp; /* the mechanism's, the eval's copies */
   size_t *m_mirror;            /* nnz(M): where M's entry (j, i) is for its entry (i, j) */
-  sdae_pattern Kp;             /* K's pattern, compressed rows, columns ascending */
+  size_t knz;                  /* K's entries, both triangles */
   size_t *k_of_m, *k_of_g, *k_of_gt;
-  sdae_sparse_ldl_symbolic ksym; /* K's order and structure */
+  /* K's pattern (ksym.Ap, ksym.Ai: compressed rows, columns ascending), order and structure */
+  sdae_sparse_ldl_symbolic ksym;
 } sdae_mbs_sparse_layout;
 
 /* the sizes of the mechanism's patterns; SDAE_ERR_OVERFLOW for a K whose indices the

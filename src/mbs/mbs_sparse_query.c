@@ -14,7 +14,7 @@ void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_spar
   qy->G = sdae__take(a, gnz, 1), qy->Gd = sdae__take(a, gnz, 1);
   qy->M = sdae__take(a, ly->Mp->nnz, 1);
   qy->F = sdae__take(a, n_q, 1), qy->Mv = sdae__take(a, n_q, 1);
-  qy->K = sdae__take(a, ly->Kp.nnz, 1);
+  qy->K = sdae__take(a, ly->knz, 1);
   qy->rhs = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
   sdae__sparse_ldl_carve(&qy->kkt, &ly->ksym, a);
 }
