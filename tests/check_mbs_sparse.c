@@ -238,6 +238,35 @@ START_TEST(a_stiff_rope_keeps_its_energy_on_both_back_ends) {
 }
 END_TEST
 
+/* lambda's query borrows the step's saddle-point factors (mbs_sparse_query.h): asked at another
+ * state (the rope straight at another angle, in motion) between every two steps, under an
+ * explicit map and an implicit one, the motion is the same bit for bit as without the queries
+ * (the step refactors at its own point), and lambda the same as a fresh stepper's */
+START_TEST(a_query_between_steps_leaves_the_motion) {
+  const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad};
+  for (int k = 0; k < 2; k++) {
+    roped plain, asked, fresh;
+    double qa[40], va[40], l[20], lf[20];
+    roped_init(&plain, 20, 0, 1, maps[k]);
+    roped_init(&asked, 20, 0, 1, maps[k]);
+    roped_init(&fresh, 20, 0, 1, maps[k]);
+    ck_assert_int_eq(mech_rope_start(&plain.r, 0.7, qa, va), 0);
+    for (size_t i = 0; i < 40; i++) va[i] = 0.1 * (double)(i % 3) - 0.1;
+    for (int i = 0; i < 30; i++) {
+      double t = 1e-2 * i;
+      ck_assert_int_eq(sdae_mbs_step(plain.s, t, 1e-2, plain.q, plain.v), SDAE_OK);
+      ck_assert_int_eq(sdae_mbs_step(asked.s, t, 1e-2, asked.q, asked.v), SDAE_OK);
+      ck_assert_int_eq(sdae_mbs_lambda(asked.s, t, qa, va, l), SDAE_OK);
+    }
+    ck_assert_mem_eq(plain.q, asked.q, sizeof qa);
+    ck_assert_mem_eq(plain.v, asked.v, sizeof va);
+    ck_assert_int_eq(sdae_mbs_lambda(fresh.s, 0.29, qa, va, lf), SDAE_OK);
+    ck_assert_mem_eq(l, lf, sizeof l);
+    roped_free(&plain), roped_free(&asked), roped_free(&fresh);
+  }
+}
+END_TEST
+
 /* an allocator that counts what is out, and refuses every call once refuse is set */
 typedef struct counted {
   size_t out, calls;
@@ -1159,6 +1188,7 @@ int main(void) {
   ADD_CASE(s, constraints_at_the_rounding_of_q_on_a_long_rope);
   ADD_CASE(s, the_block_grows_with_the_nonzeros);
   ADD_CASE(s, the_block_is_what_the_analysis_counts);
+  ADD_CASE(s, a_query_between_steps_leaves_the_motion);
   ADD_CASE(s, a_stiff_rope_keeps_its_energy_on_both_back_ends);
   ADD_CASE(s, lambda_energy_and_xi_as_the_dense_ones);
   ADD_CASE(s, the_state_continues_bit_for_bit);

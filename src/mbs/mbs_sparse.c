@@ -96,7 +96,8 @@ static int carve(void *p, sdae_arena *a) {
   sp->k_res = sdae__take(a, n_k, 1), sp->k_dx = sdae__take(a, n_k, 1);
   sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1), sp->res = sdae__take(a, n_c, 1);
   sp->est_x = sdae__take(a, n_q, 1), sp->est_z = sdae__take(a, n_q, 1);
-  sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, a);
+  const sdae_mbs_sparse_lent lent = {sp->K, sp->rhs, sp->sol, &sp->kkt};
+  sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, &lent, a);
   return rc;
 }
 
@@ -253,10 +254,12 @@ static double row_size(const void *p, size_t j) {
 /* ---- the velocity: [M G^T; G 0] [v; nu] = [P^T (0, p); g] ---- */
 
 /* K at the stored M and G, factored (it does not depend on the chart: reused where the factors
- * are the point's) */
+ * are the point's, and not lent to a query since; a step's first solve follows this, at its
+ * start's seed or a configuration, so a query between steps is undone here) */
 static int velocity_factor(void *p, int reuse) {
   sdae_mbs_sparse *sp = p;
-  if (reuse) return SDAE_OK;
+  if (reuse && !sp->lent) return SDAE_OK;
+  sp->lent = 0;
   sdae__mbs_sparse_kkt_values(&sp->ly, sp->M, sp->G, sp->K);
   return sdae__sparse_ldl_factor(&sp->kkt, sp->K);
 }
@@ -431,7 +434,9 @@ static int query_energy(void *p, double t, const double *q, const double *v, dou
 }
 
 static int query_lambda(void *p, double t, const double *q, const double *v, double *out) {
-  return sdae__mbs_sparse_query_lambda(&((sdae_mbs_sparse *)p)->query, t, q, v, out);
+  sdae_mbs_sparse *sp = p;
+  sp->lent = 1; /* the factors are the query's after it */
+  return sdae__mbs_sparse_query_lambda(&sp->query, t, q, v, out);
 }
 
 const sdae_mbs_linalg sdae__mbs_sparse_linalg = {

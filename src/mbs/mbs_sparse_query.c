@@ -6,17 +6,15 @@
 #include "mbs_sparse_query.h"
 
 void sdae__mbs_sparse_query_carve(sdae_mbs_sparse_query *qy, const sdae_mbs_sparse_layout *ly,
-                                  sdae_arena *a) {
-  size_t n_q = ly->n_q, n_c = ly->n_c, n_k = ly->n_k, gnz = ly->Gp->nnz;
+                                  const sdae_mbs_sparse_lent *lent, sdae_arena *a) {
+  size_t n_q = ly->n_q, n_c = ly->n_c, gnz = ly->Gp->nnz;
   qy->ly = ly;
   qy->c = sdae__take(a, n_c, 1), qy->ct = sdae__take(a, n_c, 1);
   qy->gamma = sdae__take(a, n_c, 1), qy->xi = sdae__take(a, 2 * n_c, 1);
   qy->G = sdae__take(a, gnz, 1), qy->Gd = sdae__take(a, gnz, 1);
   qy->M = sdae__take(a, ly->Mp->nnz, 1);
   qy->F = sdae__take(a, n_q, 1), qy->Mv = sdae__take(a, n_q, 1);
-  qy->K = sdae__take(a, ly->knz, 1);
-  qy->rhs = sdae__take(a, n_k, 1), qy->sol = sdae__take(a, n_k, 1);
-  sdae__sparse_ldl_carve(&qy->kkt, &ly->ksym, a);
+  qy->lent = *lent;
 }
 
 int sdae__mbs_sparse_query_xi(sdae_mbs_sparse_query *qy, double t, const double *q, const double *v,
@@ -74,12 +72,13 @@ int sdae__mbs_sparse_query_lambda(sdae_mbs_sparse_query *qy, double t, const dou
       (rc = sdae__mbs_force(ly->eval, t, q, v, qy->F)) != SDAE_OK ||
       (rc = gamma_at(qy, t, q, v)) != SDAE_OK)
     return rc;
-  sdae__mbs_sparse_kkt_values(ly, qy->M, qy->G, qy->K);
-  if ((rc = sdae__sparse_ldl_factor(&qy->kkt, qy->K)) != SDAE_OK) return rc;
-  memcpy(qy->rhs, qy->F, n_q * sizeof *qy->rhs);
-  for (size_t j = 0; j < n_c; j++) qy->rhs[n_q + j] = -qy->gamma[j];
-  sdae__sparse_ldl_solve(&qy->kkt, qy->rhs, qy->sol);
-  if (!sdae__all_finite(qy->sol + n_q, n_c)) return SDAE_ERR_NONFINITE;
-  memcpy(lambda, qy->sol + n_q, n_c * sizeof *lambda);
+  const sdae_mbs_sparse_lent *w = &qy->lent;
+  sdae__mbs_sparse_kkt_values(ly, qy->M, qy->G, w->K);
+  if ((rc = sdae__sparse_ldl_factor(w->kkt, w->K)) != SDAE_OK) return rc;
+  memcpy(w->rhs, qy->F, n_q * sizeof *w->rhs);
+  for (size_t j = 0; j < n_c; j++) w->rhs[n_q + j] = -qy->gamma[j];
+  sdae__sparse_ldl_solve(w->kkt, w->rhs, w->sol);
+  if (!sdae__all_finite(w->sol + n_q, n_c)) return SDAE_ERR_NONFINITE;
+  memcpy(lambda, w->sol + n_q, n_c * sizeof *lambda);
   return SDAE_OK;
 }
