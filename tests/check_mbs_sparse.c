@@ -267,16 +267,16 @@ START_TEST(a_query_between_steps_leaves_the_motion) {
 }
 END_TEST
 
-/* an allocator that counts what is out, and refuses every call once refuse is set */
+/* an allocator that counts what is out and its calls, and refuses the call numbered refuse
+ * (from 1; 0 none) */
 typedef struct counted {
-  size_t out, calls;
-  int refuse;
+  size_t out, calls, refuse;
 } counted;
 
 static void *counted_alloc(void *ud, size_t size) {
   counted *c = ud;
-  if (c->refuse) return NULL;
-  c->out += size, c->calls++;
+  if (++c->calls == c->refuse) return NULL;
+  c->out += size;
   return malloc(size);
 }
 
@@ -289,7 +289,8 @@ static void counted_free(void *ud, void *ptr, size_t size) {
  * its own: init in the caller's block of exactly the size (the analysis in that block: no
  * allocation), one byte or the analysis' room short SDAE_ERR_BUFFER; alloc_with takes the
  * analysis' memory from its allocator too, gives it back, and keeps the block alone; an
- * allocator with no room SDAE_ERR_NOMEM. L holds a chain's count: nnz(G) + n_c - 1. */
+ * allocator with no room for the one or the other SDAE_ERR_NOMEM, nothing kept. L holds a
+ * chain's count: nnz(G) + n_c - 1. */
 START_TEST(the_block_is_what_the_analysis_counts) {
   const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad};
   mech_rope r = mech_rope_unit(1024, 0, 1);
@@ -299,6 +300,7 @@ START_TEST(the_block_is_what_the_analysis_counts) {
     sdae_options o = options(maps[k]);
     size_t len = sdae_mbs_stepper_size(&sys, &o);
     counted c = {0, 0, 0};
+    size_t calls;
     sdae_allocator a = {counted_alloc, counted_free, &c};
     int marker;
     sdae_mbs_stepper *s = (sdae_mbs_stepper *)&marker;
@@ -315,9 +317,13 @@ START_TEST(the_block_is_what_the_analysis_counts) {
     ck_assert_uint_eq(c.out, len);
     sdae_mbs_stepper_free(s);
     ck_assert_uint_eq(c.out, 0);
-    c.refuse = 1, s = (sdae_mbs_stepper *)&marker;
-    ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &a), SDAE_ERR_NOMEM);
-    ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+    calls = c.calls;
+    for (size_t r = 1; r <= calls; r++) { /* the analysis' memory refused, then the block */
+      c = (counted){0, 0, r}, s = (sdae_mbs_stepper *)&marker;
+      ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &a), SDAE_ERR_NOMEM);
+      ck_assert_ptr_eq(s, (sdae_mbs_stepper *)&marker);
+      ck_assert_uint_eq(c.out, 0);
+    }
     free(mem);
   }
   mech_rope_free(&r);

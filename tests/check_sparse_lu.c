@@ -464,6 +464,66 @@ START_TEST(a_long_row_of_loops_fits_by_dissection) {
 }
 END_TEST
 
+/* the strictly lower entries of the Cholesky factor of A A^T with A's rows in order, by dense
+ * symbolic elimination (an m x m boolean matrix: i and j adjacent when they share a column,
+ * then each eliminated row joining its later neighbours) */
+static size_t dense_cholesky_count(const sdae_pattern *p, size_t m, size_t n, const size_t *order) {
+  unsigned char *B = calloc(m * m, 1), *in = calloc(m * n, 1);
+  size_t count = 0;
+  for (size_t k = 0; k < m; k++)
+    for (size_t e = p->row_start[order[k]]; e < p->row_start[order[k] + 1]; e++)
+      in[k * n + p->col[e]] = 1;
+  for (size_t i = 0; i < m; i++)
+    for (size_t j = 0; j < m; j++)
+      for (size_t c = 0; c < n && !B[i * m + j]; c++) B[i * m + j] = in[i * n + c] && in[j * n + c];
+  for (size_t k = 0; k < m; k++)
+    for (size_t i = k + 1; i < m; i++) {
+      if (!B[i * m + k]) continue;
+      count++;
+      for (size_t j = k + 1; j < m; j++)
+        if (B[j * m + k]) B[i * m + j] = B[j * m + i] = 1;
+    }
+  free(B), free(in);
+  return count;
+}
+
+/* the bound counted without forming A A^T is the dense symbolic count, in every order, on
+ * random wide patterns (rows sharing single columns) and on every topology of a truss */
+START_TEST(the_bound_on_l_is_the_cholesky_factors_count) {
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 23);
+  for (size_t trial = 0; trial < 20 + TRUSSES; trial++) {
+    size_t start[64], col[256], k = 0, m, n;
+    sdae_pattern p;
+    truss_g g;
+    if (trial < 20) {
+      m = 10 + trial, n = 2 * m + 3;
+      start[0] = 0;
+      for (size_t i = 0; i < m; i++) {
+        unsigned char used[64] = {0};
+        used[i] = 1;
+        for (int c = 0; c < 3; c++) used[gsl_rng_uniform_int(rng, n)] = 1;
+        for (size_t c = 0; c < n; c++)
+          if (used[c]) col[k++] = c;
+        start[i + 1] = k;
+      }
+      p = (sdae_pattern){k, start, col};
+    } else {
+      truss_g_at(&g, trusses[trial - 20].build, trusses[trial - 20].size);
+      p = g.t.jacobian_pattern, m = g.sys.n_c, n = g.sys.n_q;
+    }
+    size_t *orders = orders_of(&p, m, n), len = sdae__sparse_lu_orders_min(m, n, p.nnz);
+    SuiteSparse_long *work = malloc(len * sizeof *work);
+    for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++)
+      ck_assert_uint_eq(sdae__sparse_lu_l_bound(&p, m, n, orders + o * m, work),
+                        dense_cholesky_count(&p, m, n, orders + o * m));
+    free(work), free(orders);
+    if (trial >= 20) truss_g_free(&g);
+  }
+  gsl_rng_free(rng);
+}
+END_TEST
+
 /* George and Ng's bound: whatever the pivots (G's values scaled at random, entry by entry, so
  * that each trial pivots elsewhere), L holds at most the strictly lower entries of the Cholesky
  * factor of G G^T in the rows' order, on every topology of a truss and in every order; on an
@@ -517,6 +577,7 @@ END_TEST
 int main(void) {
   Suite *s = suite_create("sparse_lu");
   ADD_CASE(s, l_stays_within_its_bound);
+  ADD_CASE(s, the_bound_on_l_is_the_cholesky_factors_count);
   ADD_CASE(s, a_closed_rope_in_straight_runs_opens_its_loop);
   ADD_CASE(s, a_single_row_and_its_norm);
   ADD_CASE(s, rope_charts_solve_as_dense_algebra);
