@@ -267,6 +267,39 @@ START_TEST(a_query_between_steps_leaves_the_motion) {
 }
 END_TEST
 
+/* the chart's L reserved at the most any order the chart tries can need (George and Ng's
+ * bound, sparse_lu.l_stays_within_its_bound), or U's reserve where that is less, on every
+ * topology of a truss: so L never outgrows its reserve in an order it is chosen in */
+START_TEST(the_charts_l_is_reserved_at_its_bound) {
+  int (*builds[])(mech_truss *, size_t, int) = {
+      mech_truss_star, mech_truss_ladder, mech_truss_ladder, mech_truss_cloth, mech_truss_tree};
+  const size_t sizes[] = {50, 8, 32, 8, 6};
+  for (size_t c = 0; c < 5; c++) {
+    mech_truss p;
+    sdae_mbs sys;
+    sdae_mbs_stepper *s;
+    sdae_options o = options(sdae_map_rk4);
+    ck_assert_int_eq(builds[c](&p, sizes[c], 1), 0);
+    ck_assert_int_eq(mech_truss_system(&sys, &p), 0);
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    const sdae_mbs_sparse *sp = &s->sparse;
+    size_t m = sys.n_c, n = sys.n_q, most = 0;
+    size_t len = sdae__sparse_lu_orders_min(m, n, sys.jacobian_pattern->nnz);
+    SuiteSparse_long *work = malloc(len * sizeof *work);
+    for (size_t k = 0; k < SDAE_SPARSE_LU_ORDERS; k++) {
+      size_t b = sdae__sparse_lu_l_bound(sys.jacobian_pattern, m, n, sp->orders + k * m, work);
+      most = b > most ? b : most;
+    }
+    size_t reserve = sdae__sparse_lu_reserve(m, sys.jacobian_pattern->nnz);
+    ck_assert_uint_eq(sp->l_cap, most < reserve ? most : reserve);
+    ck_assert_uint_eq(sp->lu[0].l_cap, sp->l_cap);
+    free(work);
+    sdae_mbs_stepper_free(s);
+    mech_truss_free(&p);
+  }
+}
+END_TEST
+
 /* an allocator that counts what is out and its calls, and refuses the call numbered refuse
  * (from 1; 0 none) */
 typedef struct counted {
@@ -1194,6 +1227,7 @@ int main(void) {
   ADD_CASE(s, constraints_at_the_rounding_of_q_on_a_long_rope);
   ADD_CASE(s, the_block_grows_with_the_nonzeros);
   ADD_CASE(s, the_block_is_what_the_analysis_counts);
+  ADD_CASE(s, the_charts_l_is_reserved_at_its_bound);
   ADD_CASE(s, a_query_between_steps_leaves_the_motion);
   ADD_CASE(s, a_stiff_rope_keeps_its_energy_on_both_back_ends);
   ADD_CASE(s, lambda_energy_and_xi_as_the_dense_ones);

@@ -14,14 +14,11 @@
 
 #include "sparse_lu.h"
 
-/* cap 32-bit indices below n; n past them: an array no count holds */
-static uint32_t *take_entries(sdae_arena *a, size_t n, size_t cap) {
-  return sdae__take_array(a, n > UINT32_MAX ? SIZE_MAX : cap, sizeof(uint32_t), alignof(uint32_t));
+static uint32_t *take_entries(sdae_arena *a, size_t cap) {
+  return sdae__take_array(a, cap, sizeof(uint32_t), alignof(uint32_t));
 }
 
-size_t sdae__sparse_lu_reserve(size_t m, size_t nnz) {
-  return nnz <= (SIZE_MAX - m) / SDAE_SPARSE_LU_FILL ? SDAE_SPARSE_LU_FILL * nnz + m : SIZE_MAX;
-}
+size_t sdae__sparse_lu_reserve(size_t m, size_t nnz) { return SDAE_SPARSE_LU_FILL * nnz + m; }
 
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, size_t l_cap,
                            sdae_arena *a) {
@@ -33,11 +30,11 @@ void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, s
   lu->u_start = sdae__take_indices(a, m + 1);
   lu->u_diag = sdae__take_indices(a, m);
   lu->u_dend = sdae__take_indices(a, m);
-  lu->u_col = take_entries(a, n, cap);
-  lu->u_step = take_entries(a, n, cap);
+  lu->u_col = take_entries(a, cap);
+  lu->u_step = take_entries(a, cap);
   lu->u_val = sdae__take(a, cap, 1);
   lu->l_start = sdae__take_indices(a, m + 1);
-  lu->l_col = take_entries(a, n, l_cap);
+  lu->l_col = take_entries(a, l_cap);
   lu->l_val = sdae__take(a, l_cap, 1);
   lu->x = sdae__take(a, n, 1);
   lu->list = sdae__take_indices(a, n);

@@ -57,7 +57,7 @@ typedef struct sdae_sparse_lu {
    * in the other columns, each group in its order: the solves run over one group, no test per
    * entry */
   size_t *u_start, *u_diag, *u_dend;
-  uint32_t *u_col, *u_step; /* 32 bits: n < 2^32 (sdae__sparse_lu_carve) */
+  uint32_t *u_col, *u_step; /* 32 bits: n < 2^30 (the sizes above) */
   double *u_val;
   size_t *l_start;
   uint32_t *l_col;
@@ -71,12 +71,13 @@ typedef struct sdae_sparse_lu {
   double *w, *v;       /* m each: the solves', the estimate's */
 } sdae_sparse_lu;
 
-/* the entries U's reserve holds for A of m rows and nnz nonzeros: SDAE_SPARSE_LU_FILL nnz + m
- * (SIZE_MAX past size_t), and L's where the bound on it is not less */
+/* Sizes: n and nnz below 2^30 (2^16 and 2^26 on 32-bit targets), as sdae__sparse_ldl_fits
+ * admits them for the owner's saddle-point system, so no count below overflows and the
+ * factors' entries index by 32 bits (a fifth less memory than size_t's 64). */
+/* the entries U's reserve holds for A of m rows and nnz nonzeros: SDAE_SPARSE_LU_FILL nnz + m,
+ * and L's where the bound on it is not less */
 size_t sdae__sparse_lu_reserve(size_t m, size_t nnz);
-/* its arrays for A of m x n with nnz nonzeros and l_cap entries of L, counted or handed out;
- * the factors' entries index by 32 bits (a fifth less memory than size_t's 64), so n of 2^32
- * or more overflows the count */
+/* its arrays for A of m x n with nnz nonzeros and l_cap entries of L, counted or handed out */
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, size_t l_cap,
                            sdae_arena *a);
 /* the entries of workspace sdae__sparse_lu_orders needs at least, for A of m x n with nnz

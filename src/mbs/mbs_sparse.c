@@ -27,23 +27,31 @@ static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
   return sdae__mbs_sparse_layout_init(&sp->ly, eval);
 }
 
-/* K analysed (its L's count), the orders the chart's factorization tries found and the bound
- * on their L taken, in workspace lent for it (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least
- * pass sdae__sparse_lu_orders_min); nothing when only counted */
+/* L's reserve: the most entries L holds in any of the orders (sdae__sparse_lu_l_bound), or U's
+ * reserve where that is less */
+static void l_reserve(sdae_mbs_sparse *sp, SuiteSparse_long *work) {
+  size_t m = sp->n_c;
+  sp->l_bound = 0;
+  for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
+    size_t most = sdae__sparse_lu_l_bound(sp->Gp, m, sp->n_q, sp->orders + o * m, work);
+    if (most > sp->l_bound) sp->l_bound = most;
+  }
+  sp->l_cap = sdae__sparse_lu_reserve(m, sp->Gp->nnz);
+  if (sp->l_bound < sp->l_cap) sp->l_cap = sp->l_bound;
+}
+
+/* K analysed (its L's count), the orders the chart's factorization tries found and L's reserve
+ * taken, in workspace lent for it (its 9 (n_q + n_c) + 2.4 nnz(G) entries at least pass
+ * sdae__sparse_lu_orders_min); nothing when only counted */
 static int analyse_in_block(sdae_mbs_sparse *sp, sdae_arena *a) {
-  size_t len = sdae__mbs_sparse_layout_work_len(&sp->ly), mark, m = sp->n_c;
+  size_t len = sdae__mbs_sparse_layout_work_len(&sp->ly), mark;
   SuiteSparse_long *work =
       sdae__arena_lend(a, len, sizeof *work, _Alignof(SuiteSparse_long), &mark);
   int rc = SDAE_OK;
   if (work) {
     sdae__mbs_sparse_layout_analyse(&sp->ly, work);
-    rc = sdae__sparse_lu_orders(sp->Gp, m, sp->n_q, work, len, sp->orders);
-    sp->l_cap = sdae__sparse_lu_reserve(m, sp->Gp->nnz);
-    for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS && rc == SDAE_OK; o++) {
-      size_t most = sdae__sparse_lu_l_bound(sp->Gp, m, sp->n_q, sp->orders + o * m, work);
-      if (o == 0 || most > sp->l_bound) sp->l_bound = most;
-    }
-    if (sp->l_bound < sp->l_cap) sp->l_cap = sp->l_bound;
+    rc = sdae__sparse_lu_orders(sp->Gp, sp->n_c, sp->n_q, work, len, sp->orders);
+    if (rc == SDAE_OK) l_reserve(sp, work);
   }
   sdae__arena_reclaim(a, mark);
   return rc;
