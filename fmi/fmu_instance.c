@@ -251,10 +251,13 @@ static int outputs(fmu_instance *fi, double t, const double *q, const double *v)
 /* the stepper in the instance's block, grown only when the options need more room; SDAE_OK or
  * why not */
 static int build_stepper(fmu_instance *fi, const sdae_options *o) {
-  size_t len = sdae_mbs_stepper_size(&fi->sys, o);
+  size_t len = sdae_mbs_stepper_size_with(&fi->sys, o, &fi->alloc);
   unsigned char none;
-  if (len == 0) /* the mechanism or the options are invalid: the status says which */
-    return sdae_mbs_stepper_init(&fi->stepper, &none, 0, &fi->sys, o);
+  if (len == 0) { /* the mechanism or the options are invalid (the status says which), or
+                   * there was no memory to analyse them in: a valid one asks for a block */
+    int rc = sdae_mbs_stepper_init(&fi->stepper, &none, 0, &fi->sys, o);
+    return rc == SDAE_ERR_BUFFER ? SDAE_ERR_NOMEM : rc;
+  }
   if (len > fi->block_len) {
     fmu_mem_put(&fi->alloc, fi->block, fi->block_len);
     fi->block_len = 0;

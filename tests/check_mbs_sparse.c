@@ -287,7 +287,8 @@ START_TEST(the_charts_l_is_reserved_at_its_bound) {
     size_t len = sdae__sparse_lu_orders_min(m, n, sys.jacobian_pattern->nnz);
     SuiteSparse_long *work = malloc(len * sizeof *work);
     for (size_t k = 0; k < SDAE_SPARSE_LU_ORDERS; k++) {
-      size_t b = sdae__sparse_lu_l_bound(sys.jacobian_pattern, m, n, sp->orders + k * m, work);
+      size_t b =
+          sdae__sparse_lu_l_bound(sys.jacobian_pattern, m, n, sp->orders + k * m, SIZE_MAX, work);
       most = b > most ? b : most;
     }
     size_t reserve = sdae__sparse_lu_reserve(m, sys.jacobian_pattern->nnz);
@@ -321,9 +322,9 @@ static void counted_free(void *ud, void *ptr, size_t size) {
 /* The saddle-point system's factors sized by its analysis, which the size runs in memory of
  * its own: init in the caller's block of exactly the size (the analysis in that block: no
  * allocation), one byte or the analysis' room short SDAE_ERR_BUFFER; alloc_with takes the
- * analysis' memory from its allocator too, gives it back, and keeps the block alone; an
- * allocator with no room for the one or the other SDAE_ERR_NOMEM, nothing kept. L holds a
- * chain's count: nnz(G) + n_c - 1. */
+ * analysis' memory from its allocator too, gives it back, and keeps the block alone, as
+ * _size_with does with its own (0 when there is none); an allocator with no room for the one
+ * or the other SDAE_ERR_NOMEM, nothing kept. L holds a chain's count: nnz(G) + n_c - 1. */
 START_TEST(the_block_is_what_the_analysis_counts) {
   const sdae_map_type *maps[] = {sdae_map_rk4, sdae_map_dgrad};
   mech_rope r = mech_rope_unit(1024, 0, 1);
@@ -351,6 +352,12 @@ START_TEST(the_block_is_what_the_analysis_counts) {
     sdae_mbs_stepper_free(s);
     ck_assert_uint_eq(c.out, 0);
     calls = c.calls;
+    c = (counted){0, 0, 0};
+    ck_assert_uint_eq(sdae_mbs_stepper_size_with(&sys, &o, &a), len);
+    ck_assert_uint_eq(c.calls, 1); /* the analysis' memory alone, given back */
+    ck_assert_uint_eq(c.out, 0);
+    c = (counted){0, 0, 1};
+    ck_assert_uint_eq(sdae_mbs_stepper_size_with(&sys, &o, &a), 0); /* none to analyse in */
     for (size_t r = 1; r <= calls; r++) { /* the analysis' memory refused, then the block */
       c = (counted){0, 0, r}, s = (sdae_mbs_stepper *)&marker;
       ck_assert_int_eq(sdae_mbs_stepper_alloc_with(&s, &sys, &o, &a), SDAE_ERR_NOMEM);
@@ -645,7 +652,8 @@ START_TEST(a_shared_coordinate_steps_at_the_cost_of_its_nonzeros) {
 END_TEST
 
 /* a pendulum (the rope of one mass) at its pivot, G = 0: no chart, SDAE_ERR_RANK, at the first
- * step and after steps in a chart (its refactoring fails, and so does a new choice) */
+ * step and after steps in a chart (its refactoring fails, and so does a new choice), and from
+ * sdae_mbs_lambda there (the saddle-point system singular), lambda unwritten */
 START_TEST(a_zero_jacobian_is_rank) {
   roped w;
   double q0[2] = {0.0, 0.0}, v0[2] = {0.0, 0.0};
@@ -655,6 +663,9 @@ START_TEST(a_zero_jacobian_is_rank) {
     if (after) ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);
     ck_assert_int_eq(sdae_mbs_step(w.s, 0.05, 1e-2, q0, v0), SDAE_ERR_RANK);
     ck_assert_double_eq(q0[0], 0.0);
+    double lambda = 7.0; /* the query's saddle-point factorization refuses it alike */
+    ck_assert_int_eq(sdae_mbs_lambda(w.s, 0.05, q0, v0, &lambda), SDAE_ERR_RANK);
+    ck_assert_double_eq(lambda, 7.0);
     roped_free(&w);
   }
 }

@@ -110,12 +110,18 @@ typedef struct sdae_mbs_stats {
   double chart_measure;         /* max |G_D^-1 G_I| of the current chart where it was chosen */
 } sdae_mbs_stats;
 
-/* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid. Given
- * patterns, the saddle-point system is analysed to size its factors: in memory from malloc here,
- * given back; from the allocator under _alloc_with; in the caller's block under _init. */
+/* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid, or when
+ * there is no memory for the analysis below. A mechanism stepped on the sparse back-end (both
+ * patterns, jacobian_dot and mass_dot_v, and an explicit map or one whose slope is known:
+ * docs/front-ends.md) has its saddle-point system analysed to size its factors, in memory of
+ * its own given back before the call returns: from malloc here, from the allocator a in
+ * _size_with (NULL: malloc), from it too in _alloc_with, in the caller's block in _init. */
 SDAE_API size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o);
+SDAE_API size_t sdae_mbs_stepper_size_with(const sdae_mbs *sys, const sdae_options *o,
+                                           const sdae_allocator *a);
 /* Builds the stepper in the caller's block (no malloc); sys and o are copied. On failure *s is
- * left as it was. SDAE_ERR_MAP for a discrete-gradient map without potential. */
+ * left as it was, but the block's bytes may not be (the analysis runs there, and the build).
+ * SDAE_ERR_MAP for a discrete-gradient map without potential. */
 SDAE_API int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sdae_mbs *sys,
                                    const sdae_options *o);
 SDAE_API int sdae_mbs_stepper_alloc(sdae_mbs_stepper **s, const sdae_mbs *sys,
@@ -151,9 +157,9 @@ SDAE_API size_t sdae_mbs_state_size(const sdae_mbs_stepper *s);
 SDAE_API int sdae_mbs_get_state(const sdae_mbs_stepper *s, void *buf, size_t len);
 SDAE_API int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len);
 
-/* The constraint forces lambda (n_c) at a state, from M v' = F - G^T lambda and G v' + gamma = 0,
- * gamma the derivative of G v + dc/dt along (1, v) with v fixed: solved on the null space of G
- * (G^T = Q R), so it needs of M what a step needs (a singular M with a positive definite
+/* Between steps: the constraint forces lambda (n_c) at a state, from M v' = F - G^T lambda and G v'
+ * + gamma = 0, gamma the derivative of G v + dc/dt along (1, v) with v fixed: solved on the null
+ * space of G (G^T = Q R), so it needs of M what a step needs (a singular M with a positive definite
  * reduced mass too). F includes input_force. */
 SDAE_API int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                              double *lambda);

@@ -70,10 +70,10 @@ void sdae__scratch_give(const sdae_scratch *s, void *p, size_t bytes) {
     sdae__free(s->allocator, p, bytes);
 }
 
-size_t sdae__block_size(const sdae_block_type *t, const void *args) {
-  const sdae_scratch malloc_scratch = {NULL, 0, NULL};
+size_t sdae__block_size(const sdae_block_type *t, const void *args, const sdae_allocator *a) {
+  const sdae_scratch from_a = {NULL, 0, a};
   size_t bytes;
-  return t->measure(args, &malloc_scratch, &bytes) == SDAE_OK ? bytes : 0;
+  return t->measure(args, &from_a, &bytes) == SDAE_OK ? bytes : 0;
 }
 
 int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size_t len,

@@ -58,8 +58,9 @@ typedef struct sdae_block_type {
   int (*build)(void *mem, const void *args, void **obj, sdae_block **block);
 } sdae_block_type;
 
-/* the bytes an object needs; 0 when measure refuses its arguments */
-size_t sdae__block_size(const sdae_block_type *t, const void *args);
+/* the bytes an object needs, measured with scratch from the allocator a (NULL: malloc); 0 when
+ * measure refuses its arguments or has no scratch */
+size_t sdae__block_size(const sdae_block_type *t, const void *args, const sdae_allocator *a);
 /* the object in the caller's memory mem[0..len): SDAE_ERR_NULL, measure's or build's refusal,
  * SDAE_ERR_BUFFER when len is short; *obj set on success alone */
 int sdae__block_init(const sdae_block_type *t, const void *args, void *mem, size_t len, void **obj);

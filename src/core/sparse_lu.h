@@ -90,10 +90,11 @@ size_t sdae__sparse_lu_orders_min(size_t m, size_t n, size_t nnz);
 int sdae__sparse_lu_orders(const sdae_pattern *A, size_t m, size_t n, SuiteSparse_long *work,
                            size_t len, size_t *orders);
 /* the most entries L can hold in the rows' order order (m), whatever the pivots: the strictly
- * lower entries of the Cholesky factor of A A^T in that order (sparse_lu_order.c); work: at
- * least sdae__sparse_lu_orders_min entries */
+ * lower entries of the Cholesky factor of A A^T in that order (sparse_lu_order.c), counted
+ * until they pass most (a count above most then, a hub's rows costing the square of its
+ * count); work: at least sdae__sparse_lu_orders_min entries */
 size_t sdae__sparse_lu_l_bound(const sdae_pattern *A, size_t m, size_t n, const size_t *order,
-                               SuiteSparse_long *work);
+                               size_t most, SuiteSparse_long *work);
 /* the pivots chosen and A factored (values in A's pattern order) in the rows' order lu->order:
  * SDAE_OK; SDAE_ERR_RANK when a row is dependent on those before it (its largest remaining value
  * at rounding); SDAE_ERR_PATTERN when the factors outgrow their reserve */

@@ -257,12 +257,12 @@ static void dissection(const orders_work *w, size_t *order) {
  * U lies within the Cholesky factor of A A^T in that order whatever the interchanges (George
  * and Ng). Its strictly lower entries counted by LDL's row subtrees (ldl_symbolic's walk), A
  * A^T's row k being the rows that share a column with A's row order[k]: never formed. */
-static size_t cholesky_entries(const orders_work *w, const size_t *order, sslong *pos,
+static size_t cholesky_entries(const orders_work *w, const size_t *order, size_t most, sslong *pos,
                                sslong *parent, sslong *flag) {
   const sdae_pattern *A = w->A;
   size_t entries = 0;
   for (size_t k = 0; k < w->m; k++) pos[order[k]] = (sslong)k;
-  for (sslong k = 0; k < (sslong)w->m; k++) {
+  for (sslong k = 0; k < (sslong)w->m && entries <= most; k++) {
     size_t r = order[k];
     parent[k] = -1, flag[k] = k;
     for (size_t e = A->row_start[r]; e < A->row_start[r + 1]; e++)
@@ -277,10 +277,10 @@ static size_t cholesky_entries(const orders_work *w, const size_t *order, sslong
 }
 
 size_t sdae__sparse_lu_l_bound(const sdae_pattern *A, size_t m, size_t n, const size_t *order,
-                               SuiteSparse_long *work) {
+                               size_t most, SuiteSparse_long *work) {
   orders_work w = {A, m, n, 0, work, work + n + 1, work + n + 1 + A->nnz};
   transpose(&w);
-  return cholesky_entries(&w, order, w.rest, w.rest + m, w.rest + 2 * m);
+  return cholesky_entries(&w, order, most, w.rest, w.rest + m, w.rest + 2 * m);
 }
 
 /* ---- the orders ---- */

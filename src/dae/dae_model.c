@@ -144,7 +144,7 @@ static const sdae_block_type dae_model_block = {measure, build};
 
 size_t sdae_dae_model_size(const sdae_dae *dae, size_t n_xi) {
   const args g = {dae, n_xi, NULL, NULL};
-  return sdae__block_size(&dae_model_block, &g);
+  return sdae__block_size(&dae_model_block, &g, NULL);
 }
 
 int sdae_dae_model_init(sdae_dae_model **d, void *mem, size_t len, const sdae_dae *dae, size_t n_xi,

@@ -103,9 +103,14 @@ static int build(void *mem, const void *p, void **obj, sdae_block **block) {
 
 static const sdae_block_type mbs_block = {measure, build};
 
-size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
+size_t sdae_mbs_stepper_size_with(const sdae_mbs *sys, const sdae_options *o,
+                                  const sdae_allocator *a) {
   const args g = {sys, o};
-  return sdae__block_size(&mbs_block, &g);
+  return sdae__block_size(&mbs_block, &g, a);
+}
+
+size_t sdae_mbs_stepper_size(const sdae_mbs *sys, const sdae_options *o) {
+  return sdae_mbs_stepper_size_with(sys, o, NULL);
 }
 
 int sdae_mbs_stepper_init(sdae_mbs_stepper **s, void *mem, size_t len, const sdae_mbs *sys,

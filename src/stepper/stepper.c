@@ -117,7 +117,7 @@ static const sdae_block_type stepper_block = {measure, build};
 
 size_t sdae_stepper_size(const sdae_model *m, const sdae_options *o) {
   const args g = {m, o};
-  return sdae__block_size(&stepper_block, &g);
+  return sdae__block_size(&stepper_block, &g, NULL);
 }
 
 int sdae_stepper_init(sdae_stepper **s, void *mem, size_t len, const sdae_model *m,
