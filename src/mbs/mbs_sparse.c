@@ -30,13 +30,12 @@ static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {
 /* L's reserve: the most entries L holds in any of the orders (sdae__sparse_lu_l_bound), or U's
  * reserve where that is less */
 static void l_reserve(sdae_mbs_sparse *sp, SuiteSparse_long *work) {
-  size_t m = sp->n_c, u_cap = sdae__sparse_lu_reserve(m, sp->Gp->nnz);
-  sp->l_bound = 0;
+  size_t m = sp->n_c, u_cap = sdae__sparse_lu_reserve(m, sp->Gp->nnz), bound = 0;
   for (size_t o = 0; o < SDAE_SPARSE_LU_ORDERS; o++) {
     size_t most = sdae__sparse_lu_l_bound(sp->Gp, m, sp->n_q, sp->orders + o * m, u_cap, work);
-    if (most > sp->l_bound) sp->l_bound = most;
+    if (most > bound) bound = most;
   }
-  sp->l_cap = sp->l_bound < u_cap ? sp->l_bound : u_cap;
+  sp->l_cap = bound < u_cap ? bound : u_cap;
 }
 
 /* K analysed (its L's count), the orders the chart's factorization tries found and L's reserve

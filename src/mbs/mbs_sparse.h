@@ -35,9 +35,9 @@ typedef struct sdae_mbs_sparse {
   sdae_sparse_lu lu[2];
   int cur, have, kept;
   size_t *orders; /* the rows' orders the factorization tries (sdae__sparse_lu_orders) */
-  /* the most entries L can hold in any of them (sdae__sparse_lu_l_bound, counted up to U's
-   * reserve), and L's reserve: that, or U's where it is less */
-  size_t l_bound, l_cap;
+  /* L's reserve: the most entries L can hold in any of them (sdae__sparse_lu_l_bound), or U's
+   * reserve where that is less */
+  size_t l_cap;
   size_t *ind;    /* n_f: the current chart's q_I, ascending */
   int switched;   /* the last choice replaced the chart (the first one does not) */
   double measure; /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
