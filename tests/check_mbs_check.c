@@ -7,6 +7,7 @@
 
 #include <stabdae/mbs.h>
 
+#include "nfourbar.h"
 #include "testmodels.h"
 
 typedef struct bead {
@@ -192,7 +193,7 @@ START_TEST(bad_input_is_a_status) {
   ck_assert_int_eq(sdae_mbs_check(&sys, INFINITY, q0, v0, 1e-6, &r), SDAE_ERR_PARAM);
   bad = sys, bad.jacobian = NULL; /* jacobian_dot is checked against jacobian */
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_NULL);
-  bad = sys, bad.n_c = 2;
+  bad = sys, bad.n_c = 0;
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_DIM);
   bad = sys, bad.mass_dot_v = failing;
   ck_assert_int_eq(sdae_mbs_check(&bad, t0, q0, v0, 1e-6, &r), SDAE_ERR_CALLBACK_FATAL);
@@ -353,6 +354,124 @@ START_TEST(a_pattern_wrong_off_the_state_alone_is_found) {
 }
 END_TEST
 
+/* ---- redundant constraints ---- */
+
+/* A particle in the plane on rows that are unit gradients at the angles a_j: c_j = cos a_j x +
+ * sin a_j y, so G's rows are (cos a_j, sin a_j), at angles known exactly. */
+typedef struct lines {
+  size_t n;
+  double a[4];
+} lines;
+static int lines_mass(double t, const double *q, double *M, void *p) {
+  (void)t, (void)q, (void)p;
+  M[0] = M[3] = 1.0, M[1] = M[2] = 0.0;
+  return 0;
+}
+static int lines_force(double t, const double *q, const double *v, double *F, void *p) {
+  (void)t, (void)q, (void)v, (void)p;
+  F[0] = 0.0, F[1] = -9.81;
+  return 0;
+}
+static int lines_constraint(double t, const double *q, double *c, void *params) {
+  const lines *l = params;
+  (void)t;
+  for (size_t j = 0; j < l->n; j++) c[j] = cos(l->a[j]) * q[0] + sin(l->a[j]) * q[1];
+  return 0;
+}
+static sdae_mbs lines_system(lines *l) {
+  return (sdae_mbs){.n_q = 2,
+                    .n_c = l->n,
+                    .mass = lines_mass,
+                    .force = lines_force,
+                    .constraint = lines_constraint,
+                    .params = l};
+}
+
+/* Two rows at the angle d: QR's second diagonal entry is sin d (the first row's unit length
+ * times the sine), so the independence is sin d, the rank 2 down to SDAE_MBS_CHART_MIN and 1
+ * below it; a row repeated, or a third row in a plane of two (n_c >= n_q), is redundant on the
+ * others: rank 1 and 2, the redundant row the one left last in the order. */
+START_TEST(the_rank_counts_the_independent_rows) {
+  const double q[2] = {0.3, -0.2}, v[2] = {0.0, 0.0};
+  const double d[] = {0.5, 1e-4, 2.0 * SDAE_MBS_CHART_MIN, 0.5 * SDAE_MBS_CHART_MIN};
+  for (size_t i = 0; i < sizeof d / sizeof *d; i++) {
+    lines l = {2, {0.3, 0.3 + d[i]}};
+    sdae_mbs sys = lines_system(&l);
+    size_t rank = 9, rows[2];
+    double independence = -1.0;
+    ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, q, &rank, rows, &independence), SDAE_OK);
+    ck_assert_uint_eq(rank, d[i] >= SDAE_MBS_CHART_MIN ? 2 : 1);
+    ck_assert_uint_eq(rows[0] + rows[1], 1);
+    if (rank == 2) ck_assert_double_eq_tol(independence, sin(d[i]), 1e-6 * sin(d[i]));
+  }
+  {
+    lines l = {3, {0.3, 0.3, 1.2}}; /* the first repeated: 3 rows on 2 coordinates, rank 2 */
+    sdae_mbs sys = lines_system(&l);
+    sdae_mbs_check_report r;
+    size_t rank, rows[3];
+    ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, q, &rank, rows, NULL), SDAE_OK);
+    ck_assert_uint_eq(rank, 2);
+    ck_assert_uint_ne(rows[2], 2); /* a copy of row 0 or 1 left last */
+    ck_assert_uint_eq(rows[0] + rows[1] + rows[2], 3);
+    ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
+    ck_assert_uint_eq(r.rank[0], 2);
+    ck_assert_double_eq_tol(r.independence, sin(0.9), 1e-12);
+  }
+}
+END_TEST
+
+/* The N-four-bar: upright, every gradient independent (the rockers' along y, the couplers'
+ * along x at two points: rank 2N + 1); flat, every gradient along x, in the span of the N + 1
+ * points' x (rank N + 1, N redundant); within 1e-3 rad of flat independent again, but nearly
+ * so: the least sine between 1e-8 and 1e-2. The check reports the rank at its states. */
+START_TEST(the_nfourbar_loses_rank_where_it_is_flat) {
+  mech_nfourbar p = mech_nfourbar_benchmark();
+  sdae_mbs sys;
+  size_t n_q = 2 * (p.N + 1), rank;
+  double q[82], v[82], independence;
+  const double angle[3] = {2.0 * atan(1.0), 0.0, 1e-3}; /* pi / 2 */
+  const size_t expect[3] = {2 * p.N + 1, p.N + 1, 2 * p.N + 1};
+  mech_nfourbar_system(&sys, &p);
+  ck_assert_uint_eq(sys.n_q, n_q);
+  for (int k = 0; k < 3; k++) {
+    for (size_t i = 0; i <= p.N; i++)
+      q[2 * i] = (double)i + cos(angle[k]), q[2 * i + 1] = sin(angle[k]),
+            v[2 * i] = v[2 * i + 1] = 0;
+    ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, q, &rank, NULL, &independence), SDAE_OK);
+    ck_assert_uint_eq(rank, expect[k]);
+    if (k == 2) ck_assert(independence > 1e-8 && independence < 1e-2);
+    if (k == 0) {
+      sdae_mbs_check_report r;
+      ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
+      ck_assert(r.consistent);
+      ck_assert_uint_eq(r.rank[0], expect[0]);
+      ck_assert_uint_eq(r.rank[1], 0); /* no patterns: the state given alone */
+    }
+  }
+}
+END_TEST
+
+START_TEST(the_rank_refuses_bad_input) {
+  lines l = {2, {0.3, 1.0}};
+  sdae_mbs sys = lines_system(&l), bad = sys;
+  const double q[2] = {0.3, -0.2}, qn[2] = {NAN, 0.0};
+  size_t rank = 7, rows[2] = {5, 5};
+  double independence = 3.0;
+  ck_assert_int_eq(sdae_mbs_redundant(NULL, 0.0, q, &rank, rows, &independence), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, NULL, &rank, rows, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, q, NULL, rows, NULL), SDAE_ERR_NULL);
+  ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.0, qn, &rank, rows, NULL), SDAE_ERR_PARAM);
+  ck_assert_int_eq(sdae_mbs_redundant(&sys, NAN, q, &rank, rows, NULL), SDAE_ERR_PARAM);
+  bad.n_c = 0;
+  ck_assert_int_eq(sdae_mbs_redundant(&bad, 0.0, q, &rank, rows, NULL), SDAE_ERR_DIM);
+  bad = sys, bad.constraint = NULL;
+  ck_assert_int_eq(sdae_mbs_redundant(&bad, 0.0, q, &rank, rows, NULL), SDAE_ERR_NULL);
+  ck_assert_uint_eq(rank, 7);
+  ck_assert_uint_eq(rows[0], 5);
+  ck_assert_double_eq(independence, 3.0);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_check");
   ADD_CASE(s, right_derivatives_are_consistent);
@@ -365,5 +484,8 @@ int main(void) {
   ADD_CASE(s, a_small_row_is_not_hidden);
   ADD_CASE(s, nothing_given_nothing_compared);
   ADD_CASE(s, a_pattern_wrong_off_the_state_alone_is_found);
+  ADD_CASE(s, the_rank_counts_the_independent_rows);
+  ADD_CASE(s, the_nfourbar_loses_rank_where_it_is_flat);
+  ADD_CASE(s, the_rank_refuses_bad_input);
   return run_suite(s);
 }

@@ -66,6 +66,9 @@ typedef enum sdae_mbs_derivative {
 } sdae_mbs_derivative;
 #define SDAE_MBS_DERIVATIVES 6
 
+/* the states sdae_mbs_check compares at: the one given and two around it */
+#define SDAE_MBS_CHECK_STATES 3
+
 typedef struct sdae_mbs_check_report {
   unsigned checked;                      /* bit k set: derivative k was given and compared */
   double mismatch[SDAE_MBS_DERIVATIVES]; /* each one's worst entry: what |given - differences|
@@ -76,10 +79,12 @@ typedef struct sdae_mbs_check_report {
   int consistent;     /* every mismatch <= tol */
   int state;          /* where the worst is: 0 the state given, 1 or 2 one moved around it
                        * (a mechanism with patterns); -1: none given */
+  /* the constraints' rank at each state checked (0 at a state not checked), as
+   * sdae_mbs_redundant counts it, and the least independence among the rows it counts there:
+   * near SDAE_MBS_CHART_MIN, constraints nearly dependent (a modelling question) */
+  size_t rank[SDAE_MBS_CHECK_STATES];
+  double independence;
 } sdae_mbs_check_report;
-
-/* the states sdae_mbs_check compares at: the one given and two around it */
-#define SDAE_MBS_CHECK_STATES 3
 
 /* Compares every derivative the mechanism gives with fourth-order central differences of the
  * callbacks it derives from, at the state (t, q, v) (choose one away from symmetries, where a
@@ -105,6 +110,23 @@ SDAE_API int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, cons
                             double tol, sdae_mbs_check_report *r);
 SDAE_API int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const double *v,
                                  double tol, const sdae_allocator *a, sdae_mbs_check_report *r);
+
+/* Redundant constraints at (t, q): G's rows scaled to unit length (G from jacobian, or
+ * fourth-order differences of c without it), GSL's QR with column pivoting of G^T orders the
+ * constraints so that each is the farthest from the span of those before it; the k-th one's
+ * distance, R's diagonal relative to the first, is the sine of its angle to that span. *rank
+ * counts the rows down to the first below SDAE_MBS_CHART_MIN (the chart's limit: at or under it
+ * a constraint is taken as dependent on those before it, redundant); rows (n_c, may be NULL)
+ * receives the order, the first *rank independent, the rest redundant on them; *independence
+ * (may be NULL) the least sine among the independent ones. Any n_c >= 1, n_c >= n_q included.
+ * SDAE_ERR_NULL, SDAE_ERR_DIM (n_c or n_q zero), SDAE_ERR_PATTERN, SDAE_ERR_PARAM (t or q not
+ * finite), SDAE_ERR_NOMEM, SDAE_ERR_OVERFLOW or a callback's failure, the outputs untouched;
+ * workspace from the allocator a in sdae_mbs_redundant_with (NULL: malloc). */
+SDAE_API int sdae_mbs_redundant(const sdae_mbs *sys, double t, const double *q, size_t *rank,
+                                size_t *rows, double *independence);
+SDAE_API int sdae_mbs_redundant_with(const sdae_mbs *sys, double t, const double *q,
+                                     const sdae_allocator *a, size_t *rank, size_t *rows,
+                                     double *independence);
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_permutation.h>
 #include <stabdae/check.h>
 
 #include "core/alloc.h"
@@ -37,10 +39,13 @@ typedef struct checker {
   double *qs, *Mq;         /* n_q, n_q x n_q: the point on the line, M there */
   double *at;              /* width: a value on the line */
   double *fd, *nz, *given; /* width each: the difference, its noise, the derivative given */
-  double *col, *col_nz;    /* n_q each: one column (or gradient) and its noise */
+  double *col, *col_nz;    /* max(n_q, n_c) each: one column (or gradient) and its noise */
   double *e;               /* n_q: a direction */
   double *values;          /* a matrix's nonzeros, written by a callback with a pattern */
   double *q_m, *v_m;       /* n_q each: a state moved around the one given */
+  /* the rank: G^T's rows scaled (n_q x n_c), QR's tau and norms (n_c each), its pivoting */
+  double *gt, *tau, *norm;
+  size_t *perm;
 } checker;
 
 /* a matrix callback's status, its values put in place (rows x n_q) when it has a pattern:
@@ -175,14 +180,12 @@ static void record(sdae_mbs_check_report *r, sdae_mbs_derivative d, double m, si
   if (r->worst < 0 || m > r->mismatch[r->worst]) r->worst = (int)d, r->worst_index = where;
 }
 
-/* G column by column, against c */
-static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
-  size_t n_q = k->n_q, n_c = k->n_c, where;
-  double m;
-  int rc = evaluate(k, G, t, q, k->given);
-  if (rc != SDAE_OK) return rc;
+/* G by differences of c, column by column, into k->fd (its noise in k->nz) */
+static int differenced_jacobian(checker *k, double t, const double *q) {
+  size_t n_q = k->n_q, n_c = k->n_c;
   memset(k->e, 0, n_q * sizeof *k->e);
   for (size_t j = 0; j < n_q; j++) {
+    int rc;
     k->e[j] = 1.0;
     rc = derivative(k, C, t, q, 0.0, k->e, k->col, k->col_nz);
     k->e[j] = 0.0;
@@ -190,9 +193,54 @@ static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_
     for (size_t i = 0; i < n_c; i++)
       k->fd[i * n_q + j] = k->col[i], k->nz[i * n_q + j] = k->col_nz[i];
   }
-  m = mismatch(k->given, k->fd, k->nz, n_c * n_q, n_q, &where);
+  return SDAE_OK;
+}
+
+/* G column by column, against c */
+static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_report *r) {
+  size_t where;
+  double m;
+  int rc = evaluate(k, G, t, q, k->given);
+  if (rc != SDAE_OK || (rc = differenced_jacobian(k, t, q)) != SDAE_OK) return rc;
+  m = mismatch(k->given, k->fd, k->nz, k->n_c * k->n_q, k->n_q, &where);
   record(r, SDAE_MBS_JACOBIAN, m, where);
   return SDAE_OK;
+}
+
+/* ---- the constraints' rank ---- */
+
+/* G (n_c x n_q, row-major) ranked into k->perm: G^T's columns scaled to unit length, QR with
+ * column pivoting; *rank down to the first diagonal entry below SDAE_MBS_CHART_MIN times the
+ * first (a zero row is dependent on any), *independence the least ratio above it */
+static void rank_of(checker *k, const double *Gm, size_t *rank, double *independence) {
+  size_t n_q = k->n_q, n_c = k->n_c, diag = n_q < n_c ? n_q : n_c, r = 0;
+  gsl_matrix_view A = gsl_matrix_view_array(k->gt, n_q, n_c);
+  gsl_vector_view tau = gsl_vector_view_array(k->tau, diag);
+  gsl_vector_view norm = gsl_vector_view_array(k->norm, n_c);
+  gsl_permutation perm = {n_c, k->perm};
+  double first, least = 1.0;
+  int signum;
+  for (size_t i = 0; i < n_c; i++) {
+    double row = 0.0;
+    for (size_t j = 0; j < n_q; j++) row = hypot(row, Gm[i * n_q + j]);
+    for (size_t j = 0; j < n_q; j++) k->gt[j * n_c + i] = row > 0.0 ? Gm[i * n_q + j] / row : 0.0;
+  }
+  gsl_linalg_QRPT_decomp(&A.matrix, &tau.vector, &perm, &signum, &norm.vector);
+  first = fabs(k->gt[0]);
+  for (; r < diag && first > 0.0; r++) {
+    double ratio = fabs(k->gt[r * n_c + r]) / first;
+    if (!(ratio >= SDAE_MBS_CHART_MIN)) break;
+    least = ratio < least ? ratio : least;
+  }
+  *rank = r;
+  *independence = r > 0 ? least : 0.0;
+}
+
+/* G at (t, q), given or differenced, ranked */
+static int rank_at(checker *k, double t, const double *q, size_t *rank, double *independence) {
+  int rc = k->sys->jacobian ? evaluate(k, G, t, q, k->given) : differenced_jacobian(k, t, q);
+  if (rc == SDAE_OK) rank_of(k, k->sys->jacobian ? k->given : k->fd, rank, independence);
+  return rc;
 }
 
 /* a derivative given (its values already in k->given) against the difference of a quantity
@@ -273,19 +321,23 @@ static int run(checker *k, double t, const double *q, int patterns_only, sdae_mb
 }
 
 static void carve(checker *k, sdae_arena *a) {
-  size_t n_q = k->n_q;
+  size_t n_q = k->n_q, n_rows = k->n_c > n_q ? k->n_c : n_q; /* a column of G, or a vector */
   k->qs = sdae__take(a, n_q, 1);
   k->Mq = sdae__take(a, n_q, n_q);
   k->at = sdae__take(a, width(k), 1);
   k->fd = sdae__take(a, width(k), 1);
   k->nz = sdae__take(a, width(k), 1);
   k->given = sdae__take(a, width(k), 1);
-  k->col = sdae__take(a, n_q, 1);
-  k->col_nz = sdae__take(a, n_q, 1);
+  k->col = sdae__take(a, n_rows, 1);
+  k->col_nz = sdae__take(a, n_rows, 1);
   k->e = sdae__take(a, n_q, 1);
-  k->values = sdae__take(a, n_q, n_q); /* no pattern has more entries than its dense matrix */
+  k->values = sdae__take(a, n_q, n_rows); /* no pattern has more entries than its matrix */
   k->q_m = sdae__take(a, n_q, 1);
   k->v_m = sdae__take(a, n_q, 1);
+  k->gt = sdae__take(a, n_q, k->n_c);
+  k->tau = sdae__take(a, k->n_c, 1);
+  k->norm = sdae__take(a, k->n_c, 1);
+  k->perm = sdae__take_indices(a, k->n_c);
 }
 
 /* The states checked: the one given, every derivative; then, for a mechanism with patterns,
@@ -324,7 +376,12 @@ static int run_states(checker *k, double t, const double *q, const double *v,
     int rc;
     if (state > 0) moved(q, k->n_q, state, k->q_m), moved(v, k->n_q, state, k->v_m);
     k->v = state > 0 ? k->v_m : v;
-    if ((rc = run(k, t, state > 0 ? k->q_m : q, state > 0, &r)) != SDAE_OK) return rc;
+    const double *at = state > 0 ? k->q_m : q;
+    double independence;
+    if ((rc = run(k, t, at, state > 0, &r)) != SDAE_OK ||
+        (rc = rank_at(k, t, at, &total->rank[state], &independence)) != SDAE_OK)
+      return rc;
+    if (state == 0 || independence < total->independence) total->independence = independence;
     merge(total, &r, state);
   }
   return SDAE_OK;
@@ -333,7 +390,7 @@ static int run_states(checker *k, double t, const double *q, const double *v,
 static int valid(const sdae_mbs *sys, double t, const double *q, const double *v, double tol) {
   int rc;
   if (!sys || !q || !v || !sys->mass || !sys->force || !sys->constraint) return SDAE_ERR_NULL;
-  if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
+  if (sys->n_c == 0 || sys->n_q == 0) return SDAE_ERR_DIM;
   /* the derivatives of G and dc/dt are checked against the callbacks themselves */
   if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
     return SDAE_ERR_NULL;
@@ -371,4 +428,34 @@ int sdae_mbs_check_with(const sdae_mbs *sys, double t, const double *q, const do
 int sdae_mbs_check(const sdae_mbs *sys, double t, const double *q, const double *v, double tol,
                    sdae_mbs_check_report *r) {
   return sdae_mbs_check_with(sys, t, q, v, tol, NULL, r);
+}
+
+int sdae_mbs_redundant_with(const sdae_mbs *sys, double t, const double *q, const sdae_allocator *a,
+                            size_t *rank, size_t *rows, double *independence) {
+  checker k = {0};
+  sdae_arena count = {0}, take = {0};
+  size_t bytes, r;
+  double least;
+  int rc;
+  if (!sys || !q || !rank || !sys->constraint) return SDAE_ERR_NULL;
+  if (sys->n_c == 0 || sys->n_q == 0) return SDAE_ERR_DIM;
+  if ((rc = sdae__mbs_patterns_check(sys)) != SDAE_OK) return rc;
+  if (!isfinite(t) || !sdae__all_finite(q, sys->n_q)) return SDAE_ERR_PARAM;
+  k.sys = sys, k.n_q = sys->n_q, k.n_c = sys->n_c;
+  carve(&k, &count);
+  if (sdae__arena_bytes(&count, 0, &bytes) != SDAE_OK) return SDAE_ERR_OVERFLOW;
+  if (!(take.base = sdae__alloc(a, bytes))) return SDAE_ERR_NOMEM;
+  carve(&k, &take);
+  if ((rc = rank_at(&k, t, q, &r, &least)) == SDAE_OK) {
+    *rank = r;
+    if (rows) memcpy(rows, k.perm, k.n_c * sizeof *rows);
+    if (independence) *independence = least;
+  }
+  sdae__free(a, take.base, bytes);
+  return rc;
+}
+
+int sdae_mbs_redundant(const sdae_mbs *sys, double t, const double *q, size_t *rank, size_t *rows,
+                       double *independence) {
+  return sdae_mbs_redundant_with(sys, t, q, NULL, rank, rows, independence);
 }
