@@ -289,8 +289,8 @@ END_TEST
 
 /* the header: magic (8 bytes), format (4), build (8), identity (8), length (8); a field
  * changed and the checksum made anew is no longer damaged but another build or format */
-/* where the coordinates' fields start: after the header and the statistics' two counters */
-#define CHART_AT (36 + 2 * sizeof(unsigned long))
+/* where the coordinates' fields start: after the header and the statistics' three counters */
+#define CHART_AT (36 + 3 * sizeof(unsigned long))
 
 static void reseal(unsigned char *state, size_t len) {
   uint64_t sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);
@@ -316,7 +316,7 @@ START_TEST(another_build_or_format_is_foreign) {
     rewrite(bad, len, fields[f]);
     ck_assert_int_eq(sdae_mbs_set_state(a.s, bad, len), SDAE_ERR_STATE_FOREIGN);
   }
-  /* the first dependent coordinate made out of range (the chart follows the header and the two
+  /* the first dependent coordinate made out of range (the chart follows the header and the three
    * counters), the checksum made anew: whole, yet no split of q */
   memcpy(bad, state, len);
   memset(bad + CHART_AT + sizeof(int), 0xff, sizeof(size_t));

@@ -26,7 +26,7 @@ extern "C" {
  * and receives params. Matrices are row-major, or their nonzeros in pattern order where the
  * mechanism gives a pattern (mass_pattern, jacobian_pattern). */
 typedef struct sdae_mbs {
-  size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q */
+  size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q (see rank) */
   /* n_q x n_q, symmetric; the reduced mass W^T M W (M on the constraints' tangent space, W
    * spanning ker G) positive definite: M itself may be singular (massless points). Checked
    * at every state a step starts from or hands out, and in sdae_mbs_lambda and sdae_mbs_energy
@@ -78,6 +78,18 @@ typedef struct sdae_mbs {
   /* NULL: dense. n_c rows; with it jacobian() and jacobian_dot() write nnz values in pattern
    * order (jacobian is then needed: SDAE_ERR_NULL without it) */
   const sdae_pattern *jacobian_pattern;
+  /* optional: the constraints' rank on the motion where some of them are redundant (dependent
+   * on the others, as a planar loop written with spatial joints: sdae_mbs_redundant counts it at
+   * a state); 0: n_c, all independent. With 1 <= rank < n_c (and rank < n_q; n_c >= n_q is then
+   * allowed) every step's start chooses rank independent constraints, by QR with column
+   * pivoting of G^T with its rows scaled, and keeps them while no other choice is more
+   * independent by SDAE_MBS_CHART_FACTOR; xi is formed on those (2 rank values), the chart
+   * splits q into rank dependent coordinates and n_q - rank, and the other constraints, implied
+   * by the chosen ones near the manifold, hold as they do. A step whose chosen constraints are
+   * not independent (below SDAE_MBS_CHART_MIN) or whose others are not dependent on them (above
+   * it) is SDAE_ERR_RANK: the rank is not the one given there. Stepped on the dense back-end,
+   * patterns or not. */
+  size_t rank;
 } sdae_mbs;
 
 /* A chart is replaced by the best one at a step boundary only when that one's measure
@@ -108,6 +120,8 @@ typedef struct sdae_mbs_stats {
   unsigned long chart_switches; /* charts replaced at step boundaries (the first one is not) */
   unsigned long phi_inv_iters;  /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
   double chart_measure;         /* max |G_D^-1 G_I| of the current chart where it was chosen */
+  unsigned long row_switches;   /* with redundant constraints (rank < n_c): the rows chosen
+                                 * replaced at step boundaries (the first choice is not) */
 } sdae_mbs_stats;
 
 /* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid, or when
@@ -160,18 +174,21 @@ SDAE_API int sdae_mbs_set_state(sdae_mbs_stepper *s, const void *buf, size_t len
 /* Between steps: the constraint forces lambda (n_c) at a state, from M v' = F - G^T lambda and G v'
  * + gamma = 0, gamma the derivative of G v + dc/dt along (1, v) with v fixed: solved on the null
  * space of G (G^T = Q R), so it needs of M what a step needs (a singular M with a positive definite
- * reduced mass too). F includes input_force. */
+ * reduced mass too). F includes input_force. With redundant constraints (rank < n_c) the
+ * multipliers are not unique, the constraint force G^T lambda is: the rows chosen at the state
+ * give theirs, and every row's are the least-norm ones with that force (the pseudo-inverse's,
+ * lambda = C (C^T C)^-1 lambda_chosen, C each row's coefficients on the chosen ones). */
 SDAE_API int sdae_mbs_lambda(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                              double *lambda);
-/* The constraint coordinates xi (2 n_c: c_j and G_j v + dc_j/dt, constraint by constraint), the
- * same in every chart. */
+/* The constraint coordinates xi (2 n_c: c_j and G_j v + dc_j/dt, constraint by constraint,
+ * redundant ones included), the same in every chart. */
 SDAE_API int sdae_mbs_xi(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                          double *xi);
 /* The energy v^T M v / 2 + V(q) (V = 0 without potential). */
 SDAE_API int sdae_mbs_energy(sdae_mbs_stepper *s, double t, const double *q, const double *v,
                              double *E);
-/* The dependent coordinates of the current chart: n_c indices into q, ascending (none before
- * the first step: SDAE_ERR_CHART). */
+/* The dependent coordinates of the current chart: n_c indices into q (rank with redundant
+ * constraints), ascending (none before the first step: SDAE_ERR_CHART). */
 SDAE_API int sdae_mbs_chart(const sdae_mbs_stepper *s, size_t *dependent);
 
 SDAE_API const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s);

@@ -18,7 +18,9 @@ static int validate(const sdae_mbs *sys, const sdae_options *o) {
   /* a derivative of a callback left out: what it derives from is differenced, and it with it */
   if ((sys->jacobian_dot && !sys->jacobian) || (sys->constraint_t_dot && !sys->constraint_t))
     return SDAE_ERR_NULL;
-  if (sys->n_c == 0 || sys->n_c >= sys->n_q) return SDAE_ERR_DIM;
+  /* redundant constraints: rank independent ones among n_c, n_q - rank >= 1 degrees of
+   * freedom */
+  if (sys->n_c == 0 || sys->rank > sys->n_c || sdae__mbs_rank(sys) >= sys->n_q) return SDAE_ERR_DIM;
   return sdae__mbs_patterns_check(sys);
 }
 
@@ -49,8 +51,8 @@ static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o)
   double least = sys->jacobian ? SDAE_MBS_NEWTON_TOL : SDAE_MBS_FD_NEWTON_TOL;
   if (o->newton_tol > 0.0 && o->newton_tol < least) s->opt.newton_tol = least;
   s->n_q = sys->n_q;
-  s->n_c = sys->n_c;
-  s->n_f = sys->n_q - sys->n_c;
+  s->n_c = sdae__mbs_rank(sys);
+  s->n_f = sys->n_q - s->n_c;
   sdae__mbs_eval_init(&s->eval, sys);
   if (sdae__mbs_sparse_applies(sys, o))
     rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_sparse_linalg, &s->sparse, o);
@@ -176,6 +178,7 @@ static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, co
 static void commit(sdae_mbs_stepper *s, const sdae_mbs_start *st) {
   s->stats.phi_inv_iters += s->coords.phi_inv_iters;
   s->stats.chart_switches += (unsigned long)st->choice.switched;
+  s->stats.row_switches += (unsigned long)st->rows_switched;
 }
 
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
@@ -191,7 +194,7 @@ int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v)
     /* the chart kept by hysteresis folds within the step: once more in the best one, counted
      * as the one step it is (the first try's work is not kept, as a failed step's is not) */
     sdae__mbs_rollback(s);
-    st.choice.switched = st.choice.kept = 0;
+    st.choice.switched = st.choice.kept = st.rows_switched = 0;
     rc = try_step(s, t, T, q, v, 1, &st);
   }
   if (rc == SDAE_OK) {
@@ -223,6 +226,7 @@ const sdae_mbs_stats *sdae_mbs_stepper_stats(const sdae_mbs_stepper *s) {
 void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   if (!s) return;
   s->stats.chart_switches = 0; /* the counters; the chart's measure is the current chart's */
+  s->stats.row_switches = 0;
   s->stats.phi_inv_iters = 0;
   sdae_stepper_reset_stats(s->inner);
   sdae__mbs_stepper_gather(s);

@@ -190,7 +190,11 @@ static int seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
 
 int sdae__mbs_coords_start(sdae_mbs_coords *co, double t, const double *q, const double *v,
                            int force_best, sdae_mbs_start *st) {
-  int rc;
+  int rc, rows_changed, had = co->eval->have;
+  /* redundant constraints: the rows first, and the point's G not theirs where they changed */
+  if ((rc = sdae__mbs_select(co->eval, t, q, force_best, &rows_changed)) != SDAE_OK) return rc;
+  if (rows_changed) co->valid = 0;
+  st->rows_switched = rows_changed && had;
   if ((rc = sdae__mbs_coords_xi(co, t, q, v, st->xi)) != SDAE_OK ||
       (rc = energy_map_ok(co)) != SDAE_OK ||
       (rc = co->linalg->choose(co->la, force_best, co->reuse, &st->choice)) != SDAE_OK)
@@ -447,9 +451,11 @@ int sdae__mbs_lsolve(sdae_mbs_coords *co, const double *r, double *z) {
 
 /* ---- the state ---- */
 
-/* the back-end's first (the chart, G and M at the point), then the point */
+/* the rows chosen among redundant constraints, the back-end's (the chart, G and M at the
+ * point), then the point */
 void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b) {
   size_t n_q = co->n_q, n_c = co->n_c;
+  sdae__mbs_eval_state(co->eval, b);
   co->linalg->state(co->la, b);
   if (b->in) split(co);
   sdae__bytes_flag(b, &co->valid);
@@ -463,7 +469,7 @@ void sdae__mbs_coords_state(sdae_mbs_coords *co, sdae_bytes *b) {
 /* the factors are not in the bytes: made anew at the next step's start, once the bytes read
  * are whole (a refused state leaves the stepper as it was, its factors' flag too) */
 int sdae__mbs_coords_state_read(sdae_mbs_coords *co) {
-  if (!co->linalg->state_read(co->la)) return 0;
+  if (!sdae__mbs_eval_valid(co->eval) || !co->linalg->state_read(co->la)) return 0;
   co->fresh = 0;
   return 1;
 }

@@ -18,6 +18,7 @@ typedef struct sdae_mbs_start {
   double *xi, *mu;        /* 2 n_c, 2 n_f: the state in the chart */
   double *floor;          /* 2 n_c: xi's floors, below which it is rounding (derive.c) */
   sdae_mbs_choice choice; /* the chart switched, or kept by the hysteresis */
+  int rows_switched;      /* redundant constraints: the rows chosen were replaced */
 } sdae_mbs_start;
 
 typedef struct sdae_mbs_coords {

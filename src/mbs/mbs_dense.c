@@ -24,7 +24,7 @@ static int carve(void *p, sdae_arena *a) {
   sdae_mbs_dense *d = p;
   size_t n_q = d->n_q, n_c = d->n_c, n_f = d->n_f;
   sdae__mbs_chart_carve(&d->chart, a);
-  sdae__mbs_query_carve(&d->query, n_q, n_c, a);
+  sdae__mbs_query_carve(&d->query, n_q, n_c, d->eval->n_rows, a);
   d->G = sdae__take(a, n_c, n_q);
   d->M = sdae__take(a, n_q, n_q);
   d->Mr = sdae__take(a, n_f, n_f);

@@ -9,7 +9,11 @@
  * rounding in the quantities built from them. */
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_permutation.h>
 
 #include "core/callback.h"
 #include "core/difference.h"
@@ -26,10 +30,15 @@ int sdae__mbs_patterns_check(const sdae_mbs *sys) {
                                : SDAE_OK;
 }
 
+size_t sdae__mbs_rank(const sdae_mbs *sys) { return sys->rank ? sys->rank : sys->n_c; }
+
+int sdae__mbs_redundant(const sdae_mbs_eval *e) { return e->n_c < e->n_rows; }
+
 void sdae__mbs_eval_init(sdae_mbs_eval *e, const sdae_mbs *sys) {
   e->sys = *sys;
   e->n_q = sys->n_q;
-  e->n_c = sys->n_c;
+  e->n_c = sdae__mbs_rank(sys);
+  e->n_rows = sys->n_c;
   e->matrices = 1;
 }
 
@@ -46,8 +55,8 @@ static void pattern_carve(const sdae_pattern **given, sdae_pattern *copy, double
 void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   size_t n_q = e->n_q, n_c = e->n_c, m = e->matrices ? n_q : 0;
   e->jac_q = sdae__take(a, n_q, 1);
-  e->jac_c = sdae__take(a, n_c, 1);
-  e->ct_c = sdae__take(a, n_c, 1);
+  e->jac_c = sdae__take(a, e->n_rows, 1);
+  e->ct_c = sdae__take(a, e->n_rows, 1);
   e->along_q = sdae__take(a, n_q, 1);
   e->along_G = sdae__take(a, n_c, m);
   e->along_M = sdae__take(a, m, m);
@@ -60,7 +69,33 @@ void sdae__mbs_eval_carve(sdae_mbs_eval *e, sdae_arena *a) {
   e->t_ctdot = sdae__take(a, n_c, 1);
   e->input = sdae__take(a, n_q, 1);
   pattern_carve(&e->sys.mass_pattern, &e->mass_pattern, &e->mass_values, n_q, a);
-  pattern_carve(&e->sys.jacobian_pattern, &e->jacobian_pattern, &e->jacobian_values, n_c, a);
+  pattern_carve(&e->sys.jacobian_pattern, &e->jacobian_pattern, &e->jacobian_values, e->n_rows, a);
+  if (!sdae__mbs_redundant(e)) return;
+  e->rows = sdae__take_indices(a, n_c);
+  e->cand = sdae__take_indices(a, n_c);
+  e->all_c = sdae__take(a, e->n_rows, 1);
+  e->all_G = sdae__take(a, e->n_rows, n_q);
+  e->all_ct = sdae__take(a, e->n_rows, 1);
+  e->qr = sdae__take(a, n_q, e->n_rows);
+  e->qr_tau = sdae__take(a, e->n_rows, 1);
+  e->qr_norm = sdae__take(a, e->n_rows, 1);
+  e->qr_perm = sdae__take_indices(a, e->n_rows);
+}
+
+/* ---- the rows chosen among redundant constraints ---- */
+
+/* the chosen rows of all (n_rows x cols) into out (n_c x cols) */
+static void gather(const sdae_mbs_eval *e, const double *all, size_t cols, double *out) {
+  for (size_t k = 0; k < e->n_c; k++)
+    memcpy(out + k * cols, all + e->rows[k] * cols, cols * sizeof *out);
+}
+
+/* a callback's rows (n_rows x cols, checked) into out, the chosen ones alone where they are
+ * chosen: rc is the callback's status, all where it wrote */
+static int rows_out(const sdae_mbs_eval *e, int rc, const double *all, size_t cols, double *out) {
+  if ((rc = sdae__callback_checked(rc, all, e->n_rows * cols)) == SDAE_OK)
+    gather(e, all, cols, out);
+  return rc;
 }
 
 int sdae__mbs_state_ok(const sdae_mbs_eval *e, double t, const double *q, const double *v) {
@@ -138,6 +173,8 @@ int sdae__mbs_force(sdae_mbs_eval *e, double t, const double *q, const double *v
 }
 
 int sdae__mbs_constraint(sdae_mbs_eval *e, double t, const double *q, double *c) {
+  if (sdae__mbs_redundant(e))
+    return rows_out(e, e->sys.constraint(t, q, e->all_c, e->sys.params), e->all_c, 1, c);
   return sdae__callback_checked(e->sys.constraint(t, q, c, e->sys.params), c, e->n_c);
 }
 
@@ -151,9 +188,15 @@ int sdae__mbs_damping(sdae_mbs_eval *e, double t, const double *q, double *D) {
   return matrix_checked(rc, p, e->mass_values, e->n_q, e->n_q, D);
 }
 
-/* G column by column: d/dh c(t, q + h e_j) */
-static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
-  size_t n_q = e->n_q, n_c = e->n_c;
+/* c at (t, q): the chosen rows, or all of them (n_rows) */
+static int constraint_rows(sdae_mbs_eval *e, double t, const double *q, double *c, int all) {
+  if (!all) return sdae__mbs_constraint(e, t, q, c);
+  return sdae__callback_checked(e->sys.constraint(t, q, c, e->sys.params), c, e->n_rows);
+}
+
+/* G column by column: d/dh c(t, q + h e_j), the chosen rows or all of them */
+static int jacobian_fd_rows(sdae_mbs_eval *e, double t, const double *q, double *G, int all) {
+  size_t n_q = e->n_q, n_c = all ? e->n_rows : e->n_c;
   double *qs = e->jac_q, *c = e->jac_c;
   memcpy(qs, q, n_q * sizeof *q);
   for (size_t j = 0; j < n_q; j++) {
@@ -162,7 +205,7 @@ static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
     for (int k = 0; k < SDAE_FD_POINTS; k++) {
       int rc;
       qs[j] = q[j] + sdae__fd_offset[k] * h;
-      if ((rc = sdae__mbs_constraint(e, t, qs, c)) != SDAE_OK) return rc;
+      if ((rc = constraint_rows(e, t, qs, c, all)) != SDAE_OK) return rc;
       sdae__fd_add(G + j, n_q, c, n_c, k);
     }
     qs[j] = q[j];
@@ -171,12 +214,23 @@ static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
   return SDAE_OK;
 }
 
-int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
+/* every row of G given (n_rows x n_q) */
+static int jacobian_given(sdae_mbs_eval *e, double t, const double *q, double *G) {
   const sdae_pattern *p = e->sys.jacobian_pattern;
+  int rc = e->sys.jacobian(t, q, target(p, e->jacobian_values, G), e->sys.params);
+  return matrix_checked(rc, p, e->jacobian_values, e->n_rows, e->n_q, G);
+}
+
+static int jacobian_fd(sdae_mbs_eval *e, double t, const double *q, double *G) {
+  return jacobian_fd_rows(e, t, q, G, 0);
+}
+
+int sdae__mbs_jacobian(sdae_mbs_eval *e, double t, const double *q, double *G) {
   int rc;
   if (!e->sys.jacobian) return jacobian_fd(e, t, q, G);
-  rc = e->sys.jacobian(t, q, target(p, e->jacobian_values, G), e->sys.params);
-  return matrix_checked(rc, p, e->jacobian_values, e->n_c, e->n_q, G);
+  if (!sdae__mbs_redundant(e)) return jacobian_given(e, t, q, G);
+  if ((rc = jacobian_given(e, t, q, e->all_G)) == SDAE_OK) gather(e, e->all_G, e->n_q, G);
+  return rc;
 }
 
 /* A difference step in t relative to max(1, |t|): where t is so large that its doubles are too
@@ -188,22 +242,33 @@ static double t_step(double t) { return sdae__fd_step(t, SDAE_FD_STEP * fmax(1.0
  * is absolute while t can hold it: a driver's time scale (a road's period) does not grow with t,
  * so a step relative to t would lose its accuracy on the way (1 relative at t = 1e3 for a
  * period of 2). */
-static int constraint_t_fd(sdae_mbs_eval *e, double t, const double *q, double *ct) {
+static int constraint_t_fd(sdae_mbs_eval *e, double t, const double *q, double *ct, int all) {
+  size_t n = all ? e->n_rows : e->n_c;
   double h = sdae__fd_step(t, SDAE_FD_STEP), *c = e->ct_c;
   if (!(fabs(h - SDAE_FD_STEP) <= 0.5 * SDAE_FD_STEP)) h = t_step(t);
-  memset(ct, 0, e->n_c * sizeof *ct);
+  memset(ct, 0, n * sizeof *ct);
   for (int k = 0; k < SDAE_FD_POINTS; k++) {
-    int rc = sdae__mbs_constraint(e, t + sdae__fd_offset[k] * h, q, c);
+    int rc = constraint_rows(e, t + sdae__fd_offset[k] * h, q, c, all);
     if (rc != SDAE_OK) return rc;
-    sdae__fd_add(ct, 1, c, e->n_c, k);
+    sdae__fd_add(ct, 1, c, n, k);
   }
-  sdae__fd_finish(ct, 1, e->n_c, h);
+  sdae__fd_finish(ct, 1, n, h);
   return SDAE_OK;
 }
 
 int sdae__mbs_constraint_t(sdae_mbs_eval *e, double t, const double *q, double *ct) {
-  if (!e->sys.constraint_t) return constraint_t_fd(e, t, q, ct);
+  if (!e->sys.constraint_t) return constraint_t_fd(e, t, q, ct, 0);
+  if (sdae__mbs_redundant(e))
+    return rows_out(e, e->sys.constraint_t(t, q, e->all_ct, e->sys.params), e->all_ct, 1, ct);
   return sdae__callback_checked(e->sys.constraint_t(t, q, ct, e->sys.params), ct, e->n_c);
+}
+
+/* d/ds (dc/dt) given, the chosen rows */
+static int ct_dot_given(sdae_mbs_eval *e, double t, const double *q, const double *v, double *out) {
+  const sdae_mbs *s = &e->sys;
+  if (sdae__mbs_redundant(e))
+    return rows_out(e, s->constraint_t_dot(t, q, v, e->all_ct, s->params), e->all_ct, 1, out);
+  return sdae__callback_checked(s->constraint_t_dot(t, q, v, out, s->params), out, e->n_c);
 }
 
 static double inf_norm(const double *x, size_t n) {
@@ -300,9 +365,20 @@ static int differenced(sdae_mbs_eval *e, double t, const double *q, const double
 int sdae__mbs_ct_dot(sdae_mbs_eval *e, double t, const double *q, const double *v, double *out) {
   const sdae_mbs *s = &e->sys;
   along_parts p = {NULL, NULL, out};
-  if (s->constraint_t_dot)
-    return sdae__callback_checked(s->constraint_t_dot(t, q, v, out, s->params), out, e->n_c);
+  if (s->constraint_t_dot) return ct_dot_given(e, t, q, v, out);
   return differenced(e, t, q, v, &p);
+}
+
+/* Gdot given, the chosen rows */
+static int jacobian_dot_given(sdae_mbs_eval *e, double t, const double *q, const double *v,
+                              double *Gd) {
+  const sdae_pattern *p = e->sys.jacobian_pattern;
+  double *all = sdae__mbs_redundant(e) ? e->all_G : Gd;
+  int rc = e->sys.jacobian_dot(t, q, v, target(p, e->jacobian_values, all), e->sys.params);
+  if ((rc = matrix_checked(rc, p, e->jacobian_values, e->n_rows, e->n_q, all)) == SDAE_OK &&
+      all != Gd)
+    gather(e, all, e->n_q, Gd);
+  return rc;
 }
 
 /* Each derivative the mechanism gives replaces its stencil (docs/front-ends.md, the cost of a
@@ -316,19 +392,12 @@ int sdae__mbs_along(sdae_mbs_eval *e, double t, const double *q, const double *v
   int fd_ct = gdot && !s->constraint_t_dot, rc;
   along_parts fd = {fd_G ? Gd : NULL, fd_M ? Mdv : NULL, fd_ct ? ctd : NULL};
   if ((fd_G || fd_M || fd_ct) && (rc = differenced(e, t, q, v, &fd)) != SDAE_OK) return rc;
-  if (want_G && s->jacobian_dot) {
-    const sdae_pattern *p = s->jacobian_pattern;
-    rc = s->jacobian_dot(t, q, v, target(p, e->jacobian_values, Gd), s->params);
-    if ((rc = matrix_checked(rc, p, e->jacobian_values, n_c, n_q, Gd)) != SDAE_OK) return rc;
-  }
+  if (want_G && s->jacobian_dot && (rc = jacobian_dot_given(e, t, q, v, Gd)) != SDAE_OK) return rc;
   if (Mdv && s->mass_dot_v &&
       (rc = sdae__callback_checked(s->mass_dot_v(t, q, v, Mdv, s->params), Mdv, n_q)) != SDAE_OK)
     return rc;
   if (!gdot) return SDAE_OK;
-  if (s->constraint_t_dot &&
-      (rc = sdae__callback_checked(s->constraint_t_dot(t, q, v, ctd, s->params), ctd, n_c)) !=
-          SDAE_OK)
-    return rc;
+  if (s->constraint_t_dot && (rc = ct_dot_given(e, t, q, v, ctd)) != SDAE_OK) return rc;
   for (size_t i = 0; i < n_c; i++) { /* gamma = Gdot v + d/ds dc/dt (docs/front-ends.md, lambda) */
     double g = ctd[i];
     for (size_t j = 0; j < n_q; j++) g += Gd[i * n_q + j] * v[j];
@@ -367,5 +436,95 @@ int sdae__mbs_energy_of(sdae_mbs_eval *e, double t, const double *q, const doubl
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < n; j++) kinetic += v[i] * M[i * n + j] * v[j];
   *E = 0.5 * kinetic + V;
+  return SDAE_OK;
+}
+
+/* ---- the choice of rows ---- */
+
+static int ascending(const void *a, const void *b) {
+  size_t x = *(const size_t *)a, y = *(const size_t *)b;
+  return (x > y) - (x < y);
+}
+
+/* The n rows listed of all_G (or every row: list NULL), scaled to unit length, as the columns
+ * of qr (n_q x n), QR with column pivoting: R's diagonal relative to its first (the sine of the
+ * k-th pivot's angle to the span of those before) at k = n_c - 1 into *least, at n_c into *next
+ * (0 when there is none) */
+static void pivoted_qr(sdae_mbs_eval *e, const size_t *list, size_t n, double *least,
+                       double *next) {
+  size_t n_q = e->n_q, diag = n_q < n ? n_q : n;
+  gsl_matrix_view A = gsl_matrix_view_array(e->qr, n_q, n);
+  gsl_vector_view tau = gsl_vector_view_array(e->qr_tau, diag);
+  gsl_vector_view norm = gsl_vector_view_array(e->qr_norm, n);
+  gsl_permutation perm = {n, e->qr_perm};
+  double first;
+  int signum;
+  for (size_t i = 0; i < n; i++) {
+    const double *row = e->all_G + (list ? list[i] : i) * n_q;
+    double len = 0.0;
+    for (size_t j = 0; j < n_q; j++) len = hypot(len, row[j]);
+    for (size_t j = 0; j < n_q; j++) e->qr[j * n + i] = len > 0.0 ? row[j] / len : 0.0;
+  }
+  gsl_linalg_QRPT_decomp(&A.matrix, &tau.vector, &perm, &signum, &norm.vector);
+  first = fabs(e->qr[0]);
+  *least = first > 0.0 ? fabs(e->qr[(e->n_c - 1) * n + e->n_c - 1]) / first : 0.0;
+  *next = first > 0.0 && e->n_c < diag ? fabs(e->qr[e->n_c * n + e->n_c]) / first : 0.0;
+}
+
+int sdae__mbs_jacobian_all(sdae_mbs_eval *e, double t, const double *q) {
+  return e->sys.jacobian ? jacobian_given(e, t, q, e->all_G)
+                         : jacobian_fd_rows(e, t, q, e->all_G, 1);
+}
+
+int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed) {
+  double best, next, now, unused;
+  int rc;
+  *changed = 0;
+  if (!sdae__mbs_redundant(e)) return SDAE_OK;
+  if ((rc = sdae__mbs_jacobian_all(e, t, q)) != SDAE_OK) return rc;
+  pivoted_qr(e, NULL, e->n_rows, &best, &next);
+  if (!(best >= SDAE_MBS_CHART_MIN) || next >= SDAE_MBS_CHART_MIN) return SDAE_ERR_RANK;
+  memcpy(e->cand, e->qr_perm, e->n_c * sizeof *e->cand);
+  qsort(e->cand, e->n_c, sizeof *e->cand, ascending);
+  if (e->have && !force_best) {
+    pivoted_qr(e, e->rows, e->n_c, &now, &unused); /* the current rows' own least sine */
+    if (!(best > SDAE_MBS_CHART_FACTOR * now)) return SDAE_OK;
+  }
+  *changed = !e->have || memcmp(e->rows, e->cand, e->n_c * sizeof *e->rows) != 0;
+  memcpy(e->rows, e->cand, e->n_c * sizeof *e->rows);
+  e->have = 1;
+  return SDAE_OK;
+}
+
+void sdae__mbs_eval_state(sdae_mbs_eval *e, sdae_bytes *b) {
+  if (!sdae__mbs_redundant(e)) return;
+  sdae__bytes_flag(b, &e->have);
+  sdae__bytes_sizes(b, e->rows, e->n_c);
+}
+
+int sdae__mbs_eval_valid(const sdae_mbs_eval *e) {
+  if (!sdae__mbs_redundant(e) || !e->have) return 1;
+  for (size_t k = 0; k < e->n_c; k++)
+    if (e->rows[k] >= e->n_rows || (k > 0 && e->rows[k] <= e->rows[k - 1])) return 0;
+  return 1;
+}
+
+int sdae__mbs_xi_all(sdae_mbs_eval *e, double t, const double *q, const double *v, double *xi) {
+  size_t n_q = e->n_q;
+  int rc;
+  if ((rc = constraint_rows(e, t, q, e->all_c, 1)) != SDAE_OK ||
+      (rc = sdae__mbs_jacobian_all(e, t, q)) != SDAE_OK)
+    return rc;
+  if (e->sys.constraint_t)
+    rc = sdae__callback_checked(e->sys.constraint_t(t, q, e->all_ct, e->sys.params), e->all_ct,
+                                e->n_rows);
+  else
+    rc = constraint_t_fd(e, t, q, e->all_ct, 1);
+  if (rc != SDAE_OK) return rc;
+  for (size_t j = 0; j < e->n_rows; j++) {
+    double cdot = e->all_ct[j];
+    for (size_t i = 0; i < n_q; i++) cdot += e->all_G[j * n_q + i] * v[i];
+    xi[2 * j] = e->all_c[j], xi[2 * j + 1] = cdot;
+  }
   return SDAE_OK;
 }

@@ -9,6 +9,7 @@
 #include <stabdae/mbs.h>
 
 #include "core/arena.h"
+#include "core/bytes.h"
 #include "core/pattern.h"
 
 typedef struct sdae_mbs_eval {
@@ -26,7 +27,36 @@ typedef struct sdae_mbs_eval {
   double *input;                        /* n_q: the forces from outside the Lagrangian */
   int matrices; /* the stencils' matrices carved (G and M along the motion): not for a sparse
                  * mechanism's coordinates, which read the derivatives given */
+  /* Redundant constraints (sys.rank < sys.n_c): the front-end sees the n_c = rank rows chosen
+   * among the n_rows the callbacks write, rows (ascending; have: chosen once), each of them
+   * gathered from all (c, G, dc/dt and their derivatives: all_c, all_G, all_ct); the choice's
+   * QR (n_q x n_rows, its tau, norms and pivoting) and candidate */
+  size_t n_rows;
+  int have;
+  size_t *rows, *cand;
+  double *all_c, *all_G, *all_ct;
+  double *qr, *qr_tau, *qr_norm;
+  size_t *qr_perm;
 } sdae_mbs_eval;
+
+/* the rank the front-end steps: sys->rank, or n_c where it is 0 */
+size_t sdae__mbs_rank(const sdae_mbs *sys);
+/* some constraints are redundant: the rows are chosen */
+int sdae__mbs_redundant(const sdae_mbs_eval *e);
+/* At a step's start (t, q): the rank rows chosen from G there (all rows given or differenced,
+ * scaled to unit length, QR with column pivoting of G^T), the current ones kept unless
+ * force_best or the best's least sine exceeds theirs by SDAE_MBS_CHART_FACTOR; *changed when
+ * the rows are new. SDAE_ERR_RANK when G's rank there is not rank (a chosen row's sine below
+ * SDAE_MBS_CHART_MIN, or the next one's at or above it). Nothing to choose without redundancy. */
+int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed);
+/* G of every row at (t, q), given or differenced, into all_G */
+int sdae__mbs_jacobian_all(sdae_mbs_eval *e, double t, const double *q);
+/* the rows chosen (what the next step depends on), counted, written or read; and whether read
+ * ones are a choice (ascending, each a row) */
+void sdae__mbs_eval_state(sdae_mbs_eval *e, sdae_bytes *b);
+int sdae__mbs_eval_valid(const sdae_mbs_eval *e);
+/* with redundant constraints, xi of every row (2 n_rows values), per constraint as xi_of */
+int sdae__mbs_xi_all(sdae_mbs_eval *e, double t, const double *q, const double *v, double *xi);
 
 /* the mechanism's patterns: SDAE_ERR_NULL for a Jacobian's without jacobian, SDAE_ERR_PATTERN
  * for one that is not a pattern of its matrix */

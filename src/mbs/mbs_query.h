@@ -23,9 +23,17 @@ typedef struct sdae_mbs_query {
   double *MZ, *Mr;                   /* n_q x n_f, n_f x n_f */
   double *acc, *res, *w;             /* n_q, n_q, n_q */
   double *lambda;                    /* n_c */
+  /* redundant constraints (n_rows > n_c): xi of every row; the rows chosen at the state, the
+   * step's kept aside; G_D^T's QR (the chosen rows' G^T, n_q x n_c), each row's coefficients on
+   * the chosen ones (n_rows x n_c), C^T C (n_c x n_c), a least-squares residual (n_q) */
+  size_t n_rows;
+  double *xi_all;
+  size_t *rows;
+  double *sel_T, *sel_tau, *coef, *ctc, *ls_res;
 } sdae_mbs_query;
 
-void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, sdae_arena *a);
+void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, size_t n_rows,
+                           sdae_arena *a);
 /* sdae_mbs_xi, sdae_mbs_energy and sdae_mbs_lambda on the query's scratch, the mechanism's
  * callbacks through ev; the output written only when the result is finite */
 int sdae__mbs_query_xi(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,

@@ -12,8 +12,9 @@
 #include "mbs_sparse.h"
 
 int sdae__mbs_sparse_applies(const sdae_mbs *sys, const sdae_options *o) {
-  return sys->mass_pattern && sys->jacobian_pattern && sys->jacobian_dot && sys->mass_dot_v &&
-         o->map && (!sdae__map_uses_newton(o->map) || sdae__map_slope_known(o->map));
+  return sdae__mbs_rank(sys) == sys->n_c && sys->mass_pattern && sys->jacobian_pattern &&
+         sys->jacobian_dot && sys->mass_dot_v && o->map &&
+         (!sdae__map_uses_newton(o->map) || sdae__map_slope_known(o->map));
 }
 
 static int init(void *p, sdae_mbs_eval *eval, const sdae_options *o) {

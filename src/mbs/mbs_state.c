@@ -20,7 +20,8 @@
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
 #define STATE_FORMAT                                                                               \
-  4u /* 4: the back-end's chart and matrices, then the point (3: the counters first) */
+  5u /* 5: the rows chosen, the row switches counted (4: the back-end's chart and matrices,        \
+      * then the point; 3: the counters first) */
 
 typedef struct header {
   char magic[8];
@@ -70,11 +71,12 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
   int scheme = (int)o->scheme, stabilizer = (int)o->stabilizer;
   uint64_t h = SDAE_FNV_START;
   HASH(h, s->n_q), HASH(h, s->n_c), HASH(h, given);
+  if (s->n_c < m->n_c) HASH(h, m->n_c); /* redundant: rank n_c of these rows */
   HASH(h, scheme), HASH(h, o->delta), HASH(h, o->epsilon), HASH(h, o->newton_tol);
   HASH(h, o->newton_max_iter), HASH(h, o->bandwidth), HASH(h, stabilizer);
   HASH(h, o->baumgarte_alpha);
   if (m->mass_pattern) h = sdae__pattern_hash(h, m->mass_pattern, s->n_q);
-  if (m->jacobian_pattern) h = sdae__pattern_hash(h, m->jacobian_pattern, s->n_c);
+  if (m->jacobian_pattern) h = sdae__pattern_hash(h, m->jacobian_pattern, m->n_c);
   return sdae__fnv(h, map, strlen(map));
 }
 
@@ -89,6 +91,7 @@ static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
 static void counters(sdae_mbs_stats *stats, sdae_bytes *b) {
   sdae__bytes(b, &stats->chart_switches, sizeof stats->chart_switches);
   sdae__bytes(b, &stats->phi_inv_iters, sizeof stats->phi_inv_iters);
+  sdae__bytes(b, &stats->row_switches, sizeof stats->row_switches);
 }
 
 size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {

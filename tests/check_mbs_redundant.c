@@ -1,0 +1,299 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/* Redundant constraints (sdae_mbs.rank < n_c): a pendulum whose rod is written two and three
+ * times (n_c >= n_q), and a particle on a circle in space held by three constraints of rank two
+ * whose best pair changes along the swing; each against the pendulum's exact motion (Jacobi's
+ * elliptic functions), its multipliers against the pseudo-inverse's. */
+#include <math.h>
+#include <string.h>
+
+#include <gsl/gsl_linalg.h>
+#include <stabdae/mbs.h>
+
+#include "mechanisms.h"
+#include "testmodels.h"
+
+#define GA 9.81
+
+/* ---- the rod written n times: c_k = a_k (x^2 + y^2 - 1) / 2, q = (x, y) ---- */
+
+typedef struct rods {
+  size_t n;
+  double a[3];
+} rods;
+
+static int unit_mass(double t, const double *q, double *M, void *p) {
+  const rods *r = p;
+  size_t n = r ? 2 : 3; /* the rods' plane or the circle's space */
+  (void)t, (void)q;
+  memset(M, 0, n * n * sizeof *M);
+  for (size_t i = 0; i < n; i++) M[i * n + i] = 1.0;
+  return 0;
+}
+static int weight(double t, const double *q, const double *v, double *F, void *p) {
+  (void)t, (void)q, (void)v;
+  F[0] = 0.0, F[1] = -GA;
+  if (!p) F[2] = 0.0;
+  return 0;
+}
+static int height(double t, const double *q, double *V, void *p) {
+  (void)t, (void)p;
+  *V = GA * q[1];
+  return 0;
+}
+static int rods_c(double t, const double *q, double *c, void *p) {
+  const rods *r = p;
+  (void)t;
+  for (size_t k = 0; k < r->n; k++) c[k] = r->a[k] * 0.5 * (q[0] * q[0] + q[1] * q[1] - 1.0);
+  return 0;
+}
+static int rods_G(double t, const double *q, double *G, void *p) {
+  const rods *r = p;
+  (void)t;
+  for (size_t k = 0; k < r->n; k++) G[2 * k] = r->a[k] * q[0], G[2 * k + 1] = r->a[k] * q[1];
+  return 0;
+}
+static sdae_mbs rods_system(rods *r) {
+  return (sdae_mbs){.n_q = 2,
+                    .n_c = r->n,
+                    .rank = 1,
+                    .mass = unit_mass,
+                    .force = weight,
+                    .constraint = rods_c,
+                    .jacobian = rods_G,
+                    .potential = height,
+                    .params = r};
+}
+
+/* ---- the circle x^2 + y^2 = 1, z = 0 in space: c_k = cos b_k z + sin b_k s, s = (x^2 + y^2 -
+ * 1) / 2, b_0 = 0, b_1 = 1.02 + 1.2 x, b_2 = 1.12 - 1.2 x: on the circle G_k = cos b_k e_z +
+ * sin b_k (x, y, 0), three gradients in a normal plane at angles b_k. Along a swing from x =
+ * 0.6, the pair {0, 1} has the sine |sin b_1| = 0.30 at x = -0.6 and {0, 2} |sin b_2| = 0.39 at
+ * x = 0.6, where the other pair has 0.96 and 0.99: more than SDAE_MBS_CHART_FACTOR, so the rows
+ * chosen must change at each end of the swing. ---- */
+
+static void angles(double x, double *b, double *db) {
+  b[0] = 0.0, b[1] = 1.02 + 1.2 * x, b[2] = 1.12 - 1.2 * x;
+  db[0] = 0.0, db[1] = 1.2, db[2] = -1.2;
+}
+static int circle_c(double t, const double *q, double *c, void *p) {
+  double b[3], db[3], s = 0.5 * (q[0] * q[0] + q[1] * q[1] - 1.0);
+  (void)t, (void)p;
+  angles(q[0], b, db);
+  for (int k = 0; k < 3; k++) c[k] = cos(b[k]) * q[2] + sin(b[k]) * s;
+  return 0;
+}
+static int circle_G(double t, const double *q, double *G, void *p) {
+  double b[3], db[3], s = 0.5 * (q[0] * q[0] + q[1] * q[1] - 1.0);
+  (void)t, (void)p;
+  angles(q[0], b, db);
+  for (int k = 0; k < 3; k++) {
+    G[3 * k] = (-sin(b[k]) * q[2] + cos(b[k]) * s) * db[k] + sin(b[k]) * q[0];
+    G[3 * k + 1] = sin(b[k]) * q[1];
+    G[3 * k + 2] = cos(b[k]);
+  }
+  return 0;
+}
+static sdae_mbs circle_system(void) {
+  return (sdae_mbs){.n_q = 3,
+                    .n_c = 3,
+                    .rank = 2,
+                    .mass = unit_mass,
+                    .force = weight,
+                    .constraint = circle_c,
+                    .jacobian = circle_G,
+                    .potential = height};
+}
+
+/* the pendulum's state at theta from the downward vertical, at rest (z = 0 in space) */
+static void pendulum_at(double theta, size_t n_q, double *q, double *v) {
+  memset(q, 0, n_q * sizeof *q), memset(v, 0, n_q * sizeof *v);
+  q[0] = sin(theta), q[1] = -cos(theta);
+}
+
+/* max |c_k| over every row */
+static double residual(const sdae_mbs *sys, const double *q) {
+  double c[3], worst = 0.0;
+  sys->constraint(0.0, q, c, sys->params);
+  for (size_t k = 0; k < sys->n_c; k++) worst = fmax(worst, fabs(c[k]));
+  return worst;
+}
+
+/* The least-norm multipliers of the rows at (q, v): the rod's tension lambda_p = |v|^2 - ga y
+ * (m = L = 1) is the force the rows share, -G^T lambda = -lambda_p (x, y, 0); the least-norm
+ * lambda with G^T lambda = lambda_p (x, y, 0) from GSL's SVD G = U S V^T (n_c >= n_q here):
+ * lambda = U S^+ V^T f, the singular values below 1e-8 of the largest dropped: the
+ * pseudo-inverse, independent of the library's rows */
+static void pseudo_inverse_lambda(const sdae_mbs *sys, const double *q, const double *v,
+                                  double *lambda) {
+  size_t n_q = sys->n_q, n_c = sys->n_c;
+  double U[9], V[9], S[3], work[3], f[3] = {0}, u[3];
+  double tension = v[0] * v[0] + v[1] * v[1] - GA * q[1];
+  sys->jacobian(0.0, q, U, sys->params);
+  f[0] = tension * q[0], f[1] = tension * q[1];
+  gsl_matrix_view Um = gsl_matrix_view_array(U, n_c, n_q), Vm = gsl_matrix_view_array(V, n_q, n_q);
+  gsl_vector_view Sv = gsl_vector_view_array(S, n_q), wv = gsl_vector_view_array(work, n_q);
+  ck_assert_int_eq(gsl_linalg_SV_decomp(&Um.matrix, &Vm.matrix, &Sv.vector, &wv.vector), 0);
+  for (size_t k = 0; k < n_q; k++) { /* u = S^+ V^T f */
+    double acc = 0.0;
+    for (size_t i = 0; i < n_q; i++) acc += V[i * n_q + k] * f[i];
+    u[k] = S[k] > 1e-8 * S[0] ? acc / S[k] : 0.0;
+  }
+  for (size_t j = 0; j < n_c; j++) {
+    lambda[j] = 0.0;
+    for (size_t k = 0; k < n_q; k++) lambda[j] += U[j * n_q + k] * u[k];
+  }
+}
+
+/* rk4 at T = 1e-3 from rest at theta0 to t: theta against the exact swing at every 0.1 s (to
+ * 1e-9: rk4's error at this T, C T^4 with C of order ga^2), every row at rounding, and at the
+ * end the multipliers against the pseudo-inverse's (to 1e-9 of the tension) */
+static void swing(sdae_mbs *sys, const sdae_map_type *map, double theta0, double tf,
+                  unsigned long *row_switches) {
+  mech_pendulum exact = {1.0, 1.0, GA, 0.0};
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[3], v[3], lambda[3], expect[3];
+  size_t n = (size_t)llround(tf / 1e-3);
+  sdae_options_default(&o);
+  o.map = map;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, sys, &o), SDAE_OK);
+  pendulum_at(theta0, sys->n_q, q, v);
+  for (size_t i = 0; i < n; i++) {
+    ck_assert_int_eq(sdae_mbs_step(s, (double)i * 1e-3, 1e-3, q, v), SDAE_OK);
+    ck_assert_double_le(residual(sys, q), 1e-14);
+    if ((i + 1) % 100 == 0) {
+      double theta, omega;
+      mech_pendulum_exact(&exact, theta0, (double)(i + 1) * 1e-3, &theta, &omega);
+      ck_assert_double_le(fabs(atan2(q[0], -q[1]) - theta), 1e-9);
+      if (sys->n_q == 3) ck_assert_double_le(fabs(q[2]), 1e-14);
+    }
+  }
+  {
+    double xi[6], c[3], G[9];
+    ck_assert_int_eq(sdae_mbs_xi(s, tf, q, v, xi), SDAE_OK); /* every row's (c_k, G_k v) */
+    sys->constraint(tf, q, c, sys->params), sys->jacobian(tf, q, G, sys->params);
+    for (size_t k = 0; k < sys->n_c; k++) {
+      double gv = 0.0;
+      for (size_t i = 0; i < sys->n_q; i++) gv += G[k * sys->n_q + i] * v[i];
+      ck_assert_double_eq(xi[2 * k], c[k]);
+      ck_assert_double_eq_tol(xi[2 * k + 1], gv, 1e-15);
+    }
+  }
+  ck_assert_int_eq(sdae_mbs_lambda(s, tf, q, v, lambda), SDAE_OK);
+  pseudo_inverse_lambda(sys, q, v, expect);
+  for (size_t k = 0; k < sys->n_c; k++) ck_assert_double_eq_tol(lambda[k], expect[k], 1e-9 * GA);
+  if (row_switches) *row_switches = sdae_mbs_stepper_stats(s)->row_switches;
+  sdae_mbs_stepper_free(s);
+}
+
+/* the rod twice (n_c = n_q) and three times (n_c > n_q): the pendulum's motion, its tension
+ * shared as lambda = lambda_p a / |a|^2 (the pseudo-inverse's) */
+START_TEST(a_rod_written_twice_is_the_pendulum) {
+  rods twice = {2, {1.0, 2.0}}, thrice = {3, {1.0, 2.0, -1.0}};
+  sdae_mbs a = rods_system(&twice), b = rods_system(&thrice);
+  swing(&a, sdae_map_rk4, 1.0, 2.0, NULL);
+  swing(&b, sdae_map_rk4, 1.0, 2.0, NULL);
+}
+END_TEST
+
+/* the circle's rows: the motion, every row at rounding, the least-norm multipliers, and the
+ * rows chosen replaced at each end of the swing (period 2.06 s: four ends in 4 s) */
+START_TEST(the_rows_chosen_follow_the_motion) {
+  sdae_mbs sys = circle_system();
+  unsigned long switches;
+  swing(&sys, sdae_map_rk4, asin(0.6), 4.0, &switches);
+  ck_assert_uint_ge(switches, 3);
+}
+END_TEST
+
+/* dgrad keeps the energy on the circle's redundant rows (to 1e-12 relative over 2 s, across
+ * the switches of rows) */
+START_TEST(dgrad_keeps_the_energy_on_redundant_rows) {
+  sdae_mbs sys = circle_system();
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[3], v[3], E0, E;
+  sdae_options_default(&o);
+  o.map = sdae_map_dgrad;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  pendulum_at(asin(0.6), 3, q, v);
+  ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E0), SDAE_OK);
+  for (int i = 0; i < 2000; i++) ck_assert_int_eq(sdae_mbs_step(s, i * 1e-3, 1e-3, q, v), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_energy(s, 2.0, q, v, &E), SDAE_OK);
+  ck_assert_double_le(fabs(E - E0), 1e-12 * fabs(E0));
+  ck_assert_uint_ge(sdae_mbs_stepper_stats(s)->row_switches, 1);
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* the rank must be the motion's: below it (the circle given rank 1) the rows left out are not
+ * implied, SDAE_ERR_RANK at the first step with the state kept; the rank's bounds (at most n_c,
+ * below n_q; n_c >= n_q only with a rank) are SDAE_ERR_DIM */
+START_TEST(a_rank_not_the_motions_is_refused) {
+  sdae_mbs sys = circle_system(), bad;
+  rods twice = {2, {1.0, 2.0}};
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[3], v[3], q0[3];
+  sdae_options_default(&o);
+  o.map = sdae_map_rk4;
+  bad = sys, bad.rank = 1;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &bad, &o), SDAE_OK);
+  pendulum_at(0.3, 3, q, v);
+  memcpy(q0, q, sizeof q);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_ERR_RANK);
+  ck_assert_mem_eq(q, q0, sizeof q);
+  sdae_mbs_stepper_free(s);
+  bad = sys, bad.rank = 4;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &bad, &o), SDAE_ERR_DIM);
+  bad = sys, bad.rank = 3; /* no degree of freedom left */
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &bad, &o), SDAE_ERR_DIM);
+  bad = rods_system(&twice), bad.rank = 0; /* n_c = n_q: only with a rank */
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &bad, &o), SDAE_ERR_DIM);
+}
+END_TEST
+
+/* The rows chosen are in the state's bytes: a state taken mid-run and set into a new stepper
+ * continues bit for bit, and a stepper of another rank refuses it */
+START_TEST(the_state_keeps_the_rows_chosen) {
+  sdae_mbs sys = circle_system(), other = sys;
+  sdae_mbs_stepper *a, *b, *c;
+  sdae_options o;
+  double qa[3], va[3], qb[3], vb[3];
+  unsigned char buf[4096];
+  size_t len;
+  sdae_options_default(&o);
+  o.map = sdae_map_rk4;
+  other.n_c = 2; /* the first two rows alone: independent, no choice */
+  other.rank = 0;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&a, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&b, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&c, &other, &o), SDAE_OK);
+  pendulum_at(asin(0.6), 3, qa, va);
+  for (int i = 0; i < 700; i++) ck_assert_int_eq(sdae_mbs_step(a, i * 1e-3, 1e-3, qa, va), SDAE_OK);
+  ck_assert_uint_ge(sdae_mbs_stepper_stats(a)->row_switches, 1);
+  len = sdae_mbs_state_size(a);
+  ck_assert_uint_le(len, sizeof buf);
+  ck_assert_int_eq(sdae_mbs_get_state(a, buf, len), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_set_state(b, buf, len), SDAE_OK);
+  ck_assert_int_ne(sdae_mbs_set_state(c, buf, len), SDAE_OK);
+  memcpy(qb, qa, sizeof qa), memcpy(vb, va, sizeof va);
+  for (int i = 700; i < 1400; i++) {
+    ck_assert_int_eq(sdae_mbs_step(a, i * 1e-3, 1e-3, qa, va), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(b, i * 1e-3, 1e-3, qb, vb), SDAE_OK);
+  }
+  ck_assert_mem_eq(qa, qb, sizeof qa);
+  ck_assert_mem_eq(va, vb, sizeof va);
+  sdae_mbs_stepper_free(a), sdae_mbs_stepper_free(b), sdae_mbs_stepper_free(c);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("mbs_redundant");
+  ADD_CASE(s, a_rod_written_twice_is_the_pendulum);
+  ADD_CASE(s, the_rows_chosen_follow_the_motion);
+  ADD_CASE(s, dgrad_keeps_the_energy_on_redundant_rows);
+  ADD_CASE(s, a_rank_not_the_motions_is_refused);
+  ADD_CASE(s, the_state_keeps_the_rows_chosen);
+  return run_suite(s);
+}
