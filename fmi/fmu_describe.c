@@ -96,10 +96,15 @@ int fmu_table_check(const sdae_fmu *m, const char *name, FILE *err) {
 
 int fmu_describe_check(const fmu_instance *fi, FILE *err) {
   const sdae_fmu *m = fi->model;
+  const sdae_mbs sys = m->mbs(fi->params);
+  size_t rank = sys.rank ? sys.rank : fi->layout.n_c; /* redundant constraints: rank < n_c */
   fmu_var a, b;
-  if (fi->layout.n_q == 0 || fi->layout.n_c == 0 || fi->layout.n_c >= fi->layout.n_q) {
-    fprintf(err, "%s: the mechanism needs 1 <= n_c < n_q (n_q %zu, n_c %zu)\n", m->name,
-            fi->layout.n_q, fi->layout.n_c);
+  if (fi->layout.n_q == 0 || fi->layout.n_c == 0 || sys.rank > fi->layout.n_c ||
+      rank >= fi->layout.n_q) {
+    fprintf(err,
+            "%s: the mechanism needs 1 <= n_c, its rank at most n_c and below n_q (n_q %zu, n_c "
+            "%zu, rank %zu)\n",
+            m->name, fi->layout.n_q, fi->layout.n_c, rank);
     return -1;
   }
   for (size_t i = 0; fmu_var_at(&fi->layout, i, &a) == 0; i++)

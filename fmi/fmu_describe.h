@@ -16,7 +16,8 @@
  * NAME). */
 int fmu_table_check(const sdae_fmu *m, const char *name, FILE *err);
 /* The instance's variables: 0, or -1 with a line on err when the sizes are not
- * 1 <= n_c < n_q, two variables have one name, or a unit of the coordinates, forces,
+ * 1 <= n_c with the mechanism's rank (n_c, or its rank where some constraints are redundant)
+ * at most n_c and below n_q, two variables have one name, or a unit of the coordinates, forces,
  * multipliers or energy is too long or holds a control character. */
 int fmu_describe_check(const fmu_instance *fi, FILE *err);
 /* version 3 or 2; 0, or -1 when a write fails */

@@ -62,6 +62,7 @@ void fmu_forces_wrap(sdae_mbs *sys, fmu_forces *w) {
   *sys = (sdae_mbs){
       .n_q = u->n_q,
       .n_c = u->n_c,
+      .rank = u->rank,
       .mass = u->mass ? mass : NULL,
       .force = u->force ? force : NULL,
       .constraint = u->constraint ? constraint : NULL,

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 #include "mbs_cli.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,7 +48,7 @@ typedef struct row_data {
   sdae_mbs_stepper *s;
   cli_sink *sink;
   double T;
-  double *row;     /* t, q, v, lambda, max_abs_c, E */
+  double *row;     /* t, q, v, lambda, max_abs_c, E; then xi's 2 n_c, scratch */
   const char *why; /* set when a row could not be written */
   char why_buf[96];
 } row_data;
@@ -72,8 +73,10 @@ static int observe(size_t step, double t, const double *q, const double *v, void
     return row_fail(d, "the constraint forces", status);
   if ((status = sdae_mbs_energy(d->s, t, q, v, &d->row[len - 1])) != SDAE_OK)
     return row_fail(d, "the energy", status);
-  d->row[len - 2] = mech_max_abs_c(sys, t, q);
-  if (d->row[len - 2] < 0) return row_fail(d, "the constraints", SDAE_ERR_CALLBACK_FATAL);
+  if ((status = sdae_mbs_xi(d->s, t, q, v, d->row + len)) != SDAE_OK)
+    return row_fail(d, "the constraints", status);
+  d->row[len - 2] = 0.0; /* every constraint's c, xi's c-parts (redundant rows included) */
+  for (size_t j = 0; j < m; j++) d->row[len - 2] = fmax(d->row[len - 2], fabs(d->row[len + 2 * j]));
   const sdae_mbs_stats *st = sdae_mbs_stepper_stats(d->s);
   const cli_row_info info = {d->row[len - 2], d->row[len - 1], st->step.newton_iters_total,
                              st->chart_switches};
@@ -112,7 +115,7 @@ static int prepare(const mbs_program *p, const cli_run *run, sdae_mbs_stepper **
   opt.map = run->map;
   int status = sdae_mbs_stepper_alloc(s, p->sys, &opt);
   if (status != SDAE_OK) return status;
-  if ((*row = malloc((3 + 2 * p->sys->n_q + p->sys->n_c) * sizeof **row))) return SDAE_OK;
+  if ((*row = malloc((3 + 2 * p->sys->n_q + 3 * p->sys->n_c) * sizeof **row))) return SDAE_OK;
   sdae_mbs_stepper_free(*s);
   return SDAE_ERR_NOMEM;
 }

@@ -26,7 +26,7 @@ extern "C" {
  * and receives params. Matrices are row-major, or their nonzeros in pattern order where the
  * mechanism gives a pattern (mass_pattern, jacobian_pattern). */
 typedef struct sdae_mbs {
-  size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q (see rank) */
+  size_t n_q, n_c; /* coordinates q, constraints c(t, q) = 0; 1 <= n_c < n_q (or see rank) */
   /* n_q x n_q, symmetric; the reduced mass W^T M W (M on the constraints' tangent space, W
    * spanning ker G) positive definite: M itself may be singular (massless points). Checked
    * at every state a step starts from or hands out, and in sdae_mbs_lambda and sdae_mbs_energy

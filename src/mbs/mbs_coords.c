@@ -190,15 +190,17 @@ static int seed(sdae_mbs_coords *co, double t, const double *q, const double *v,
 
 int sdae__mbs_coords_start(sdae_mbs_coords *co, double t, const double *q, const double *v,
                            int force_best, sdae_mbs_start *st) {
-  int rc, rows_changed, had = co->eval->have;
+  int rc, rows_changed, rows_kept, had = co->eval->have;
   /* redundant constraints: the rows first, and the point's G not theirs where they changed */
-  if ((rc = sdae__mbs_select(co->eval, t, q, force_best, &rows_changed)) != SDAE_OK) return rc;
+  if ((rc = sdae__mbs_select(co->eval, t, q, force_best, &rows_changed, &rows_kept)) != SDAE_OK)
+    return rc;
   if (rows_changed) co->valid = 0;
   st->rows_switched = rows_changed && had;
   if ((rc = sdae__mbs_coords_xi(co, t, q, v, st->xi)) != SDAE_OK ||
       (rc = energy_map_ok(co)) != SDAE_OK ||
       (rc = co->linalg->choose(co->la, force_best, co->reuse, &st->choice)) != SDAE_OK)
     return rc;
+  st->choice.kept |= rows_kept; /* a step that folds is retried in the best rows and chart */
   split(co);
   if ((rc = begin(co, t, q, v, st->mu)) != SDAE_OK) return rc;
   sdae__mbs_coords_floors(co, q, v, st->floor);

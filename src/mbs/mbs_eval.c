@@ -476,10 +476,11 @@ int sdae__mbs_jacobian_all(sdae_mbs_eval *e, double t, const double *q) {
                          : jacobian_fd_rows(e, t, q, e->all_G, 1);
 }
 
-int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed) {
+int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed,
+                     int *kept) {
   double best, next, now, unused;
   int rc;
-  *changed = 0;
+  *changed = *kept = 0;
   if (!sdae__mbs_redundant(e)) return SDAE_OK;
   if ((rc = sdae__mbs_jacobian_all(e, t, q)) != SDAE_OK) return rc;
   pivoted_qr(e, NULL, e->n_rows, &best, &next);
@@ -488,7 +489,10 @@ int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best
   qsort(e->cand, e->n_c, sizeof *e->cand, ascending);
   if (e->have && !force_best) {
     pivoted_qr(e, e->rows, e->n_c, &now, &unused); /* the current rows' own least sine */
-    if (!(best > SDAE_MBS_CHART_FACTOR * now)) return SDAE_OK;
+    if (now >= SDAE_MBS_CHART_MIN && !(best > SDAE_MBS_CHART_FACTOR * now)) {
+      *kept = memcmp(e->rows, e->cand, e->n_c * sizeof *e->rows) != 0; /* over a better one */
+      return SDAE_OK;
+    }
   }
   *changed = !e->have || memcmp(e->rows, e->cand, e->n_c * sizeof *e->rows) != 0;
   memcpy(e->rows, e->cand, e->n_c * sizeof *e->rows);

@@ -45,10 +45,12 @@ size_t sdae__mbs_rank(const sdae_mbs *sys);
 int sdae__mbs_redundant(const sdae_mbs_eval *e);
 /* At a step's start (t, q): the rank rows chosen from G there (all rows given or differenced,
  * scaled to unit length, QR with column pivoting of G^T), the current ones kept unless
- * force_best or the best's least sine exceeds theirs by SDAE_MBS_CHART_FACTOR; *changed when
- * the rows are new. SDAE_ERR_RANK when G's rank there is not rank (a chosen row's sine below
+ * force_best, their own least sine below SDAE_MBS_CHART_MIN, or the best's above theirs by
+ * SDAE_MBS_CHART_FACTOR; *changed when the rows are new, *kept when kept over other rows.
+ * SDAE_ERR_RANK when G's rank there is not rank (the best's r-th sine below
  * SDAE_MBS_CHART_MIN, or the next one's at or above it). Nothing to choose without redundancy. */
-int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed);
+int sdae__mbs_select(sdae_mbs_eval *e, double t, const double *q, int force_best, int *changed,
+                     int *kept);
 /* G of every row at (t, q), given or differenced, into all_G */
 int sdae__mbs_jacobian_all(sdae_mbs_eval *e, double t, const double *q);
 /* the rows chosen (what the next step depends on), counted, written or read; and whether read

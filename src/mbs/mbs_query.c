@@ -209,9 +209,9 @@ static int least_norm(sdae_mbs_query *qy, sdae_mbs_eval *ev, double *out) {
 /* with redundant constraints the rows chosen at the state, the step's put back after */
 static int redundant_lambda(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
                             const double *v) {
-  int have = ev->have, changed, rc;
+  int have = ev->have, changed, kept, rc;
   memcpy(qy->rows, ev->rows, ev->n_c * sizeof *qy->rows);
-  if ((rc = sdae__mbs_select(ev, t, q, 1, &changed)) == SDAE_OK &&
+  if ((rc = sdae__mbs_select(ev, t, q, 1, &changed, &kept)) == SDAE_OK &&
       (rc = chosen_lambda(qy, ev, t, q, v)) == SDAE_OK &&
       (rc = sdae__mbs_jacobian_all(ev, t, q)) == SDAE_OK)
     rc = least_norm(qy, ev, qy->xi_all); /* xi_all: n_rows values of scratch */
