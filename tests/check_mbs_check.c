@@ -361,6 +361,8 @@ END_TEST
 typedef struct lines {
   size_t n;
   double a[4];
+  double w;    /* row 1 turns: its angle a[1] + w t */
+  int fail_at; /* 1: c fails away from q = (0.3, -0.2), 2: everywhere (0: never) */
 } lines;
 static int lines_mass(double t, const double *q, double *M, void *p) {
   (void)t, (void)q, (void)p;
@@ -374,8 +376,11 @@ static int lines_force(double t, const double *q, const double *v, double *F, vo
 }
 static int lines_constraint(double t, const double *q, double *c, void *params) {
   const lines *l = params;
-  (void)t;
-  for (size_t j = 0; j < l->n; j++) c[j] = cos(l->a[j]) * q[0] + sin(l->a[j]) * q[1];
+  if (l->fail_at == 2 || (l->fail_at == 1 && (q[0] != 0.3 || q[1] != -0.2))) return 1;
+  for (size_t j = 0; j < l->n; j++) {
+    double a = l->a[j] + (j == 1 ? l->w * t : 0.0);
+    c[j] = cos(a) * q[0] + sin(a) * q[1];
+  }
   return 0;
 }
 static sdae_mbs lines_system(lines *l) {
@@ -395,7 +400,7 @@ START_TEST(the_rank_counts_the_independent_rows) {
   const double q[2] = {0.3, -0.2}, v[2] = {0.0, 0.0};
   const double d[] = {0.5, 1e-4, 2.0 * SDAE_MBS_CHART_MIN, 0.5 * SDAE_MBS_CHART_MIN};
   for (size_t i = 0; i < sizeof d / sizeof *d; i++) {
-    lines l = {2, {0.3, 0.3 + d[i]}};
+    lines l = {2, {0.3, 0.3 + d[i]}, 0.0, 0};
     sdae_mbs sys = lines_system(&l);
     size_t rank = 9, rows[2];
     double independence = -1.0;
@@ -406,7 +411,7 @@ START_TEST(the_rank_counts_the_independent_rows) {
     if (rank == 2) ck_assert_double_eq_tol(independence, sin(d[i]), 1e-6 * sin(d[i]));
   }
   {
-    lines l = {3, {0.3, 0.3, 1.2}}; /* the first repeated: 3 rows on 2 coordinates, rank 2 */
+    lines l = {3, {0.3, 0.3, 1.2}, 0.0, 0}; /* the first repeated: 3 rows on 2 coordinates */
     sdae_mbs sys = lines_system(&l);
     sdae_mbs_check_report r;
     size_t rank, rows[3];
@@ -418,6 +423,17 @@ START_TEST(the_rank_counts_the_independent_rows) {
     ck_assert_int_eq(sdae_mbs_check(&sys, 0.0, q, v, 1e-6, &r), SDAE_OK);
     ck_assert_uint_eq(r.rank[0], 2);
     ck_assert_double_eq_tol(r.independence, sin(0.9), 1e-12);
+  }
+  { /* row 1 turning at w = 3: at t = 0.7 the rows are 2.1 rad apart, their sine 0.863 */
+    lines l = {2, {0.3, 0.3}, 3.0, 0};
+    sdae_mbs sys = lines_system(&l);
+    sdae_mbs_check_report r;
+    size_t rank;
+    double independence;
+    ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.7, q, &rank, NULL, &independence), SDAE_OK);
+    ck_assert_double_eq_tol(independence, sin(2.1), 1e-9);
+    ck_assert_int_eq(sdae_mbs_check(&sys, 0.7, q, v, 1e-6, &r), SDAE_OK);
+    ck_assert_double_eq_tol(r.independence, sin(2.1), 1e-9);
   }
 }
 END_TEST
@@ -454,7 +470,7 @@ START_TEST(the_nfourbar_loses_rank_where_it_is_flat) {
 END_TEST
 
 START_TEST(the_rank_refuses_bad_input) {
-  lines l = {2, {0.3, 1.0}};
+  lines l = {2, {0.3, 1.0}, 0.0, 0};
   sdae_mbs sys = lines_system(&l), bad = sys;
   const double q[2] = {0.3, -0.2}, qn[2] = {NAN, 0.0};
   size_t rank = 7, rows[2] = {5, 5};
@@ -468,6 +484,18 @@ START_TEST(the_rank_refuses_bad_input) {
   ck_assert_int_eq(sdae_mbs_redundant(&bad, 0.0, q, &rank, rows, NULL), SDAE_ERR_DIM);
   bad = sys, bad.constraint = NULL;
   ck_assert_int_eq(sdae_mbs_redundant(&bad, 0.0, q, &rank, rows, NULL), SDAE_ERR_NULL);
+  { /* c failing where the differences move q, or everywhere: its status, nothing written */
+    lines f = l;
+    sdae_mbs failing_c = lines_system(&f);
+    sdae_mbs_check_report r = {.worst = 77};
+    const double v[2] = {0.0, 0.0};
+    f.fail_at = 1;
+    ck_assert_int_eq(sdae_mbs_redundant(&failing_c, 0.0, q, &rank, rows, &independence),
+                     SDAE_ERR_CALLBACK_RECOVERABLE);
+    ck_assert_int_eq(sdae_mbs_check(&failing_c, 0.0, q, v, 1e-6, &r),
+                     SDAE_ERR_CALLBACK_RECOVERABLE);
+    ck_assert_int_eq(r.worst, 77);
+  }
   ck_assert_uint_eq(rank, 7);
   ck_assert_uint_eq(rows[0], 5);
   ck_assert_double_eq(independence, 3.0);
