@@ -383,6 +383,15 @@ static int lines_constraint(double t, const double *q, double *c, void *params) 
   }
   return 0;
 }
+static int lines_jacobian(double t, const double *q, double *G, void *params) {
+  const lines *l = params;
+  (void)q;
+  for (size_t j = 0; j < l->n; j++) {
+    double a = l->a[j] + (j == 1 ? l->w * t : 0.0);
+    G[2 * j] = cos(a), G[2 * j + 1] = sin(a);
+  }
+  return 0;
+}
 static sdae_mbs lines_system(lines *l) {
   return (sdae_mbs){.n_q = 2,
                     .n_c = l->n,
@@ -426,14 +435,17 @@ START_TEST(the_rank_counts_the_independent_rows) {
   }
   { /* row 1 turning at w = 3: at t = 0.7 the rows are 2.1 rad apart, their sine 0.863 */
     lines l = {2, {0.3, 0.3}, 3.0, 0};
-    sdae_mbs sys = lines_system(&l);
-    sdae_mbs_check_report r;
-    size_t rank;
-    double independence;
-    ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.7, q, &rank, NULL, &independence), SDAE_OK);
-    ck_assert_double_eq_tol(independence, sin(2.1), 1e-9);
-    ck_assert_int_eq(sdae_mbs_check(&sys, 0.7, q, v, 1e-6, &r), SDAE_OK);
-    ck_assert_double_eq_tol(r.independence, sin(2.1), 1e-9);
+    for (int given = 0; given < 2; given++) { /* G differenced, and given */
+      sdae_mbs sys = lines_system(&l);
+      sdae_mbs_check_report r;
+      size_t rank;
+      double independence;
+      if (given) sys.jacobian = lines_jacobian;
+      ck_assert_int_eq(sdae_mbs_redundant(&sys, 0.7, q, &rank, NULL, &independence), SDAE_OK);
+      ck_assert_double_eq_tol(independence, sin(2.1), 1e-9);
+      ck_assert_int_eq(sdae_mbs_check(&sys, 0.7, q, v, 1e-6, &r), SDAE_OK);
+      ck_assert_double_eq_tol(r.independence, sin(2.1), 1e-9);
+    }
   }
 }
 END_TEST
@@ -492,6 +504,9 @@ START_TEST(the_rank_refuses_bad_input) {
     f.fail_at = 1;
     ck_assert_int_eq(sdae_mbs_redundant(&failing_c, 0.0, q, &rank, rows, &independence),
                      SDAE_ERR_CALLBACK_RECOVERABLE);
+    ck_assert_int_eq(sdae_mbs_check(&failing_c, 0.0, q, v, 1e-6, &r),
+                     SDAE_ERR_CALLBACK_RECOVERABLE);
+    failing_c.jacobian = lines_jacobian; /* G given, compared with c's failing differences */
     ck_assert_int_eq(sdae_mbs_check(&failing_c, 0.0, q, v, 1e-6, &r),
                      SDAE_ERR_CALLBACK_RECOVERABLE);
     ck_assert_int_eq(r.worst, 77);
