@@ -369,24 +369,67 @@ END_TEST
 typedef struct moving {
   size_t n;
   double a[2];
+  int fail; /* the callback that fails: 1 c, 2 G, 3 dc/dt, 4 Gdot, 5 d/ds dc/dt (0: none) */
 } moving;
 static double pivot(double t) { return 0.3 * sin(2.0 * t); }
 static int moving_c(double t, const double *q, double *c, void *p) {
   const moving *m = p;
   double dx = q[0] - pivot(t);
+  if (m->fail == 1) return 1;
   for (size_t k = 0; k < m->n; k++) c[k] = m->a[k] * 0.5 * (dx * dx + q[1] * q[1] - 1.0);
   return 0;
 }
 static int moving_G(double t, const double *q, double *G, void *p) {
   const moving *m = p;
+  if (m->fail == 2) return 1;
   for (size_t k = 0; k < m->n; k++)
     G[2 * k] = m->a[k] * (q[0] - pivot(t)), G[2 * k + 1] = m->a[k] * q[1];
   return 0;
 }
 static int moving_ct(double t, const double *q, double *ct, void *p) {
   const moving *m = p;
+  if (m->fail == 3) return 1;
   for (size_t k = 0; k < m->n; k++) ct[k] = -m->a[k] * (q[0] - pivot(t)) * 0.6 * cos(2.0 * t);
   return 0;
+}
+
+/* the derivatives along (1, v): Gdot = a (v_x - X', v_y), d/ds dc/dt = -a ((v_x - X') X' + (x -
+ * X) X''), X' = 0.6 cos 2t, X'' = -1.2 sin 2t */
+static int moving_Gdot(double t, const double *q, const double *v, double *Gd, void *p) {
+  const moving *m = p;
+  (void)q;
+  if (m->fail == 4) return 1;
+  for (size_t k = 0; k < m->n; k++)
+    Gd[2 * k] = m->a[k] * (v[0] - 0.6 * cos(2.0 * t)), Gd[2 * k + 1] = m->a[k] * v[1];
+  return 0;
+}
+static int moving_ct_dot(double t, const double *q, const double *v, double *out, void *p) {
+  const moving *m = p;
+  double X1 = 0.6 * cos(2.0 * t), X2 = -1.2 * sin(2.0 * t);
+  if (m->fail == 5) return 1;
+  for (size_t k = 0; k < m->n; k++) out[k] = -m->a[k] * ((v[0] - X1) * X1 + (q[0] - pivot(t)) * X2);
+  return 0;
+}
+static int zero_mdv(double t, const double *q, const double *v, double *out, void *p) {
+  (void)t, (void)q, (void)v, (void)p;
+  out[0] = out[1] = 0.0;
+  return 0;
+}
+
+/* the rod written twice on the moving pivot, rank 1, every derivative given */
+static sdae_mbs moving_twice(moving *m) {
+  return (sdae_mbs){.n_q = 2,
+                    .n_c = 2,
+                    .rank = 1,
+                    .mass = unit_mass,
+                    .force = weight,
+                    .constraint = moving_c,
+                    .jacobian = moving_G,
+                    .constraint_t = moving_ct,
+                    .params = m,
+                    .mass_dot_v = zero_mdv,
+                    .jacobian_dot = moving_Gdot,
+                    .constraint_t_dot = moving_ct_dot};
 }
 
 /* Constraints that move with t: the rod written twice (rank 1) steps as the rod written once,
@@ -395,7 +438,7 @@ static int moving_ct(double t, const double *q, double *ct, void *p) {
  * end, and the multipliers shared as the pseudo-inverse shares the single rod's: lambda (1, 2)
  * / 5 */
 START_TEST(moving_constraints_are_redundant_too) {
-  moving once = {1, {1.0, 0.0}}, twice = {2, {1.0, 2.0}};
+  moving once = {1, {1.0, 0.0}, 0}, twice = {2, {1.0, 2.0}, 0};
   sdae_mbs a = {.n_q = 2,
                 .n_c = 1,
                 .mass = unit_mass,
@@ -430,6 +473,16 @@ START_TEST(moving_constraints_are_redundant_too) {
     ck_assert_double_eq(xi[2 * k], c[k]);
     ck_assert_double_eq_tol(xi[2 * k + 1], G[2 * k] * vb[0] + G[2 * k + 1] * vb[1] + ct[k], 1e-15);
   }
+  { /* and with the derivatives along the motion given, to rk4's error */
+    sdae_mbs e = moving_twice(&twice);
+    sdae_mbs_stepper *se;
+    double qe[2] = {0.0, -1.0}, ve[2] = {0.0, 0.0};
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&se, &e, &o), SDAE_OK);
+    for (int i = 0; i < 2000; i++)
+      ck_assert_int_eq(sdae_mbs_step(se, i * 1e-3, 1e-3, qe, ve), SDAE_OK);
+    ck_assert_double_le(fabs(qe[0] - qa[0]) + fabs(qe[1] - qa[1]), 1e-10);
+    sdae_mbs_stepper_free(se);
+  }
   { /* and with G and dc/dt of every row left to differences, to their accuracy */
     sdae_mbs d = b;
     sdae_mbs_stepper *sd;
@@ -451,6 +504,39 @@ START_TEST(moving_constraints_are_redundant_too) {
 }
 END_TEST
 
+/* A callback of redundant rows failing is the step's, xi's and lambda's status, the state kept */
+START_TEST(a_failing_callback_of_redundant_rows_is_reported) {
+  for (int fail = 1; fail <= 5; fail++) {
+    moving m = {2, {1.0, 2.0}, 0};
+    sdae_mbs sys = moving_twice(&m);
+    sdae_mbs_stepper *s;
+    sdae_options o;
+    double q[2] = {0.1, -0.9}, v[2] = {0.3, 0.0}, q0[2], v0[2], xi[4] = {7, 7, 7, 7},
+           lambda[2] = {7, 7};
+    sdae_options_default(&o);
+    o.map = sdae_map_rk4;
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+    memcpy(q0, q, sizeof q), memcpy(v0, v, sizeof v);
+    m.fail = fail;
+    if (fail <= 4) { /* a step reads c, G, dc/dt and Gdot (d/ds dc/dt: lambda's gamma alone) */
+      ck_assert_int_eq(sdae_mbs_step(s, 1e-3, 1e-3, q, v), SDAE_ERR_CALLBACK_RECOVERABLE);
+      ck_assert_mem_eq(q, q0, sizeof q);
+      ck_assert_mem_eq(v, v0, sizeof v);
+    }
+    if (fail == 2 || fail >= 4) { /* lambda reads G, Gdot and d/ds dc/dt */
+      ck_assert_int_eq(sdae_mbs_lambda(s, 1e-3, q, v, lambda), SDAE_ERR_CALLBACK_RECOVERABLE);
+      ck_assert_double_eq(lambda[0], 7.0);
+    }
+    if (fail <= 3) { /* xi reads c, G and dc/dt */
+      ck_assert_int_eq(sdae_mbs_xi(s, 1e-3, q, v, xi), SDAE_ERR_CALLBACK_RECOVERABLE);
+      ck_assert_double_eq(xi[0], 7.0);
+    }
+    sdae_mbs_stepper_free(s);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("mbs_redundant");
   ADD_CASE(s, a_rod_written_twice_is_the_pendulum);
@@ -461,5 +547,6 @@ int main(void) {
   ADD_CASE(s, the_state_keeps_the_rows_chosen);
   ADD_CASE(s, the_rows_are_chosen_by_differences_too);
   ADD_CASE(s, moving_constraints_are_redundant_too);
+  ADD_CASE(s, a_failing_callback_of_redundant_rows_is_reported);
   return run_suite(s);
 }
