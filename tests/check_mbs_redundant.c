@@ -481,6 +481,10 @@ START_TEST(moving_constraints_are_redundant_too) {
     for (int i = 0; i < 2000; i++)
       ck_assert_int_eq(sdae_mbs_step(se, i * 1e-3, 1e-3, qe, ve), SDAE_OK);
     ck_assert_double_le(fabs(qe[0] - qa[0]) + fabs(qe[1] - qa[1]), 1e-10);
+    ck_assert_int_eq(sdae_mbs_lambda(sa, 2.0, qe, ve, la), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_lambda(se, 2.0, qe, ve, lb), SDAE_OK); /* gamma from d/ds dc/dt */
+    ck_assert_double_eq_tol(lb[0], la[0] / 5.0, 1e-8 * fabs(la[0]));
+    ck_assert_double_eq_tol(lb[1], 2.0 * la[0] / 5.0, 1e-8 * fabs(la[0]));
     sdae_mbs_stepper_free(se);
   }
   { /* and with G and dc/dt of every row left to differences, to their accuracy */
