@@ -473,6 +473,22 @@ START_TEST(moving_constraints_are_redundant_too) {
     ck_assert_double_eq(xi[2 * k], c[k]);
     ck_assert_double_eq_tol(xi[2 * k + 1], G[2 * k] * vb[0] + G[2 * k + 1] * vb[1] + ct[k], 1e-15);
   }
+  { /* the rod after a row that vanishes (chosen: row 1, gathered from every derivative given):
+       the same motion, the multipliers (0, lambda) */
+    moving after_zero = {2, {0.0, 1.0}, 0};
+    sdae_mbs z = moving_twice(&after_zero);
+    sdae_mbs_stepper *sz;
+    double qz[2] = {0.0, -1.0}, vz[2] = {0.0, 0.0}, lz[2];
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&sz, &z, &o), SDAE_OK);
+    for (int i = 0; i < 2000; i++)
+      ck_assert_int_eq(sdae_mbs_step(sz, i * 1e-3, 1e-3, qz, vz), SDAE_OK);
+    ck_assert_double_le(fabs(qz[0] - qa[0]) + fabs(qz[1] - qa[1]), 1e-10);
+    ck_assert_int_eq(sdae_mbs_lambda(sa, 2.0, qz, vz, la), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_lambda(sz, 2.0, qz, vz, lz), SDAE_OK);
+    ck_assert_double_eq(lz[0], 0.0);
+    ck_assert_double_eq_tol(lz[1], la[0], 1e-8 * fabs(la[0]));
+    sdae_mbs_stepper_free(sz);
+  }
   { /* and with the derivatives along the motion given, to rk4's error */
     sdae_mbs e = moving_twice(&twice);
     sdae_mbs_stepper *se;
