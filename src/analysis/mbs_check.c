@@ -13,8 +13,6 @@
 #include <math.h>
 #include <string.h>
 
-#include <gsl/gsl_linalg.h>
-#include <gsl/gsl_permutation.h>
 #include <stabdae/check.h>
 
 #include "core/alloc.h"
@@ -209,28 +207,16 @@ static int check_jacobian(checker *k, double t, const double *q, sdae_mbs_check_
 
 /* ---- the constraints' rank ---- */
 
-/* G (n_c x n_q, row-major) ranked into k->perm: G^T's columns scaled to unit length, QR with
- * column pivoting; *rank down to the first diagonal entry below SDAE_MBS_CHART_MIN times the
- * first (a zero row is dependent on any), *independence the least ratio above it */
+/* G (n_c x n_q, row-major) ranked into k->perm (sdae__mbs_rows_qr); *rank down to the first
+ * sine below SDAE_MBS_CHART_MIN (a zero row is dependent on any), *independence the least sine
+ * above it */
 static void rank_of(checker *k, const double *Gm, size_t *rank, double *independence) {
-  size_t n_q = k->n_q, n_c = k->n_c, diag = n_q < n_c ? n_q : n_c, r = 0;
-  gsl_matrix_view A = gsl_matrix_view_array(k->gt, n_q, n_c);
-  gsl_vector_view tau = gsl_vector_view_array(k->tau, diag);
-  gsl_vector_view norm = gsl_vector_view_array(k->norm, n_c);
-  gsl_permutation perm = {n_c, k->perm};
-  double first, least = 1.0;
-  int signum;
-  for (size_t i = 0; i < n_c; i++) {
-    double row = 0.0;
-    for (size_t j = 0; j < n_q; j++) row = hypot(row, Gm[i * n_q + j]);
-    for (size_t j = 0; j < n_q; j++) k->gt[j * n_c + i] = row > 0.0 ? Gm[i * n_q + j] / row : 0.0;
-  }
-  gsl_linalg_QRPT_decomp(&A.matrix, &tau.vector, &perm, &signum, &norm.vector);
-  first = fabs(k->gt[0]);
-  for (; r < diag && first > 0.0; r++) {
-    double ratio = fabs(k->gt[r * n_c + r]) / first;
-    if (!(ratio >= SDAE_MBS_CHART_MIN)) break;
-    least = ratio < least ? ratio : least;
+  size_t n_q = k->n_q, n_c = k->n_c, r = 0;
+  double least = 1.0, sine;
+  sdae__mbs_rows_qr(Gm, n_q, NULL, n_c, k->gt, k->tau, k->norm, k->perm);
+  while ((sine = sdae__mbs_rows_sine(k->gt, n_q, n_c, r)) >= SDAE_MBS_CHART_MIN) {
+    least = sine < least ? sine : least;
+    r++;
   }
   *rank = r;
   *independence = r > 0 ? least : 0.0;

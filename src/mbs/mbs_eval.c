@@ -446,29 +446,36 @@ static int ascending(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* The n rows listed of all_G (or every row: list NULL), scaled to unit length, as the columns
- * of qr (n_q x n), QR with column pivoting: R's diagonal relative to its first (the sine of the
- * k-th pivot's angle to the span of those before) at k = n_c - 1 into *least, at n_c into *next
- * (0 when there is none) */
-static void pivoted_qr(sdae_mbs_eval *e, const size_t *list, size_t n, double *least,
-                       double *next) {
-  size_t n_q = e->n_q, diag = n_q < n ? n_q : n;
-  gsl_matrix_view A = gsl_matrix_view_array(e->qr, n_q, n);
-  gsl_vector_view tau = gsl_vector_view_array(e->qr_tau, diag);
-  gsl_vector_view norm = gsl_vector_view_array(e->qr_norm, n);
-  gsl_permutation perm = {n, e->qr_perm};
-  double first;
+void sdae__mbs_rows_qr(const double *G, size_t n_q, const size_t *list, size_t n, double *qr,
+                       double *tau, double *norm, size_t *perm) {
+  size_t diag = n_q < n ? n_q : n;
+  gsl_matrix_view A = gsl_matrix_view_array(qr, n_q, n);
+  gsl_vector_view t = gsl_vector_view_array(tau, diag);
+  gsl_vector_view nv = gsl_vector_view_array(norm, n);
+  gsl_permutation p = {n, perm};
   int signum;
   for (size_t i = 0; i < n; i++) {
-    const double *row = e->all_G + (list ? list[i] : i) * n_q;
+    const double *row = G + (list ? list[i] : i) * n_q;
     double len = 0.0;
     for (size_t j = 0; j < n_q; j++) len = hypot(len, row[j]);
-    for (size_t j = 0; j < n_q; j++) e->qr[j * n + i] = len > 0.0 ? row[j] / len : 0.0;
+    for (size_t j = 0; j < n_q; j++) qr[j * n + i] = len > 0.0 ? row[j] / len : 0.0;
   }
-  gsl_linalg_QRPT_decomp(&A.matrix, &tau.vector, &perm, &signum, &norm.vector);
-  first = fabs(e->qr[0]);
-  *least = first > 0.0 ? fabs(e->qr[(e->n_c - 1) * n + e->n_c - 1]) / first : 0.0;
-  *next = first > 0.0 && e->n_c < diag ? fabs(e->qr[e->n_c * n + e->n_c]) / first : 0.0;
+  gsl_linalg_QRPT_decomp(&A.matrix, &t.vector, &p, &signum, &nv.vector);
+}
+
+double sdae__mbs_rows_sine(const double *qr, size_t n_q, size_t n, size_t k) {
+  double first = fabs(qr[0]);
+  if (k >= (n_q < n ? n_q : n) || !(first > 0.0)) return 0.0;
+  return fabs(qr[k * n + k]) / first;
+}
+
+/* the rows listed of all_G (NULL: every row) ranked in e->qr: the sine of the n_c-th into
+ * *least, of the next into *next */
+static void pivoted_qr(sdae_mbs_eval *e, const size_t *list, size_t n, double *least,
+                       double *next) {
+  sdae__mbs_rows_qr(e->all_G, e->n_q, list, n, e->qr, e->qr_tau, e->qr_norm, e->qr_perm);
+  *least = sdae__mbs_rows_sine(e->qr, e->n_q, n, e->n_c - 1);
+  *next = sdae__mbs_rows_sine(e->qr, e->n_q, n, e->n_c);
 }
 
 int sdae__mbs_jacobian_all(sdae_mbs_eval *e, double t, const double *q) {

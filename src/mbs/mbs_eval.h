@@ -39,6 +39,14 @@ typedef struct sdae_mbs_eval {
   size_t *qr_perm;
 } sdae_mbs_eval;
 
+/* The n rows of G (row-major, n_q columns) listed (list NULL: the first n), scaled to unit
+ * length, as the columns of qr (n_q x n), GSL's QR with column pivoting (tau min(n_q, n), norm
+ * and perm n): perm orders the rows so that each is the farthest from the span of those before
+ * it, and sdae__mbs_rows_sine's k-th value (R's diagonal relative to its first) is the sine of
+ * its angle to that span (0 past min(n_q, n) or for a zero G). */
+void sdae__mbs_rows_qr(const double *G, size_t n_q, const size_t *list, size_t n, double *qr,
+                       double *tau, double *norm, size_t *perm);
+double sdae__mbs_rows_sine(const double *qr, size_t n_q, size_t n, size_t k);
 /* the rank the front-end steps: sys->rank, or n_c where it is 0 */
 size_t sdae__mbs_rank(const sdae_mbs *sys);
 /* some constraints are redundant: the rows are chosen */
