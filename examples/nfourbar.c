@@ -4,9 +4,10 @@
  * natural coordinates (the N + 1 rockers' tips, 2N + 2), 2N + 1 constraints, one degree of
  * freedom; from the upright squares with every tip at 1 m/s along x, under gravity along -y, the
  * parallelogram turns over. Where the rockers are horizontal the rank of G drops from 2N + 1 to
- * N + 1 for an instant: a singular configuration, twice a turn. The default rk8 at T = 1e-2
- * crosses them within the benchmark's high-precision criterion (docs/performance.md, where
- * smaller steps are not yet better). Output: t,q1..,v1..,lambda1..,max_abs_c,E,switches. */
+ * N + 1 for an instant: a singular configuration, twice a turn, where the steps are projected
+ * (docs/front-ends.md). The default rk8 at T = 1e-2 crosses them within the benchmark's
+ * high-precision criterion (docs/performance.md). Output:
+ * t,q1..,v1..,lambda1..,max_abs_c,E,switches. */
 #include <stdio.h>
 #include <stdlib.h>
 

@@ -92,34 +92,117 @@ START_TEST(the_mechanism_is_the_parallelogram) {
 }
 END_TEST
 
-/* rk8 at T = 1e-2 from the benchmark's start to t = 2, across the first two flat positions:
- * within the benchmark's high-precision criterion (1e-3 in B_0) at every output (each 0.05 s),
- * the energy to 1e-6, every constraint at rounding after every step. */
-START_TEST(rk8_crosses_the_first_flat_positions) {
+/* What a run from the benchmark's start across the first two flat positions (t = 0.72, 1.24)
+ * to t = 1.5 found: the benchmark's error (B_0 against the reference, each 0.05 s), the
+ * energy's relative change, the largest |c_j| after any step, the steps projected */
+typedef struct crossing {
+  double err, dE, c;
+  unsigned long projected;
+} crossing;
+
+static crossing cross_flat_positions(const sdae_map_type *map, double T) {
   mech_nfourbar p = mech_nfourbar_benchmark();
   sdae_mbs sys;
   sdae_mbs_stepper *s;
   sdae_options o;
   double q[82], v[82], c[81], E0, E;
+  crossing r = {0.0, 0.0, 0.0, 0};
+  size_t steps = (size_t)lround(1.5 / T), every = (size_t)lround(0.05 / T);
   mech_nfourbar_system(&sys, &p);
   sdae_options_default(&o);
-  o.map = sdae_map_rk8;
+  o.map = map;
   ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
   mech_nfourbar_start(&p, q, v);
   ck_assert_int_eq(sdae_mbs_energy(s, 0.0, q, v, &E0), SDAE_OK);
-  for (int i = 0; i < 200; i++) {
-    double t = (i + 1) * 1e-2;
-    ck_assert_int_eq(sdae_mbs_step(s, i * 1e-2, 1e-2, q, v), SDAE_OK);
+  for (size_t i = 0; i < steps; i++) {
+    double t = (double)(i + 1) * T, b[2];
+    ck_assert_int_eq(sdae_mbs_step(s, (double)i * T, T, q, v), SDAE_OK);
     ck_assert_int_eq(sys.constraint(t, q, c, sys.params), 0);
-    for (size_t j = 0; j < sys.n_c; j++) ck_assert_double_le(fabs(c[j]), 1e-13);
-    if ((i + 1) % 5 == 0) {
-      double b[2];
-      mech_nfourbar_reference(&p, t, b);
-      ck_assert_double_le(hypot(q[0] - b[0], q[1] - b[1]), 1e-3);
-    }
+    for (size_t j = 0; j < sys.n_c; j++) r.c = fmax(r.c, fabs(c[j]));
+    if ((i + 1) % every != 0) continue;
+    mech_nfourbar_reference(&p, t, b);
+    r.err = fmax(r.err, hypot(q[0] - b[0], q[1] - b[1]));
+    ck_assert_int_eq(sdae_mbs_energy(s, t, q, v, &E), SDAE_OK);
+    r.dE = fmax(r.dE, fabs(E - E0) / fabs(E0));
   }
-  ck_assert_int_eq(sdae_mbs_energy(s, 2.0, q, v, &E), SDAE_OK);
-  ck_assert_double_le(fabs(E - E0), 1e-6 * fabs(E0));
+  r.projected = sdae_mbs_stepper_stats(s)->projected_steps;
+  sdae_mbs_stepper_free(s);
+  return r;
+}
+
+/* rk8 at T = 1e-2 and at 1e-3 (where the chart alone lost accuracy as T shrank: its steps land
+ * nearer the flat positions): the steps near them projected, B_0 within 1e-9 of the reference
+ * (rk8's own error there is about 1e-11), the energy to 1e-10, every constraint at rounding
+ * after every step, the projected steps among them */
+START_TEST(rk8_crosses_the_flat_positions_as_T_shrinks) {
+  const double Ts[2] = {1e-2, 1e-3};
+  for (int k = 0; k < 2; k++) {
+    crossing r = cross_flat_positions(sdae_map_rk8, Ts[k]);
+    ck_assert_uint_gt(r.projected, 0);
+    ck_assert_double_le(r.err, 1e-9);
+    ck_assert_double_le(r.dE, 1e-10);
+    ck_assert_double_le(r.c, 1e-13);
+  }
+}
+END_TEST
+
+/* The error falls at the map's order through the crossings: T = 5e-3 against 2.5e-3, the
+ * errors' ratio 2^p within [lo, hi] (the projected steps are rk8's, more accurate) */
+static void converges_at_order(const sdae_map_type *map, double lo, double hi) {
+  crossing big = cross_flat_positions(map, 5e-3), small = cross_flat_positions(map, 2.5e-3);
+  ck_assert_uint_gt(small.projected, big.projected);
+  ck_assert_double_le(big.err, 1e-3); /* the benchmark's high-precision criterion */
+  ck_assert_double_ge(big.err / small.err, lo);
+  ck_assert_double_le(big.err / small.err, hi);
+  ck_assert_double_le(fmax(big.c, small.c), 1e-13);
+}
+
+START_TEST(rk4_converges_at_order_four_through_the_crossings) {
+  converges_at_order(sdae_map_rk4, 12.0, 24.0);
+}
+END_TEST
+
+START_TEST(midpoint_converges_at_order_two_through_the_crossings) {
+  converges_at_order(sdae_map_midpoint, 3.0, 5.5);
+}
+END_TEST
+
+/* dgrad at its order, and its energy kept through the crossings (rk8's projected steps leave it
+ * within about 1e-12 there) */
+START_TEST(dgrad_converges_and_keeps_the_energy_through_the_crossings) {
+  converges_at_order(sdae_map_dgrad, 3.0, 5.5);
+  ck_assert_double_le(cross_flat_positions(sdae_map_dgrad, 5e-3).dE, 1e-10);
+}
+END_TEST
+
+/* Two four-bars 1e-3 rad from the flat position at 5 rad/s: a projected step of T = 0.05 is
+ * taken; one of T = 0.4 (rk8 far past its accuracy, omega T = 2) leaves the constraints by more
+ * than SDAE_MBS_PROJECT_DRIFT of its motion and is refused, SDAE_ERR_CHART, the state kept. At
+ * the flat position itself a first step has no chart: SDAE_ERR_RANK, as before. */
+START_TEST(a_projected_step_that_cannot_be_accurate_is_refused) {
+  mech_nfourbar p = mech_nfourbar_benchmark();
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[6], v[6], q0[6], v0[6];
+  p.N = 2;
+  mech_nfourbar_system(&sys, &p);
+  sdae_options_default(&o);
+  o.map = sdae_map_rk4;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  parallelogram(&p, M_PI / 2.0, 5.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_ERR_RANK);
+  parallelogram(&p, 0.3, 1.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  parallelogram(&p, M_PI / 2.0 - 1e-3, 5.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.05, q, v), SDAE_OK);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 1);
+  parallelogram(&p, M_PI / 2.0 - 1e-3, 5.0, q0, v0);
+  memcpy(q, q0, sizeof q), memcpy(v, v0, sizeof v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.4, q, v), SDAE_ERR_CHART);
+  ck_assert_mem_eq(q, q0, sizeof q);
+  ck_assert_mem_eq(v, v0, sizeof v);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 1);
   sdae_mbs_stepper_free(s);
 }
 END_TEST
@@ -291,7 +374,11 @@ int main(void) {
   Suite *s = suite_create("iftomm");
   ADD_CASE(s, the_reference_is_the_reduced_pendulum);
   ADD_CASE(s, the_mechanism_is_the_parallelogram);
-  ADD_CASE(s, rk8_crosses_the_first_flat_positions);
+  ADD_CASE(s, rk8_crosses_the_flat_positions_as_T_shrinks);
+  ADD_CASE(s, rk4_converges_at_order_four_through_the_crossings);
+  ADD_CASE(s, midpoint_converges_at_order_two_through_the_crossings);
+  ADD_CASE(s, dgrad_converges_and_keeps_the_energy_through_the_crossings);
+  ADD_CASE(s, a_projected_step_that_cannot_be_accurate_is_refused);
   ADD_CASE(s, bricard_keeps_all_its_constraints);
   ADD_CASE(s, bricard_rk4_converges_at_order_four);
   return run_suite(s);

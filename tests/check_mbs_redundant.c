@@ -285,9 +285,9 @@ START_TEST(a_rank_not_the_motions_is_refused) {
 }
 END_TEST
 
-/* where the rows chosen start in the state's bytes: the header (36 bytes), the three counters,
+/* where the rows chosen start in the state's bytes: the header (36 bytes), the four counters,
  * the flag that rows were chosen */
-#define ROWS_AT (36 + 3 * sizeof(unsigned long) + sizeof(int))
+#define ROWS_AT (36 + 4 * sizeof(unsigned long) + sizeof(int))
 
 static void reseal(unsigned char *state, size_t len) {
   uint64_t sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);

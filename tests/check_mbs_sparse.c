@@ -880,12 +880,12 @@ END_TEST
 
 /* a state whose current factorization has an independent coordinate claim the first row (whose
  * pivot is another column), the checksum made anew: whole, yet no chart. The chart follows the
- * header and the statistics' three counters: have, cur, measure, then each factorization's
+ * header and the statistics' four counters: have, cur, measure, then each factorization's
  * order (n_c), pivots (n_c) and rows of the columns (n_q); q_I is derived from them */
 START_TEST(a_state_with_no_chart_is_damaged) {
   roped w;
   unsigned char *state;
-  size_t len, at = 36 + 3 * sizeof(unsigned long) + 2 * sizeof(int) + sizeof(double), m, n, c;
+  size_t len, at = 36 + 4 * sizeof(unsigned long) + 2 * sizeof(int) + sizeof(double), m, n, c;
   uint64_t sum;
   roped_init(&w, 5, 0, 1, sdae_map_rk4);
   ck_assert_int_eq(steps(&w, 5, 1e-2), SDAE_OK);

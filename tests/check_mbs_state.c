@@ -289,8 +289,8 @@ END_TEST
 
 /* the header: magic (8 bytes), format (4), build (8), identity (8), length (8); a field
  * changed and the checksum made anew is no longer damaged but another build or format */
-/* where the coordinates' fields start: after the header and the statistics' three counters */
-#define CHART_AT (36 + 3 * sizeof(unsigned long))
+/* where the coordinates' fields start: after the header and the statistics' four counters */
+#define CHART_AT (36 + 4 * sizeof(unsigned long))
 
 static void reseal(unsigned char *state, size_t len) {
   uint64_t sum = sdae__fnv(SDAE_FNV_START, state, len - sizeof sum);

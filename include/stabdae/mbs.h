@@ -99,6 +99,17 @@ typedef struct sdae_mbs {
 /* No usable chart (SDAE_ERR_CHART): the constraints' gradients are nearly dependent, the sine
  * of the smallest angle between one of them and the span of the others below this. */
 #define SDAE_MBS_CHART_MIN 1e-8
+/* Singular configurations (where rank G drops for an instant along the motion, as a
+ * parallelogram's flat position): a step whose start finds the constraints' least sine below
+ * this, or falling toward it within the step as it fell over the last step, is a projection
+ * step (docs/front-ends.md): rk8 in (q, v) with the acceleration from G's rank-revealing QR,
+ * then q and v projected M-orthogonally onto the constraints. Not the first step (there, as
+ * before, dependent constraints are SDAE_ERR_RANK and nearly dependent ones stepped in their
+ * chart or SDAE_ERR_CHART), not with redundant rows declared (rank), not on the sparse
+ * back-end. A projection step that moves q off the constraints by more than
+ * SDAE_MBS_PROJECT_DRIFT of the step's own motion cannot be taken accurately: SDAE_ERR_CHART. */
+#define SDAE_MBS_SINGULAR_NEAR 1e-2
+#define SDAE_MBS_PROJECT_DRIFT 1e-3
 
 /* Newton's least tolerance in the front-end: its mu-dynamics come from fourth-order
  * differences, good to about 1e-13 (1e-10 without jacobian, see there), and an implicit map's
@@ -116,12 +127,14 @@ typedef struct sdae_mbs_stepper sdae_mbs_stepper;
  * failed step counts nothing). sdae_mbs_stepper_reset_stats zeroes the counters, not the
  * current chart's measure. */
 typedef struct sdae_mbs_stats {
-  sdae_stats step;              /* the normal form's stepper: steps, Newton, phi evaluations */
-  unsigned long chart_switches; /* charts replaced at step boundaries (the first one is not) */
-  unsigned long phi_inv_iters;  /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
-  double chart_measure;         /* max |G_D^-1 G_I| of the current chart where it was chosen */
-  unsigned long row_switches;   /* with redundant constraints (rank < n_c): the rows chosen
-                                 * replaced at step boundaries (the first choice is not) */
+  sdae_stats step;               /* the normal form's stepper: steps, Newton, phi evaluations */
+  unsigned long chart_switches;  /* charts replaced at step boundaries (the first one is not) */
+  unsigned long phi_inv_iters;   /* Newton iterations of Phi^-1 (q_D from c(t, q) = xi) */
+  double chart_measure;          /* max |G_D^-1 G_I| of the current chart where it was chosen */
+  unsigned long row_switches;    /* with redundant constraints (rank < n_c): the rows chosen
+                                  * replaced at step boundaries (the first choice is not) */
+  unsigned long projected_steps; /* steps taken by projection near a singular configuration
+                                  * (SDAE_MBS_SINGULAR_NEAR), not by the normal form's stepper */
 } sdae_mbs_stats;
 
 /* Bytes sdae_mbs_stepper_init needs; 0 when the mechanism or the options are invalid, or when

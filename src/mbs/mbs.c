@@ -32,6 +32,7 @@ static int carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
   sdae__mbs_eval_carve(&s->eval, a);
   rc = sdae__mbs_coords_carve(&s->coords, a);
   sdae__mbs_model_carve(&s->nf, a);
+  sdae__mbs_project_carve(&s->project, a);
   s->xi = sdae__take(a, 2 * s->n_c, 1);
   s->mu = sdae__take(a, 2 * s->n_f, 1);
   s->rollback = sdae__take_array(a, sdae__mbs_parts_bytes(s), 1, 1);
@@ -43,7 +44,7 @@ static int carve(sdae_mbs_stepper *s, sdae_arena *a, size_t inner_bytes) {
  * sparse back-end for a mechanism with both patterns stepped by an explicit map, else over the
  * dense one */
 static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o) {
-  int rc;
+  int rc, sparse = sdae__mbs_sparse_applies(sys, o);
   memset(s, 0, sizeof *s);
   s->opt = *o;
   /* the noise of the differences (SDAE_MBS_NEWTON_TOL); an invalid tolerance stays, for the
@@ -54,11 +55,12 @@ static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o)
   s->n_c = sdae__mbs_rank(sys);
   s->n_f = sys->n_q - s->n_c;
   sdae__mbs_eval_init(&s->eval, sys);
-  if (sdae__mbs_sparse_applies(sys, o))
+  if (sparse)
     rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_sparse_linalg, &s->sparse, o);
   else
     rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_dense_linalg, &s->dense, o);
   sdae__mbs_model_init(&s->nf, &s->eval, &s->coords);
+  sdae__mbs_project_init(&s->project, &s->eval, &s->opt, !sparse && !sdae__mbs_redundant(&s->eval));
   return rc;
 }
 
@@ -162,13 +164,17 @@ static int normal_step(sdae_mbs_stepper *s, double t, double T) {
 /* (q, v) -> one start of the coordinates (the chart, the best one with force_best; xi, mu) ->
  * one step -> Phi^-1 at t + T. What the normal form kept (q0 at a (t, mu)) came from an
  * earlier start, and after a chart switch from another chart, as the Newton matrix its stepper
- * keeps (a function of mu) */
+ * keeps (a function of mu). A start near a singular configuration stops there with *project
+ * set: the step is the projection's (mbs_project.h). */
 static int try_step(sdae_mbs_stepper *s, double t, double T, const double *q, const double *v,
-                    int force_best, sdae_mbs_start *st) {
+                    int force_best, sdae_mbs_start *st, int *project) {
   int rc;
   s->nf.status = SDAE_OK;
   sdae__mbs_model_forget(&s->nf);
-  if ((rc = sdae__mbs_coords_start(&s->coords, t, q, v, force_best, st)) != SDAE_OK) return rc;
+  rc = sdae__mbs_coords_start(&s->coords, t, q, v, force_best, st);
+  if ((*project = sdae__mbs_project_wanted(&s->project, rc, st->choice.independence)) ||
+      rc != SDAE_OK)
+    return rc;
   if (st->choice.switched) sdae__stepper_newton_forget(s->inner);
   if ((rc = normal_step(s, t, T)) != SDAE_OK) return rc;
   return sdae__mbs_phi_inv_state(&s->coords, t + T, s->xi, s->mu);
@@ -181,28 +187,45 @@ static void commit(sdae_mbs_stepper *s, const sdae_mbs_start *st) {
   s->stats.row_switches += (unsigned long)st->rows_switched;
 }
 
+/* the projection step in (q, v) from the parts as they were before the start (the chart
+ * unchanged); the normal form's Newton matrix, of a mu steps ago, is not kept */
+static int projection_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
+  int rc;
+  sdae__mbs_rollback(s);
+  if ((rc = sdae__mbs_project_step(&s->project, t, T, q, v)) != SDAE_OK) return rc;
+  sdae__stepper_newton_forget(s->inner);
+  s->stats.projected_steps++;
+  return SDAE_OK;
+}
+
 int sdae_mbs_step(sdae_mbs_stepper *s, double t, double T, double *q, double *v) {
   sdae_mbs_start st = {0};
-  int rc;
+  int rc, project;
+  double seen;
   if (!s || !q || !v) return SDAE_ERR_NULL;
   if (!(isfinite(T) && T > 0.0)) return SDAE_ERR_STEP;
   if ((rc = sdae__mbs_state_ok(&s->eval, t, q, v)) != SDAE_OK) return rc;
   st.xi = s->xi, st.mu = s->mu, st.floor = s->nf.floor;
   sdae__mbs_rollback_save(s);
-  rc = try_step(s, t, T, q, v, 0, &st);
-  if (rc == SDAE_ERR_PHI_INV && st.choice.kept) {
+  rc = try_step(s, t, T, q, v, 0, &st, &project);
+  seen = st.choice.independence;
+  if (!project && rc == SDAE_ERR_PHI_INV && st.choice.kept) {
     /* the chart kept by hysteresis folds within the step: once more in the best one, counted
      * as the one step it is (the first try's work is not kept, as a failed step's is not) */
     sdae__mbs_rollback(s);
     st.choice.switched = st.choice.kept = st.rows_switched = 0;
-    rc = try_step(s, t, T, q, v, 1, &st);
+    rc = try_step(s, t, T, q, v, 1, &st, &project);
   }
-  if (rc == SDAE_OK) {
+  if (project) {
+    rc = projection_step(s, t, T, q, v);
+  } else if (rc == SDAE_OK) {
     sdae__mbs_coords_point(&s->coords, q, v);
     commit(s, &st);
-  } else {
-    sdae__mbs_rollback(s);
   }
+  if (rc == SDAE_OK)
+    sdae__mbs_project_seen(&s->project, seen);
+  else
+    sdae__mbs_rollback(s);
   sdae__mbs_stepper_gather(s);
   return rc;
 }
@@ -228,6 +251,7 @@ void sdae_mbs_stepper_reset_stats(sdae_mbs_stepper *s) {
   s->stats.chart_switches = 0; /* the counters; the chart's measure is the current chart's */
   s->stats.row_switches = 0;
   s->stats.phi_inv_iters = 0;
+  s->stats.projected_steps = 0;
   sdae_stepper_reset_stats(s->inner);
   sdae__mbs_stepper_gather(s);
 }

@@ -130,6 +130,7 @@ static int proposal(sdae_mbs_atlas *ch, const double *G) {
   gsl_permutation perm = {n_q, ch->perm};
   double last, first;
   int signum, rc;
+  ch->independence = 0.0;
   for (size_t i = 0; i < n_c; i++) {
     double row = 0.0;
     for (size_t j = 0; j < n_q; j++) row = hypot(row, G[i * n_q + j]);
@@ -139,6 +140,7 @@ static int proposal(sdae_mbs_atlas *ch, const double *G) {
   gsl_linalg_QRPT_decomp(&R.matrix, &tau.vector, &perm, &signum, &norm.vector);
   first = fabs(ch->qr[0]);
   last = fabs(ch->qr[(n_c - 1) * n_q + (n_c - 1)]);
+  ch->independence = first > 0.0 ? last / first : 0.0;
   if ((rc = sdae__mbs_chart_verdict(last, first, n_q)) != SDAE_OK) return rc;
   memcpy(ch->cand_dep, ch->perm, n_c * sizeof *ch->perm);
   memcpy(ch->cand_ind, ch->perm + n_c, ch->n_f * sizeof *ch->perm);

@@ -22,14 +22,15 @@ typedef struct sdae_mbs_atlas {
   double *qr, *tau, *norm;
   size_t *perm, *cand_dep, *cand_ind;
   /* the factors at the G factored last */
-  double *gd;        /* n_c x n_c: G_D gathered, the factorization's input */
-  double *GD;        /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
-  unsigned *piv;     /* n_c */
-  double *A;         /* n_c x n_f: G_D^-1 G_I */
-  double *W;         /* n_q x n_f: dq/dq_I, spans ker G */
-  double *col, *sol; /* n_c each: a column of G_I and G_D^-1 of it */
-  int switched;      /* the last choice replaced the chart (the first choice does not) */
-  double measure;    /* max |A| of the current chart where it was chosen */
+  double *gd;          /* n_c x n_c: G_D gathered, the factorization's input */
+  double *GD;          /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
+  unsigned *piv;       /* n_c */
+  double *A;           /* n_c x n_f: G_D^-1 G_I */
+  double *W;           /* n_q x n_f: dq/dq_I, spans ker G */
+  double *col, *sol;   /* n_c each: a column of G_I and G_D^-1 of it */
+  int switched;        /* the last choice replaced the chart (the first choice does not) */
+  double measure;      /* max |A| of the current chart where it was chosen */
+  double independence; /* the rows' least sine at the last choice (R's last pivot / first) */
 } sdae_mbs_atlas;
 
 /* the sizes; the arrays come from sdae__mbs_chart_carve */

@@ -94,6 +94,7 @@ static int choose(void *p, int force_best, int reuse, sdae_mbs_choice *choice) {
   sdae_mbs_dense *d = p;
   int rc = sdae__mbs_chart_choose(&d->chart, d->G, force_best);
   (void)reuse; /* the best chart is sought at every start */
+  choice->independence = d->chart.independence;
   if (rc == SDAE_OK) choice->switched = d->chart.switched, choice->kept = d->chart.kept;
   return rc;
 }

@@ -16,6 +16,7 @@
 #include "mbs_dense.h"
 #include "mbs_eval.h"
 #include "mbs_model.h"
+#include "mbs_project.h"
 #include "mbs_sparse.h"
 
 struct sdae_mbs_stepper {
@@ -25,12 +26,13 @@ struct sdae_mbs_stepper {
   sdae_mbs_coords coords; /* over the back-end coords.linalg: &dense or &sparse */
   sdae_mbs_dense dense;   /* (the other one is never carved) */
   sdae_mbs_sparse sparse;
-  sdae_mbs_model nf;       /* the normal form in the current chart */
-  sdae_stepper *inner;     /* the normal form's stepper, in this block */
-  sdae_block block;        /* what sdae_mbs_stepper_alloc_with allocated */
-  sdae_mbs_stats stats;    /* committed by sdae_mbs_step when a step succeeds */
-  double *xi, *mu;         /* 2 n_c, 2 n_f: the step's state in the chart */
-  unsigned char *rollback; /* the parts' state before the step (mbs_state.c), for a failure */
+  sdae_mbs_model nf;        /* the normal form in the current chart */
+  sdae_mbs_project project; /* the step near a singular configuration, in (q, v) */
+  sdae_stepper *inner;      /* the normal form's stepper, in this block */
+  sdae_block block;         /* what sdae_mbs_stepper_alloc_with allocated */
+  sdae_mbs_stats stats;     /* committed by sdae_mbs_step when a step succeeds */
+  double *xi, *mu;          /* 2 n_c, 2 n_f: the step's state in the chart */
+  unsigned char *rollback;  /* the parts' state before the step (mbs_state.c), for a failure */
 };
 
 /* the bytes of the parts' state (mbs_state.c), known once the parts are wired */

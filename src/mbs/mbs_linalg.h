@@ -20,6 +20,9 @@
 typedef struct sdae_mbs_choice {
   int switched; /* the chart was replaced */
   int kept;     /* the current chart was kept over a better one by the hysteresis */
+  /* the constraints' least sine at the stored G (the dense chart's pivoted QR, set even where
+   * it refuses G; HUGE_VAL where the back-end does not measure it) */
+  double independence;
 } sdae_mbs_choice;
 
 /* The hysteresis, one rule for both back-ends: the best chart is sought at every step's start

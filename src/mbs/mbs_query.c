@@ -10,7 +10,6 @@
 #include <gsl/gsl_linalg.h>
 
 #include "core/callback.h"
-#include "core/lu.h"
 #include "mbs_query.h"
 
 void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, size_t n_rows,
@@ -24,15 +23,8 @@ void sdae__mbs_query_carve(sdae_mbs_query *qy, size_t n_q, size_t n_c, size_t n_
   qy->gamma = sdae__take(a, n_c, 1);
   qy->F = sdae__take(a, n_q, 1);
   qy->lam_M = sdae__take(a, n_q, n_q);
-  qy->GT = sdae__take(a, n_q, n_c);
-  qy->tau = sdae__take(a, n_c, 1);
-  qy->Q = sdae__take(a, n_q, n_q);
-  qy->R = sdae__take(a, n_q, n_c);
-  qy->MZ = sdae__take(a, n_q, n_q - n_c);
-  qy->Mr = sdae__take(a, n_q - n_c, n_q - n_c);
+  sdae__mbs_nullspace_carve(&qy->ns, n_q, n_c, a);
   qy->acc = sdae__take(a, n_q, 1);
-  qy->res = sdae__take(a, n_q, 1);
-  qy->w = sdae__take(a, n_q, 1);
   qy->lambda = sdae__take(a, n_c, 1);
   qy->n_rows = n_rows;
   if (n_rows == n_c) return;
@@ -71,98 +63,23 @@ int sdae__mbs_query_energy(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, cons
   return SDAE_OK;
 }
 
-/* G^T = Q R with Q = [Y Z] orthogonal (Y: n_c columns spanning range G^T, Z: n_f spanning ker G)
- * and R upper triangular: SDAE_ERR_RANK when R's diagonal shows G's rows dependent, each R_jj
- * measured against its own row's size (constraints in other units, as the chart measures them:
- * R_jj / |G_j| is the sine of the angle between row j and the span of the rows before it) */
-static int null_space(sdae_mbs_query *qy, size_t n_q, size_t n_c) {
-  gsl_matrix_view GT = gsl_matrix_view_array(qy->GT, n_q, n_c);
-  gsl_matrix_view Q = gsl_matrix_view_array(qy->Q, n_q, n_q);
-  gsl_matrix_view R = gsl_matrix_view_array(qy->R, n_q, n_c);
-  gsl_vector_view tau = gsl_vector_view_array(qy->tau, n_c);
-  for (size_t i = 0; i < n_q; i++)
-    for (size_t j = 0; j < n_c; j++) qy->GT[i * n_c + j] = qy->lam_G[j * n_q + i];
-  /* neither call reports an error for matrices of these shapes: GSL's handler is never called */
-  gsl_linalg_QR_decomp(&GT.matrix, &tau.vector);
-  gsl_linalg_QR_unpack(&GT.matrix, &tau.vector, &Q.matrix, &R.matrix);
-  for (size_t j = 0; j < n_c; j++) {
-    double row = 0.0;
-    for (size_t i = 0; i < n_q; i++) row = hypot(row, qy->lam_G[j * n_q + i]);
-    if (!(fabs(qy->R[j * n_c + j]) > (double)n_q * DBL_EPSILON * row)) return SDAE_ERR_RANK;
-  }
-  return SDAE_OK;
-}
-
-/* out (n_q) = M x */
-static void mass_times(const double *M, size_t n, const double *x, double *out) {
-  for (size_t i = 0; i < n; i++) {
-    double acc = 0.0;
-    for (size_t j = 0; j < n; j++) acc += M[i * n + j] * x[j];
-    out[i] = acc;
-  }
-}
-
-/* The acceleration a = Y a_Y + Z a_Z: G a = R^T a_Y = -gamma fixes a_Y, and the motion along ker
- * G, (Z^T M Z) a_Z = Z^T (F - M Y a_Y), where the constraint forces G^T lambda drop out.
- * SDAE_ERR_MASS when the reduced mass Z^T M Z is not positive definite. */
-static int acceleration(sdae_mbs_query *qy, size_t n_q, size_t n_c) {
-  size_t n_f = n_q - n_c;
-  double *aY = qy->lambda, *aZ = qy->w; /* scratch until lambda is solved for */
-  int rc;
-  for (size_t j = 0; j < n_c; j++) { /* R^T a_Y = -gamma, R^T lower triangular */
-    double acc = -qy->gamma[j];
-    for (size_t k = 0; k < j; k++) acc -= qy->R[k * n_c + j] * aY[k];
-    aY[j] = acc / qy->R[j * n_c + j];
-  }
-  for (size_t i = 0; i < n_q; i++) {
-    qy->acc[i] = 0.0;
-    for (size_t j = 0; j < n_c; j++) qy->acc[i] += qy->Q[i * n_q + j] * aY[j];
-  }
-  mass_times(qy->lam_M, n_q, qy->acc, qy->res);
-  for (size_t i = 0; i < n_q; i++) qy->res[i] = qy->F[i] - qy->res[i];
-  for (size_t b = 0; b < n_f; b++) /* M Z, column by column */
-    for (size_t i = 0; i < n_q; i++) {
-      double acc = 0.0;
-      for (size_t j = 0; j < n_q; j++) acc += qy->lam_M[i * n_q + j] * qy->Q[j * n_q + n_c + b];
-      qy->MZ[i * n_f + b] = acc;
-    }
-  for (size_t a = 0; a < n_f; a++) { /* Z^T M Z, its upper triangle mirrored; Z^T res */
-    for (size_t b = a; b < n_f; b++) {
-      double acc = 0.0;
-      for (size_t i = 0; i < n_q; i++) acc += qy->Q[i * n_q + n_c + a] * qy->MZ[i * n_f + b];
-      qy->Mr[a * n_f + b] = qy->Mr[b * n_f + a] = acc;
-    }
-    aZ[a] = 0.0;
-    for (size_t i = 0; i < n_q; i++) aZ[a] += qy->Q[i * n_q + n_c + a] * qy->res[i];
-  }
-  if ((rc = sdae__cholesky_factor(qy->Mr, n_f)) != SDAE_OK) return rc;
-  sdae__cholesky_solve(qy->Mr, n_f, aZ);
-  for (size_t i = 0; i < n_q; i++)
-    for (size_t b = 0; b < n_f; b++) qy->acc[i] += qy->Q[i * n_q + n_c + b] * aZ[b];
-  return SDAE_OK;
-}
-
 /* From M a = F - G^T lambda with a from the acceleration-level constraint G a + gamma = 0:
  * G^T lambda = F - M a, i.e. R lambda = Y^T (F - M a). Needs of M what a step needs: M
  * symmetric and the reduced mass positive definite (a singular M may give one). */
 static int chosen_lambda(sdae_mbs_query *qy, sdae_mbs_eval *ev, double t, const double *q,
                          const double *v) {
-  size_t n_q = ev->n_q, n_c = ev->n_c;
   int rc;
   if ((rc = sdae__mbs_along(ev, t, q, v, NULL, NULL, qy->gamma)) != SDAE_OK ||
       (rc = sdae__mbs_jacobian(ev, t, q, qy->lam_G)) != SDAE_OK ||
       (rc = sdae__mbs_force(ev, t, q, v, qy->F)) != SDAE_OK ||
-      (rc = sdae__mbs_mass_symmetric(ev, t, q, qy->lam_M)) != SDAE_OK ||
-      (rc = null_space(qy, n_q, n_c)) != SDAE_OK || (rc = acceleration(qy, n_q, n_c)) != SDAE_OK)
+      (rc = sdae__mbs_mass_symmetric(ev, t, q, qy->lam_M)) != SDAE_OK)
     return rc;
-  mass_times(qy->lam_M, n_q, qy->acc, qy->res);
-  for (size_t i = 0; i < n_q; i++) qy->res[i] = qy->F[i] - qy->res[i];
-  for (size_t j = n_c; j-- > 0;) { /* R lambda = Y^T res, back substitution */
-    double acc = 0.0;
-    for (size_t i = 0; i < n_q; i++) acc += qy->Q[i * n_q + j] * qy->res[i];
-    for (size_t k = j + 1; k < n_c; k++) acc -= qy->R[j * n_c + k] * qy->lambda[k];
-    qy->lambda[j] = acc / qy->R[j * n_c + j];
-  }
+  /* a row within n_q eps of the span of the others: dependent (SDAE_ERR_RANK) */
+  rc = sdae__mbs_nullspace_factor(&qy->ns, qy->lam_G, qy->lam_M, (double)ev->n_q * DBL_EPSILON);
+  if (rc == SDAE_OK && qy->ns.rank < ev->n_c) rc = SDAE_ERR_RANK;
+  if (rc != SDAE_OK) return rc;
+  sdae__mbs_nullspace_solve(&qy->ns, qy->F, qy->gamma, qy->acc);
+  sdae__mbs_nullspace_lambda(&qy->ns, qy->F, qy->acc, qy->lambda);
   return SDAE_OK;
 }
 

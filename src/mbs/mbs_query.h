@@ -10,19 +10,19 @@
 
 #include "core/arena.h"
 #include "mbs_eval.h"
+#include "mbs_nullspace.h"
 
 typedef struct sdae_mbs_query {
   /* sdae_mbs_xi: c, G and dc/dt at q, and xi before it is checked */
   double *c, *G, *ct, *xi; /* n_c, n_c x n_q, n_c, 2 n_c */
   /* sdae_mbs_energy: M at q */
   double *M; /* n_q x n_q */
-  /* sdae_mbs_lambda: G, gamma, F and M at the state; G^T = Q R (Householder QR: Q = [Y Z], Z
-   * spanning ker G), the reduced mass Z^T M Z factored, the acceleration and the residual force */
+  /* sdae_mbs_lambda: G, gamma, F and M at the state, the saddle-point system's null-space
+   * factors (mbs_nullspace.h), the acceleration */
   double *lam_G, *gamma, *F, *lam_M; /* n_c x n_q, n_c, n_q, n_q x n_q */
-  double *GT, *tau, *Q, *R;          /* n_q x n_c, n_c, n_q x n_q, n_q x n_c */
-  double *MZ, *Mr;                   /* n_q x n_f, n_f x n_f */
-  double *acc, *res, *w;             /* n_q, n_q, n_q */
-  double *lambda;                    /* n_c */
+  sdae_mbs_nullspace ns;
+  double *acc;    /* n_q */
+  double *lambda; /* n_c */
   /* redundant constraints (n_rows > n_c): xi of every row; the rows chosen at the state, the
    * step's kept aside; G_D^T's QR (the chosen rows' G^T, n_q x n_c), each row's coefficients on
    * the chosen ones (n_rows x n_c), C^T C (n_c x n_c), a least-squares residual (n_q) */

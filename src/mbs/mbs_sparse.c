@@ -195,6 +195,7 @@ static int choose_chart(sdae_mbs_sparse *sp, int force_best, int reuse) {
 static int choose(void *p, int force_best, int reuse, sdae_mbs_choice *choice) {
   sdae_mbs_sparse *sp = p;
   int rc = choose_chart(sp, force_best, reuse);
+  choice->independence = HUGE_VAL; /* no angles in the sparse LU: never projected */
   if (rc == SDAE_OK) choice->switched = sp->switched, choice->kept = sp->kept;
   return rc;
 }

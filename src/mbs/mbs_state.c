@@ -20,8 +20,9 @@
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
 #define STATE_FORMAT                                                                               \
-  5u /* 5: the rows chosen, the row switches counted (4: the back-end's chart and matrices,        \
-      * then the point; 3: the counters first) */
+  6u /* 6: the independence last seen, the projected steps counted (5: the rows chosen, the row    \
+      * switches counted; 4: the back-end's chart and matrices, then the point; 3: the counters    \
+      * first) */
 
 typedef struct header {
   char magic[8];
@@ -85,6 +86,7 @@ static uint64_t stepper_identity(const sdae_mbs_stepper *s) {
  * not in a rollback (a failed step commits none) */
 static void parts(sdae_mbs_stepper *s, sdae_bytes *b) {
   sdae__mbs_coords_state(&s->coords, b);
+  sdae__mbs_project_state(&s->project, b);
   sdae__stepper_state(s->inner, b);
 }
 
@@ -92,11 +94,13 @@ static void counters(sdae_mbs_stats *stats, sdae_bytes *b) {
   sdae__bytes(b, &stats->chart_switches, sizeof stats->chart_switches);
   sdae__bytes(b, &stats->phi_inv_iters, sizeof stats->phi_inv_iters);
   sdae__bytes(b, &stats->row_switches, sizeof stats->row_switches);
+  sdae__bytes(b, &stats->projected_steps, sizeof stats->projected_steps);
 }
 
 size_t sdae__mbs_parts_bytes(const sdae_mbs_stepper *s) {
   sdae_bytes b = {NULL, NULL, 0}; /* counted: the sizes read, nothing else */
   sdae__mbs_coords_state((sdae_mbs_coords *)&s->coords, &b);
+  sdae__mbs_project_state((sdae_mbs_project *)&s->project, &b);
   return b.at + sdae__stepper_state_bytes(&s->nf.model, &s->opt);
 }
 
