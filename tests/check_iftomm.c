@@ -10,6 +10,7 @@
 #include <stabdae/mbs.h>
 
 #include <gsl/gsl_linalg.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include "bricard.h"
 #include "nfourbar.h"
@@ -172,6 +173,60 @@ END_TEST
 START_TEST(dgrad_converges_and_keeps_the_energy_through_the_crossings) {
   converges_at_order(sdae_map_dgrad, 3.0, 5.5);
   ck_assert_double_le(cross_flat_positions(sdae_map_dgrad, 5e-3).dE, 1e-10);
+}
+END_TEST
+
+/* The N-four-bar pushed along x at every tip B_i by h(t) = 0.5 sin(3 t) N (an input force:
+ * time-dependent, applied in the projected steps too): the parallelogram is kept, and its angle
+ * follows J theta'' = K ga sin theta + (N + 1) h(t) cos theta (the push's work on x_i = i +
+ * sin theta), integrated by GSL's rk8pd to 1e-13. rk8 at T = 1e-2 to t = 1.5, across the first
+ * flat positions: B_0 within 1e-8 of it, the steps near them projected. */
+typedef struct pushed {
+  mech_nfourbar p; /* first: the model's callbacks read their mech_nfourbar here */
+  double h, w;
+} pushed;
+
+static int push(double t, const double *q, const double *v, double *F, void *params) {
+  const pushed *w = params;
+  (void)q, (void)v;
+  for (size_t i = 0; i <= w->p.N; i++) F[2 * i] = w->h * sin(w->w * t), F[2 * i + 1] = 0.0;
+  return 0;
+}
+
+static int pushed_angle(double t, const double *y, double *f, void *params) {
+  const pushed *w = params;
+  double J, K;
+  reduction(&w->p, &J, &K);
+  f[0] = y[1];
+  f[1] = (K * w->p.ga * sin(y[0]) + (double)(w->p.N + 1) * w->h * sin(w->w * t) * cos(y[0])) / J;
+  return GSL_SUCCESS;
+}
+
+START_TEST(a_pushed_nfourbar_crosses_the_flat_positions) {
+  pushed w = {mech_nfourbar_benchmark(), 0.5, 3.0};
+  gsl_odeiv2_system ode = {pushed_angle, NULL, 2, &w};
+  gsl_odeiv2_driver *d =
+      gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3, 1e-13, 0.0);
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[82], v[82], y[2] = {0.0, 1.0}, t = 0.0;
+  mech_nfourbar_system(&sys, &w.p);
+  sys.params = &w;
+  sys.input_force = push;
+  sdae_options_default(&o);
+  o.map = sdae_map_rk8;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  mech_nfourbar_start(&w.p, q, v);
+  for (int i = 0; i < 150; i++) {
+    ck_assert_int_eq(sdae_mbs_step(s, i * 1e-2, 1e-2, q, v), SDAE_OK);
+    if ((i + 1) % 5 != 0) continue;
+    ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &t, (i + 1) * 1e-2, y), GSL_SUCCESS);
+    ck_assert_double_le(hypot(q[0] - sin(y[0]), q[1] - cos(y[0])), 1e-8);
+  }
+  ck_assert_uint_gt(sdae_mbs_stepper_stats(s)->projected_steps, 0);
+  sdae_mbs_stepper_free(s);
+  gsl_odeiv2_driver_free(d);
 }
 END_TEST
 
@@ -378,6 +433,7 @@ int main(void) {
   ADD_CASE(s, rk4_converges_at_order_four_through_the_crossings);
   ADD_CASE(s, midpoint_converges_at_order_two_through_the_crossings);
   ADD_CASE(s, dgrad_converges_and_keeps_the_energy_through_the_crossings);
+  ADD_CASE(s, a_pushed_nfourbar_crosses_the_flat_positions);
   ADD_CASE(s, a_projected_step_that_cannot_be_accurate_is_refused);
   ADD_CASE(s, bricard_keeps_all_its_constraints);
   ADD_CASE(s, bricard_rk4_converges_at_order_four);
