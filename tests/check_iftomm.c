@@ -230,6 +230,166 @@ START_TEST(a_pushed_nfourbar_crosses_the_flat_positions) {
 }
 END_TEST
 
+/* The N-four-bar on a ground that shakes along x, every pivot at A_i = (i + a(t), 0), a(t) =
+ * 0.05 sin(4 t): the constraints depend on t (dc/dt and its derivative differenced, in the
+ * projected steps too), the mass matrix is the fixed pivots' (each rocker's kinetic energy
+ * m |B_i'|^2 / 6, the pivot's own motion carrying none). Every B_i moves alike,
+ * B_i' = (a' + theta' cos theta, -theta' sin theta), so the kinetic energy is J |B_0'|^2 / 2 and
+ * Lagrange's equation J theta'' = K ga sin theta - J a''(t) cos theta, B_0 = (a + sin theta,
+ * cos theta), by GSL's rk8pd to 1e-13. rk8 at T = 1e-2 to t = 1.5 across the first flat positions:
+ * B_0 within 1e-9 of it (the differenced derivatives good to about 1e-10), the steps near them
+ * projected. */
+typedef struct shaken {
+  mech_nfourbar p; /* first: the model's callbacks read their mech_nfourbar here */
+  sdae_mbs base;
+  double A, w;
+  double rel[82], G[81 * 82];
+} shaken;
+
+static double ground(const shaken *g, double t) { return g->A * sin(g->w * t); }
+
+/* q in the ground's frame */
+static const double *in_frame(shaken *g, double t, const double *q) {
+  for (size_t i = 0; i <= g->p.N; i++)
+    g->rel[2 * i] = q[2 * i] - ground(g, t), g->rel[2 * i + 1] = q[2 * i + 1];
+  return g->rel;
+}
+
+static int shaken_constraint(double t, const double *q, double *c, void *params) {
+  shaken *g = params;
+  return g->base.constraint(t, in_frame(g, t, q), c, params);
+}
+
+static int shaken_jacobian(double t, const double *q, double *G, void *params) {
+  shaken *g = params;
+  return g->base.jacobian(t, in_frame(g, t, q), G, params);
+}
+
+/* dc/dt = -a'(t) sum_i dc/dx_i */
+static int shaken_constraint_t(double t, const double *q, double *ct, void *params) {
+  shaken *g = params;
+  size_t n_q = g->base.n_q;
+  int rc = g->base.jacobian(t, in_frame(g, t, q), g->G, params);
+  for (size_t j = 0; j < g->base.n_c; j++) {
+    double sum = 0.0;
+    for (size_t i = 0; i <= g->p.N; i++) sum += g->G[j * n_q + 2 * i];
+    ct[j] = -g->A * g->w * cos(g->w * t) * sum;
+  }
+  return rc;
+}
+
+static int shaken_angle(double t, const double *y, double *f, void *params) {
+  const shaken *g = params;
+  double J, K, acc = -g->A * g->w * g->w * sin(g->w * t);
+  reduction(&g->p, &J, &K);
+  f[0] = y[1];
+  f[1] = (K * g->p.ga * sin(y[0]) - J * acc * cos(y[0])) / J;
+  return GSL_SUCCESS;
+}
+
+START_TEST(an_nfourbar_on_a_shaking_ground_crosses_the_flat_positions) {
+  static shaken g;
+  gsl_odeiv2_system ode = {shaken_angle, NULL, 2, &g};
+  gsl_odeiv2_driver *d;
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[82], v[82], y[2] = {0.0, 0.0}, t = 0.0;
+  g.p = mech_nfourbar_benchmark(), g.A = 0.05, g.w = 4.0;
+  mech_nfourbar_system(&g.base, &g.p);
+  sys = g.base;
+  sys.params = &g;
+  sys.constraint = shaken_constraint, sys.jacobian = shaken_jacobian;
+  sys.constraint_t = shaken_constraint_t;
+  sys.jacobian_dot = NULL, sys.constraint_t_dot = NULL; /* differenced along (1, v) */
+  sdae_options_default(&o);
+  o.map = sdae_map_rk8;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  mech_nfourbar_start(&g.p, q, v);
+  /* the benchmark's start in the ground's frame: B_i at 1 m/s relative to it, plus a'(0) */
+  for (size_t i = 0; i <= g.p.N; i++) v[2 * i] += g.A * g.w;
+  y[1] = 1.0;
+  d = gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-3, 1e-13, 0.0);
+  for (int i = 0; i < 150; i++) {
+    double ti = (i + 1) * 1e-2;
+    ck_assert_int_eq(sdae_mbs_step(s, i * 1e-2, 1e-2, q, v), SDAE_OK);
+    if ((i + 1) % 5 != 0) continue;
+    ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &t, ti, y), GSL_SUCCESS);
+    ck_assert_double_le(hypot(q[0] - ground(&g, ti) - sin(y[0]), q[1] - cos(y[0])), 1e-9);
+  }
+  ck_assert_uint_gt(sdae_mbs_stepper_stats(s)->projected_steps, 0);
+  sdae_mbs_stepper_free(s);
+  gsl_odeiv2_driver_free(d);
+}
+END_TEST
+
+/* A callback that fails within a projected step (from its first evaluation past the step's
+ * start, so the chart's start at t sees none of it): the step returns the callback's status,
+ * SDAE_ERR_CALLBACK_RECOVERABLE, with q, v and the statistics as they were, and once the
+ * callback is well the same step is projected; each of constraint, jacobian, mass and force in
+ * turn. Two four-bars 1e-3 rad from the flat position at 5 rad/s. */
+typedef struct flaky {
+  mech_nfourbar p; /* first: the model's callbacks read their mech_nfourbar here */
+  sdae_mbs base;
+  int which; /* 0 constraint, 1 jacobian, 2 mass, 3 force */
+  double t_fail;
+} flaky;
+
+static int fails(const flaky *f, int which, double t) { return f->which == which && t > f->t_fail; }
+
+static int flaky_constraint(double t, const double *q, double *c, void *params) {
+  flaky *f = params;
+  return fails(f, 0, t) ? 1 : f->base.constraint(t, q, c, params);
+}
+
+static int flaky_jacobian(double t, const double *q, double *G, void *params) {
+  flaky *f = params;
+  return fails(f, 1, t) ? 1 : f->base.jacobian(t, q, G, params);
+}
+
+static int flaky_mass(double t, const double *q, double *M, void *params) {
+  flaky *f = params;
+  return fails(f, 2, t) ? 1 : f->base.mass(t, q, M, params);
+}
+
+static int flaky_force(double t, const double *q, const double *v, double *F, void *params) {
+  flaky *f = params;
+  return fails(f, 3, t) ? 1 : f->base.force(t, q, v, F, params);
+}
+
+START_TEST(a_failing_callback_in_a_projected_step_keeps_the_state) {
+  for (int which = 0; which < 4; which++) {
+    flaky f = {mech_nfourbar_benchmark(), {0}, which, HUGE_VAL};
+    sdae_mbs sys;
+    sdae_mbs_stepper *s;
+    sdae_options o;
+    double q[6], v[6], q0[6], v0[6];
+    f.p.N = 2;
+    mech_nfourbar_system(&f.base, &f.p);
+    sys = f.base;
+    sys.params = &f;
+    sys.constraint = flaky_constraint, sys.jacobian = flaky_jacobian;
+    sys.mass = flaky_mass, sys.force = flaky_force;
+    sdae_options_default(&o);
+    o.map = sdae_map_rk4;
+    ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+    parallelogram(&f.p, 0.3, 1.0, q, v);
+    ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+    parallelogram(&f.p, M_PI / 2.0 - 1e-3, 5.0, q0, v0);
+    memcpy(q, q0, sizeof q), memcpy(v, v0, sizeof v);
+    f.t_fail = 1.0;
+    ck_assert_int_eq(sdae_mbs_step(s, 1.0, 1e-2, q, v), SDAE_ERR_CALLBACK_RECOVERABLE);
+    ck_assert_mem_eq(q, q0, sizeof q);
+    ck_assert_mem_eq(v, v0, sizeof v);
+    ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 0);
+    f.t_fail = HUGE_VAL;
+    ck_assert_int_eq(sdae_mbs_step(s, 1.0, 1e-2, q, v), SDAE_OK);
+    ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 1);
+    sdae_mbs_stepper_free(s);
+  }
+}
+END_TEST
+
 /* Two four-bars 1e-3 rad from the flat position at 5 rad/s: a projected step of T = 0.05 is
  * taken; one of T = 0.4 (rk8 far past its accuracy, omega T = 2) leaves the constraints by more
  * than SDAE_MBS_PROJECT_DRIFT of its motion and is refused, SDAE_ERR_CHART, the state kept. At
@@ -434,6 +594,8 @@ int main(void) {
   ADD_CASE(s, midpoint_converges_at_order_two_through_the_crossings);
   ADD_CASE(s, dgrad_converges_and_keeps_the_energy_through_the_crossings);
   ADD_CASE(s, a_pushed_nfourbar_crosses_the_flat_positions);
+  ADD_CASE(s, an_nfourbar_on_a_shaking_ground_crosses_the_flat_positions);
+  ADD_CASE(s, a_failing_callback_in_a_projected_step_keeps_the_state);
   ADD_CASE(s, a_projected_step_that_cannot_be_accurate_is_refused);
   ADD_CASE(s, bricard_keeps_all_its_constraints);
   ADD_CASE(s, bricard_rk4_converges_at_order_four);
