@@ -78,7 +78,7 @@ static int at_rounding(const sdae_mbs_project *p, const double *q) {
 }
 
 /* q (in y) onto c(t, q) = 0 by Gauss-Newton with least M-norm corrections; G and M factored at
- * the q it ends at */
+ * the q it ends at, but for the last correction, at rounding */
 static int positions(sdae_mbs_project *p, double t, double *q) {
   sdae_mbs_eval *e = p->eval;
   int rc;
@@ -88,11 +88,14 @@ static int positions(sdae_mbs_project *p, double t, double *q) {
         (rc = sdae__mbs_mass_symmetric(e, t, q, p->M)) != SDAE_OK ||
         (rc = sdae__mbs_nullspace_factor(&p->ns, p->G, p->M, SDAE_MBS_CHART_MIN)) != SDAE_OK)
       return rc;
-    if (at_rounding(p, q)) return SDAE_OK;
-    if (it == p->max_iter) return SDAE_ERR_NEWTON;
+    /* at rounding, one correction more: Gauss-Newton would stop on one side of the root, step
+     * after step, and the steps near a singular configuration would sum it */
+    int done = at_rounding(p, q);
+    if (!done && it == p->max_iter) return SDAE_ERR_NEWTON;
     sdae__mbs_nullspace_solve(&p->ns, NULL, p->c, p->dx);
     for (size_t i = 0; i < p->n_q; i++) q[i] += p->dx[i];
     if (!sdae__all_finite(q, p->n_q)) return SDAE_ERR_NONFINITE;
+    if (done) return SDAE_OK;
   }
 }
 
