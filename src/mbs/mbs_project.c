@@ -81,8 +81,8 @@ static int at_rounding(const sdae_mbs_project *p, const double *q) {
  * the q it ends at, but for the last correction, at rounding */
 static int positions(sdae_mbs_project *p, double t, double *q) {
   sdae_mbs_eval *e = p->eval;
-  int rc;
   for (unsigned it = 0;; it++) {
+    int rc, done;
     if ((rc = sdae__mbs_constraint(e, t, q, p->c)) != SDAE_OK ||
         (rc = sdae__mbs_jacobian(e, t, q, p->G)) != SDAE_OK ||
         (rc = sdae__mbs_mass_symmetric(e, t, q, p->M)) != SDAE_OK ||
@@ -90,7 +90,7 @@ static int positions(sdae_mbs_project *p, double t, double *q) {
       return rc;
     /* at rounding, one correction more: Gauss-Newton would stop on one side of the root, step
      * after step, and the steps near a singular configuration would sum it */
-    int done = at_rounding(p, q);
+    done = at_rounding(p, q);
     if (!done && it == p->max_iter) return SDAE_ERR_NEWTON;
     sdae__mbs_nullspace_solve(&p->ns, NULL, p->c, p->dx);
     for (size_t i = 0; i < p->n_q; i++) q[i] += p->dx[i];
