@@ -324,16 +324,20 @@ END_TEST
 /* A callback that fails within a projected step (from its first evaluation past the step's
  * start, so the chart's start at t sees none of it): the step returns the callback's status,
  * SDAE_ERR_CALLBACK_RECOVERABLE, with q, v and the statistics as they were, and once the
- * callback is well the same step is projected; each of constraint, jacobian, mass and force in
- * turn. Two four-bars 1e-3 rad from the flat position at 5 rad/s. */
+ * callback is well the same step is projected; each of constraint, jacobian, mass, force,
+ * jacobian_dot and constraint_t (zero: given so that it can fail) in turn, and constraint
+ * failing at the stages alone (well again at the step's end). Two four-bars 1e-3 rad from the flat
+ * position at 5 rad/s. */
 typedef struct flaky {
   mech_nfourbar p; /* first: the model's callbacks read their mech_nfourbar here */
   sdae_mbs base;
-  int which; /* 0 constraint, 1 jacobian, 2 mass, 3 force */
-  double t_fail;
+  int which; /* 0 constraint, 1 jacobian, 2 mass, 3 force, 4 jacobian_dot, 5 constraint_t */
+  double t_fail, t_well; /* failing for t_fail < t < t_well */
 } flaky;
 
-static int fails(const flaky *f, int which, double t) { return f->which == which && t > f->t_fail; }
+static int fails(const flaky *f, int which, double t) {
+  return f->which == which && t > f->t_fail && t < f->t_well;
+}
 
 static int flaky_constraint(double t, const double *q, double *c, void *params) {
   flaky *f = params;
@@ -355,9 +359,23 @@ static int flaky_force(double t, const double *q, const double *v, double *F, vo
   return fails(f, 3, t) ? 1 : f->base.force(t, q, v, F, params);
 }
 
+static int flaky_constraint_t(double t, const double *q, double *ct, void *params) {
+  flaky *f = params;
+  (void)q;
+  memset(ct, 0, f->base.n_c * sizeof *ct);
+  return fails(f, 5, t) ? 1 : 0;
+}
+
+static int flaky_jacobian_dot(double t, const double *q, const double *v, double *Gdot,
+                              void *params) {
+  flaky *f = params;
+  return fails(f, 4, t) ? 1 : f->base.jacobian_dot(t, q, v, Gdot, params);
+}
+
 START_TEST(a_failing_callback_in_a_projected_step_keeps_the_state) {
-  for (int which = 0; which < 4; which++) {
-    flaky f = {mech_nfourbar_benchmark(), {0}, which, HUGE_VAL};
+  for (int k = 0; k < 7; k++) {
+    /* the seventh: the constraint failing before the step's end alone */
+    flaky f = {mech_nfourbar_benchmark(), {0}, k < 6 ? k : 0, HUGE_VAL, k < 6 ? HUGE_VAL : 1.01};
     sdae_mbs sys;
     sdae_mbs_stepper *s;
     sdae_options o;
@@ -367,7 +385,8 @@ START_TEST(a_failing_callback_in_a_projected_step_keeps_the_state) {
     sys = f.base;
     sys.params = &f;
     sys.constraint = flaky_constraint, sys.jacobian = flaky_jacobian;
-    sys.mass = flaky_mass, sys.force = flaky_force;
+    sys.mass = flaky_mass, sys.force = flaky_force, sys.jacobian_dot = flaky_jacobian_dot;
+    sys.constraint_t = flaky_constraint_t;
     sdae_options_default(&o);
     o.map = sdae_map_rk4;
     ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
@@ -415,8 +434,45 @@ START_TEST(a_projected_step_that_cannot_be_accurate_is_refused) {
   ck_assert_int_eq(sdae_mbs_step(s, 0.0, 0.4, q, v), SDAE_ERR_CHART);
   ck_assert_mem_eq(q, q0, sizeof q);
   ck_assert_mem_eq(v, v0, sizeof v);
+  /* T = 1.6: the projection's Gauss-Newton finds no point within its cap */
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1.6, q, v), SDAE_ERR_NEWTON);
+  ck_assert_mem_eq(q, q0, sizeof q);
+  ck_assert_mem_eq(v, v0, sizeof v);
   ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 1);
   sdae_mbs_stepper_free(s);
+}
+END_TEST
+
+/* A step from the flat position itself (rank G 3 of 5, no chart), after one elsewhere: projected,
+ * and B_0 after it within 1e-10 of the reduced angle from (pi / 2, its omega) by GSL's rk8pd,
+ * the constraints at rounding; rk4 at T = 1e-3 (the projected step is rk8's) */
+START_TEST(a_step_from_the_flat_position_itself_is_projected) {
+  pushed w = {mech_nfourbar_benchmark(), 0.0, 0.0};
+  gsl_odeiv2_system ode = {pushed_angle, NULL, 2, &w};
+  gsl_odeiv2_driver *d =
+      gsl_odeiv2_driver_alloc_y_new(&ode, gsl_odeiv2_step_rk8pd, 1e-4, 1e-14, 0.0);
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[6], v[6], c[5], J, K, y[2], t = 0.0;
+  w.p.N = 2;
+  reduction(&w.p, &J, &K);
+  y[0] = M_PI / 2.0, y[1] = sqrt(1.0 + 2.0 * K * w.p.ga / J); /* from theta' = 1 upright */
+  mech_nfourbar_system(&sys, &w.p);
+  sdae_options_default(&o);
+  o.map = sdae_map_rk4;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  parallelogram(&w.p, 0.3, 1.0, q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  parallelogram(&w.p, y[0], y[1], q, v);
+  ck_assert_int_eq(sdae_mbs_step(s, 0.0, 1e-3, q, v), SDAE_OK);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->projected_steps, 1);
+  ck_assert_int_eq(gsl_odeiv2_driver_apply(d, &t, 1e-3, y), GSL_SUCCESS);
+  ck_assert_double_le(hypot(q[0] - sin(y[0]), q[1] - cos(y[0])), 1e-10);
+  ck_assert_int_eq(sys.constraint(1e-3, q, c, sys.params), 0);
+  for (size_t j = 0; j < 5; j++) ck_assert_double_le(fabs(c[j]), 1e-14);
+  sdae_mbs_stepper_free(s);
+  gsl_odeiv2_driver_free(d);
 }
 END_TEST
 
@@ -595,6 +651,7 @@ int main(void) {
   ADD_CASE(s, an_nfourbar_on_a_shaking_ground_crosses_the_flat_positions);
   ADD_CASE(s, a_failing_callback_in_a_projected_step_keeps_the_state);
   ADD_CASE(s, a_projected_step_that_cannot_be_accurate_is_refused);
+  ADD_CASE(s, a_step_from_the_flat_position_itself_is_projected);
   ADD_CASE(s, bricard_keeps_all_its_constraints);
   ADD_CASE(s, bricard_rk4_converges_at_order_four);
   return run_suite(s);
