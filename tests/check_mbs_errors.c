@@ -35,33 +35,6 @@ static void expect_config(const sdae_mbs *sys, const sdae_options *o, int want) 
   ck_assert_uint_eq(sdae_mbs_stepper_size(sys, o), 0);
 }
 
-/* one step that must fail with `want`, after one good step (so a chart and a count exist):
- * q, v bitwise as they were, the step count still 1, the chart unchanged, and the stepper's
- * whole state (sdae_mbs_get_state: the chart, the point kept, Newton's matrix, the counters)
- * the same bytes: a failed step leaves no trace */
-static void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q, double *v,
-                              size_t n_q, int want) {
-  static unsigned char before[1 << 14], after[1 << 14];
-  double q0[8], v0[8];
-  size_t dep[8] = {0}, dep0[8] = {0}, len = sdae_mbs_state_size(s);
-  int had_chart = sdae_mbs_chart(s, dep0) == SDAE_OK;
-  unsigned long steps = sdae_mbs_stepper_stats(s)->step.steps;
-  memcpy(q0, q, n_q * sizeof *q), memcpy(v0, v, n_q * sizeof *v);
-  ck_assert_uint_le(len, sizeof before);
-  ck_assert_int_eq(sdae_mbs_get_state(s, before, len), SDAE_OK);
-  ck_assert_int_eq(sdae_mbs_step(s, t, T, q, v), want);
-  ck_assert_int_eq(sdae_mbs_get_state(s, after, len), SDAE_OK);
-  ck_assert_mem_eq(after, before, len);
-  ck_assert_mem_eq(q, q0, n_q * sizeof *q);
-  ck_assert_mem_eq(v, v0, n_q * sizeof *v);
-  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, steps);
-  if (had_chart) {
-    ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
-    ck_assert_mem_eq(dep, dep0, sizeof dep);
-  }
-  ck_assert_str_ne(sdae_strerror(want), "");
-}
-
 static const mech_pendulum PENDULUM = {.L = 1.0, .m = 1.0, .ga = 9.81};
 
 START_TEST(null_pointers) {

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <gsl/gsl_sf_elljac.h>
 
@@ -59,4 +60,31 @@ int run_suite(Suite *s) {
   int failed = srunner_ntests_failed(r), ran = srunner_ntests_run(r);
   srunner_free(r);
   return failed == 0 && ran > 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
+/* one step that must fail with `want`, after one good step (so a chart and a count exist):
+ * q, v bitwise as they were, the step count unchanged, the chart unchanged, and the stepper's
+ * whole state (sdae_mbs_get_state: the chart, the point kept, Newton's matrix, the counters)
+ * the same bytes: a failed step leaves no trace */
+void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q, double *v, size_t n_q,
+                       int want) {
+  static unsigned char before[1 << 14], after[1 << 14];
+  double q0[8], v0[8];
+  size_t dep[8] = {0}, dep0[8] = {0}, len = sdae_mbs_state_size(s);
+  int had_chart = sdae_mbs_chart(s, dep0) == SDAE_OK;
+  unsigned long steps = sdae_mbs_stepper_stats(s)->step.steps;
+  memcpy(q0, q, n_q * sizeof *q), memcpy(v0, v, n_q * sizeof *v);
+  ck_assert_uint_le(len, sizeof before);
+  ck_assert_int_eq(sdae_mbs_get_state(s, before, len), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_step(s, t, T, q, v), want);
+  ck_assert_int_eq(sdae_mbs_get_state(s, after, len), SDAE_OK);
+  ck_assert_mem_eq(after, before, len);
+  ck_assert_mem_eq(q, q0, n_q * sizeof *q);
+  ck_assert_mem_eq(v, v0, n_q * sizeof *v);
+  ck_assert_uint_eq(sdae_mbs_stepper_stats(s)->step.steps, steps);
+  if (had_chart) {
+    ck_assert_int_eq(sdae_mbs_chart(s, dep), SDAE_OK);
+    ck_assert_mem_eq(dep, dep0, sizeof dep);
+  }
+  ck_assert_str_ne(sdae_strerror(want), "");
 }

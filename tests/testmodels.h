@@ -4,6 +4,7 @@
 #define STABDAE_TESTMODELS_H
 
 #include <check.h>
+#include <stabdae/mbs.h>
 #include <stabdae/stabdae.h>
 
 #include "quartic.h"
@@ -27,6 +28,13 @@ double max_abs_diff(const double *a, const double *b, size_t n);
  * every case as its own ctest test. */
 #define ADD_CASE(suite, fn) add_case((suite), #fn, fn)
 void add_case(Suite *s, const char *name, const TTest *test);
+
+/* one step that must fail with `want`, after one good step (so a chart and a count exist):
+ * q, v bitwise as they were, the step count unchanged, the chart unchanged, and the stepper's
+ * whole state (sdae_mbs_get_state: the chart, the point kept, Newton's matrix, the counters)
+ * the same bytes: a failed step leaves no trace */
+void expect_step_fails(sdae_mbs_stepper *s, double t, double T, double *q, double *v, size_t n_q,
+                       int want);
 
 /* Runs one suite; main of every test program. */
 int run_suite(Suite *s);
