@@ -22,9 +22,13 @@ typedef struct sdae_mbs_atlas {
   double *qr, *tau, *norm;
   size_t *perm, *cand_dep, *cand_ind;
   /* the factors at the G factored last */
-  double *gd;          /* n_c x n_c: G_D gathered, the factorization's input */
-  double *GD;          /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
-  unsigned *piv;       /* n_c */
+  double *gd;    /* n_c x n_c: G_D gathered, the factorization's input */
+  double *GD;    /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
+  unsigned *piv; /* n_c */
+  /* the band format's: G_D's rows reordered by their first nonzero, row k of the factors row
+   * order[k] of G_D, and the bandwidths lb, ub of that order; first, last, slot its work */
+  size_t *order, *first, *last, *slot, lb, ub;
+  double *rhs;         /* n_c: a right-hand side in that order */
   double *A;           /* n_c x n_f: G_D^-1 G_I */
   double *W;           /* n_q x n_f: dq/dq_I, spans ker G */
   double *col, *sol;   /* n_c each: a column of G_I and G_D^-1 of it */

@@ -3,7 +3,8 @@
  * null-space method on a rank-revealing factorization (mbs_nullspace.c): G's rows scaled to unit
  * length, G_s^T P = Q R by GSL's QR with column pivoting, the rank r the pivots down to the first
  * whose sine (R_kk / R_00, the angle of a row to the span of those before it) is below a floor,
- * Q = [Y Z] (Y: r columns, Z: n_q - r spanning the kernel of the rows kept). Then
+ * Q = [Y Z] (Y: r columns, Z: n_q - r spanning the kernel of the rows kept; Q kept as GSL's
+ * Householder vectors and applied by them, Z alone formed, for the reduced mass). Then
  * x = Y x_Y + Z x_Z with R_11^T x_Y = -(P^T D g)_r and (Z^T M Z) x_Z = Z^T (F - M Y x_Y): G x = -g,
  * and along ker G the motion M x = F. It serves the multipliers (mbs_query.c: the acceleration
  * and lambda, every row independent) and the projection step (mbs_project.c: the acceleration
@@ -20,11 +21,11 @@ typedef struct sdae_mbs_nullspace {
   size_t n_q, n_c, rank;
   const double *M;         /* n_q x n_q: the mass matrix factored with, the caller's */
   double *scale;           /* n_c: 1 / |G_j| */
-  double *GT, *tau, *norm; /* n_q x n_c (G_s^T, then its QR), n_c, n_c */
+  double *GT, *tau, *norm; /* n_q x n_c (G_s^T, then its QR: R above the diagonal), n_c, n_c */
   size_t *perm;            /* n_c */
-  double *Q, *R;           /* n_q x n_q, n_q x n_c */
+  double *Z;               /* n_q x n_q (n_q - rank columns used) */
   double *MZ, *Mr;         /* n_q x n_q each (n_q - rank columns used): M Z, Z^T M Z */
-  double *xY, *res, *mu;   /* n_q, n_q, n_c */
+  double *xZ, *res, *mu;   /* n_q (x_Z), n_q, n_c */
 } sdae_mbs_nullspace;
 
 void sdae__mbs_nullspace_carve(sdae_mbs_nullspace *ns, size_t n_q, size_t n_c, sdae_arena *a);
