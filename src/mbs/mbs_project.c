@@ -77,6 +77,18 @@ static int at_rounding(const sdae_mbs_project *p, const double *q) {
   return 1;
 }
 
+/* The floors of the rows' sines below which a row is dropped from the projections and from the
+ * acceleration, a row's sine being its angle to the span of those before it in G's pivoted QR.
+ * A row kept at sine s amplifies rounding by 1 / s in the projections of q and v (the energy
+ * off by eps / s) and by 1 / s^2 in the acceleration; a row dropped is left to the others,
+ * its residual in the positions about s times the correction, and its force in the
+ * acceleration, about s times the constraint force, left out. Measured on the N-four-bar (N =
+ * 2, 10, 40, rk8 at T = 1e-4 to 1e-2 through a crossing from twelve phases of the steps'
+ * grid; docs/performance.md): the energy's largest change below 5e-11 with these, up to
+ * 4.7e-9 with every row kept down to SDAE_MBS_CHART_MIN. */
+#define POSITION_FLOOR 1e-6
+#define ACCELERATION_FLOOR 1e-4
+
 /* q (in y) onto c(t, q) = 0 by Gauss-Newton with least M-norm corrections; G and M factored at
  * the q it ends at, but for the last correction, at rounding */
 static int positions(sdae_mbs_project *p, double t, double *q) {
@@ -86,7 +98,7 @@ static int positions(sdae_mbs_project *p, double t, double *q) {
     if ((rc = sdae__mbs_constraint(e, t, q, p->c)) != SDAE_OK ||
         (rc = sdae__mbs_jacobian(e, t, q, p->G)) != SDAE_OK ||
         (rc = sdae__mbs_mass_symmetric(e, t, q, p->M)) != SDAE_OK ||
-        (rc = sdae__mbs_nullspace_factor(&p->ns, p->G, p->M, SDAE_MBS_CHART_MIN)) != SDAE_OK)
+        (rc = sdae__mbs_nullspace_factor(&p->ns, p->G, p->M, POSITION_FLOOR)) != SDAE_OK)
       return rc;
     /* at rounding, one correction more: Gauss-Newton would stop on one side of the root, step
      * after step, and the steps near a singular configuration would sum it */
@@ -114,10 +126,9 @@ static int velocities(sdae_mbs_project *p, double t, const double *q, double *v)
 }
 
 /* y' = (v, a) at y projected onto the constraints (q onto c = 0, v onto G v + dc/dt = 0): a
- * from M a = F - G^T lambda, G a + gamma = 0 there, G's rows below SDAE_MBS_CHART_MIN from the
+ * from M a = F - G^T lambda, G a + gamma = 0 there, G's rows below ACCELERATION_FLOOR from the
  * span of the others dropped. Off the constraints, near a singular configuration, the
  * acceleration would answer the stage's distance from them divided by the least sine. */
-#define ACCELERATION_FLOOR 6e-6
 static int motion(double t, const double *y, double *out, void *params) {
   sdae_mbs_project *p = params;
   sdae_mbs_eval *e = p->eval;

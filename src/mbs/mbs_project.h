@@ -3,8 +3,8 @@
  * along the motion (a singular configuration, where rank G drops for an instant and no chart
  * holds), the step is taken in (q, v) instead of the chart's (xi, mu). The index-1 motion
  * q' = v, M v' = F - G^T lambda, G v' + gamma = 0 (the acceleration by the null-space method on
- * G's rank-revealing QR, mbs_nullspace.h, rows below SDAE_MBS_CHART_MIN dropped) by one step of
- * the explicit rk8 map, then q projected M-orthogonally onto c = 0 (Gauss-Newton, least M-norm
+ * G's rank-revealing QR, mbs_nullspace.h, rows nearly dependent on the others dropped) by one step
+ * of the explicit rk8 map, then q projected M-orthogonally onto c = 0 (Gauss-Newton, least M-norm
  * corrections) and v onto G v + dc/dt = 0: the constraints at rounding at the step's end, as a
  * chart step leaves them, and the branch kept (the smallest correction). Dense; a mechanism
  * with redundant rows declared or stepped on the sparse back-end is never projected. */
