@@ -476,6 +476,39 @@ START_TEST(a_step_from_the_flat_position_itself_is_projected) {
 }
 END_TEST
 
+/* Ten four-bars at T = 1e-4 through the first flat position, from the reference state at t =
+ * 0.710008 (the step's grid of a run from t = 0.5 + T / 12, on which a step ends 6.9e-7 rad from
+ * flat): rk8's truncation is far below rounding there, so the energy must stay at its start to
+ * rounding; every change within 1e-11 of it. With the rows kept down to a sine of 1e-8 in the
+ * projections (and to 6e-6 in the acceleration) the step ending there and the next one each
+ * changed it by 8e-10 (eps / s, s the rows' least sine, 1.5e-7 there). */
+START_TEST(a_step_landing_next_to_a_flat_position_keeps_the_energy) {
+  mech_nfourbar p = mech_nfourbar_benchmark();
+  sdae_mbs sys;
+  sdae_mbs_stepper *s;
+  sdae_options o;
+  double q[22], v[22], b0[2], J, K, E0, E, t0 = 0.710008333, T = 1e-4, nearest = 1.0;
+  p.N = 10;
+  reduction(&p, &J, &K);
+  mech_nfourbar_reference(&p, t0, b0);
+  double theta = atan2(b0[0], b0[1]);
+  parallelogram(&p, theta, sqrt(1.0 + 2.0 * K * p.ga * (1.0 - cos(theta)) / J), q, v);
+  mech_nfourbar_system(&sys, &p);
+  sdae_options_default(&o);
+  o.map = sdae_map_rk8;
+  ck_assert_int_eq(sdae_mbs_stepper_alloc(&s, &sys, &o), SDAE_OK);
+  ck_assert_int_eq(sdae_mbs_energy(s, t0, q, v, &E0), SDAE_OK);
+  for (int i = 0; i < 300; i++) {
+    ck_assert_int_eq(sdae_mbs_step(s, t0 + i * T, T, q, v), SDAE_OK);
+    ck_assert_int_eq(sdae_mbs_energy(s, t0, q, v, &E), SDAE_OK);
+    ck_assert_double_le(fabs(E / E0 - 1.0), 1e-11);
+    nearest = fmin(nearest, fabs(q[1]));
+  }
+  ck_assert_double_le(nearest, 1e-6); /* the case it is about */
+  sdae_mbs_stepper_free(s);
+}
+END_TEST
+
 /* ---- the isosceles slider-crank: a bifurcation ----
  * A crank O A and a rod A B of length 1 (uniform, mass 1 each), a slider B of mass 1 on the x
  * axis, no gravity; q = (x_A, y_A, x_B), M constant (a rod's kinetic energy m (|P'|^2 + P'.Q' +
@@ -789,6 +822,7 @@ int main(void) {
   ADD_CASE(s, a_failing_callback_in_a_projected_step_keeps_the_state);
   ADD_CASE(s, a_projected_step_that_cannot_be_accurate_is_refused);
   ADD_CASE(s, a_step_from_the_flat_position_itself_is_projected);
+  ADD_CASE(s, a_step_landing_next_to_a_flat_position_keeps_the_energy);
   ADD_CASE(s, an_isosceles_slider_crank_crosses_its_bifurcation_on_its_branch);
   ADD_CASE(s, bricard_keeps_all_its_constraints);
   ADD_CASE(s, bricard_rk4_converges_at_order_four);
