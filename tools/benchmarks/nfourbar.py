@@ -88,7 +88,6 @@ written all the same), 2 for bad usage.
 from __future__ import annotations
 
 import argparse
-import importlib
 import math
 import os
 import resource
@@ -98,9 +97,11 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, NoReturn
+from typing import Any
 
 import mpmath
+
+from benchmarks.scale import Parser, UsageError, load_mujoco, positive_int
 
 PROG = "benchmarks.nfourbar"
 MUJOCO_PIN = "mujoco==4.0.0"
@@ -140,15 +141,6 @@ MJCF = """<mujoco model="nfourbar">
   </option>
   <worldbody/>
 </mujoco>"""
-
-
-class UsageError(Exception):
-    """A command-line error: one line on stderr, exit status 2."""
-
-
-class Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> NoReturn:
-        raise UsageError(message)
 
 
 # --- the reference ---------------------------------------------------------------------------
@@ -387,14 +379,6 @@ def time_stabdae(
 # --- MuJoCo ----------------------------------------------------------------------------------
 
 
-def load_mujoco() -> ModuleType | None:
-    """MuJoCo's module, or None when it is not installed."""
-    try:
-        return importlib.import_module("mujoco")
-    except ImportError:
-        return None
-
-
 @dataclass(frozen=True)
 class Solref:
     """The connect constraints' solref: the time constant c T and the damping ratio."""
@@ -571,19 +555,6 @@ def time_mujoco(
 # --- the command -----------------------------------------------------------------------------
 
 
-def int_in(lo: int, hi: int) -> Any:
-    def parse(s: str) -> int:
-        try:
-            v = int(s)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not an integer: {s!r}") from None
-        if not lo <= v <= hi:
-            raise argparse.ArgumentTypeError(f"{v} is not in [{lo}, {hi}]")
-        return v
-
-    return parse
-
-
 def step_list(s: str) -> list[float]:
     """A comma-separated list of steps, each dividing 0.05; "none" for none."""
     if s.strip() == "none":
@@ -669,7 +640,7 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
     )
     p.add_argument(
         "--reps",
-        type=int_in(1, MAX_REPS),
+        type=positive_int(1, MAX_REPS),
         default=3,
         help=f"repetitions, their median (1..{MAX_REPS}, default 3)",
     )
