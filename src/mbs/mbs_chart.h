@@ -22,7 +22,7 @@ typedef struct sdae_mbs_atlas {
   double *qr, *tau, *norm;
   size_t *perm, *cand_dep, *cand_ind;
   /* the factors at the G factored last */
-  double *gd;    /* n_c x n_c: G_D gathered, the factorization's input */
+  double *gd;    /* n_c x n_c: G_D's rows in band order, the banded factorization's input */
   double *GD;    /* G_D's LU: small dense (n_c <= SDAE_SMALL_DENSE) or GSL's band format */
   unsigned *piv; /* n_c */
   /* the band format's: G_D's rows reordered by their first nonzero, row k of the factors row
@@ -53,7 +53,8 @@ int sdae__mbs_chart_choose(sdae_mbs_atlas *ch, const double *G, int force_best);
 int sdae__mbs_chart_factor(sdae_mbs_atlas *ch, const double *G, double *measure);
 /* G_D's LU alone at G in the current chart (Newton's matrix); SDAE_ERR_RANK */
 int sdae__mbs_gd_factor(sdae_mbs_atlas *ch, const double *G);
-/* x = G_D^-1 rhs (n_c values) with the factors */
+/* x = G_D^-1 rhs (n_c values) with the factors; the banded path reorders rhs into ch->rhs, the
+ * chart's scratch, so rhs must not be ch->rhs */
 void sdae__mbs_gd_solve(const sdae_mbs_atlas *ch, const double *rhs, double *x);
 /* out (n_f) = W^T u for u (n_q) */
 void sdae__mbs_Wt(const sdae_mbs_atlas *ch, const double *u, double *out);

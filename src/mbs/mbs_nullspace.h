@@ -38,7 +38,8 @@ int sdae__mbs_nullspace_factor(sdae_mbs_nullspace *ns, const double *G, const do
  * factored again */
 int sdae__mbs_nullspace_truncate(sdae_mbs_nullspace *ns, double floor);
 /* x (n_q) with G x = -g (the rows kept) and Z^T (M x - F) = 0; F NULL: zero, x the M-orthogonal
- * (least M-norm) solution, the correction that moves q or v onto G x = -g */
+ * (least M-norm) solution, the correction that moves q or v onto G x = -g; x must not be F or
+ * g (x_Y is formed in it while g is read) */
 void sdae__mbs_nullspace_solve(sdae_mbs_nullspace *ns, const double *F, const double *g, double *x);
 /* the multipliers of M x = F - G^T lambda at x solved for (every row kept: rank n_c), n_c */
 void sdae__mbs_nullspace_lambda(sdae_mbs_nullspace *ns, const double *F, const double *x,

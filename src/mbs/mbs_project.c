@@ -85,7 +85,8 @@ static int at_rounding(const sdae_mbs_project *p, const double *q) {
  * acceleration, about s times the constraint force, left out. Measured on the N-four-bar (N =
  * 2, 10, 40, rk8 at T = 1e-4 to 1e-2 through a crossing from twelve phases of the steps'
  * grid; docs/performance.md): the energy's largest change below 5e-11 with these, up to
- * 4.7e-9 with every row kept down to SDAE_MBS_CHART_MIN. */
+ * 4.7e-9 with the projections' rows kept down to SDAE_MBS_CHART_MIN. The acceleration's floor
+ * is the higher: it truncates the projections' factorization, which can only drop rows. */
 #define POSITION_FLOOR 1e-6
 #define ACCELERATION_FLOOR 1e-4
 

@@ -72,9 +72,9 @@ as is stable:
   leaves the parallelogram's branch at a flat position (error 0.9 to 2) or diverges, at
   T = 1e-3, 2e-3 and 2.5e-3 with (2, 1) and (0.5, 0.9) alike.
 - Solver Newton, tolerance 1e-10, 100 iterations at most: with equality constraints alone the
-  solver's cost is quadratic and one Newton iteration solves it (solver_niter 1); CG and PGS
-  take 40 to 50 iterations and 3 to 6 times as long. Jacobian auto (sparse at 81 dofs, half the
-  time of dense). noslip acts on friction only, of which there is none. Each connect has 3
+  solver's cost is quadratic and one Newton iteration solves it (solver_niter 1), where CG and
+  PGS take 40 to 50. Jacobian auto (sparse at 81 dofs).
+  noslip acts on friction only, of which there is none. Each connect has 3
   rows, the third (along z) zero on this planar mechanism: 3N rows for 2N constraints.
 
 Output: a Markdown table, one row per (solver, setting, T): solver, map / integrator, setting,
