@@ -81,8 +81,7 @@ static void band_order(sdae_mbs_atlas *ch, const double *G, const size_t *dep) {
   for (size_t i = 0; i < n_c; i++) ch->order[ch->slot[ch->first[i]]++] = i;
   ch->lb = ch->ub = 0;
   for (size_t k = 0; k < n_c; k++) {
-    size_t i = ch->order[k];
-    if (ch->first[i] == n_c) continue;
+    size_t i = ch->order[k]; /* a zero row (first n_c, last 0) passes both tests */
     if (k > ch->first[i] && k - ch->first[i] > ch->lb) ch->lb = k - ch->first[i];
     if (ch->last[i] > k && ch->last[i] - k > ch->ub) ch->ub = ch->last[i] - k;
   }
