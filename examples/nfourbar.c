@@ -14,11 +14,12 @@
 #include "mbs_cli.h"
 #include "nfourbar.h"
 
-#define NFLAGS 1
+#define NFLAGS 2
 
 typedef struct args {
   mech_nfourbar p;
   double N;
+  int sparse;
   cli_run run;
   cli_flag flags[NFLAGS + CLI_RUN_NFLAGS];
   size_t nflags;
@@ -27,7 +28,8 @@ typedef struct args {
 static const char summary[] =
     "Integrates the N-four-bar (IFToMM benchmark A02: 2N + 1 rods, natural coordinates,\n"
     "singular where the rockers are flat) through the mechanical front-end and writes CSV:\n"
-    "t,q1..,v1..,lambda1..,max_abs_c,E,switches. Defaults: N 40, tf 20, T 1e-2, map rk8.\n"
+    "t,q1..,v1..,lambda1..,max_abs_c,E,switches. Defaults: N 40, tf 20, T 1e-2, map rk8,\n"
+    "dense (--sparse: by the patterns of M and G).\n"
     "Steps: ceil(tf/T - 1e-9).";
 
 static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_t errlen) {
@@ -39,12 +41,15 @@ static int parse_args(int argc, char *const *argv, void *vargs, char *err, size_
   a->run.map = sdae_map_rk8;
   const cli_flag model_flags[NFLAGS] = {
       {"N", CLI_POSITIVE, &a->N, NULL, 0, "the four-bars in the row (a whole number, 1 to 1000)"},
+      {"sparse", CLI_SWITCH, &a->sparse, NULL, 0,
+       "M and G by their patterns: the sparse back-end (the implicit maps' Newton included)"},
   };
   int rc = mbs_parse(argc, argv, model_flags, NFLAGS, a->flags, &a->nflags, &a->run, err, errlen);
   if (rc != CLI_OK) return rc;
   if (a->N != (double)(size_t)a->N || a->N > 1000.0)
     return cli_fail(err, errlen, "--N: %g is not a whole number from 1 to 1000", a->N);
   a->p.N = (size_t)a->N;
+  a->p.sparse = a->sparse;
   return cli_run_finish(&a->run, err, errlen) ? CLI_BAD : CLI_OK;
 }
 
@@ -54,14 +59,15 @@ static int run(void *vargs, cli_sink *sink) {
   size_t n_q = 2 * (a->p.N + 1);
   double *q = malloc(2 * n_q * sizeof *q);
   int rc;
-  if (!q) {
+  if (!q || mech_nfourbar_system(&sys, &a->p) != 0) {
     fprintf(stderr, "nfourbar: out of memory\n");
+    free(q);
     return CLI_EXIT_FAILED;
   }
-  mech_nfourbar_system(&sys, &a->p);
   mech_nfourbar_start(&a->p, q, q + n_q);
   const mbs_program prog = {"nfourbar", &sys, q, q + n_q};
   rc = mbs_execute_to(&prog, &a->run, sink);
+  mech_nfourbar_free(&a->p);
   free(q);
   return rc;
 }

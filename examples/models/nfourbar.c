@@ -3,6 +3,7 @@
  * kinetic energy m (|P'|^2 + P'.Q' + |Q'|^2) / 6: its mass matrix is m/3 on each end, m/6
  * between them; a rocker's P is its ground pivot, at rest. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_math.h>
@@ -113,7 +114,82 @@ static int nfb_mass_dot_v(double t, const double *q, const double *v, double *ou
   return 0;
 }
 
-void mech_nfourbar_system(sdae_mbs *sys, mech_nfourbar *p) {
+/* ---- the patterns: M's row of coordinate k of tip i holds k of tips i - 1, i, i + 1; a
+ * rocker's row of G its tip's x and y, coupler i's tips i - 1's and i's ---- */
+
+static int nfb_mass_sparse(double t, const double *q, double *M, void *params) {
+  const mech_nfourbar *p = params;
+  size_t e = 0;
+  (void)t, (void)q;
+  for (size_t i = 0; i <= p->N; i++)
+    for (size_t k = 0; k < 2; k++) {
+      double ends = i == 0 || i == p->N ? 1.0 : 2.0;
+      if (i > 0) M[e++] = p->m / 6.0;
+      M[e++] = p->m * (1.0 + ends) / 3.0;
+      if (i < p->N) M[e++] = p->m / 6.0;
+    }
+  return 0;
+}
+
+static void rows_sparse(const mech_nfourbar *p, const double *x, int velocity, double *G) {
+  size_t e = 0;
+  for (size_t i = 0; i <= p->N; i++) {
+    G[e++] = x[2 * i] - (velocity ? 0.0 : (double)i);
+    G[e++] = x[2 * i + 1];
+  }
+  for (size_t i = 1; i <= p->N; i++) {
+    double dx = x[2 * i] - x[2 * i - 2], dy = x[2 * i + 1] - x[2 * i - 1];
+    G[e++] = -dx, G[e++] = -dy, G[e++] = dx, G[e++] = dy;
+  }
+}
+
+static int nfb_jacobian_sparse(double t, const double *q, double *G, void *params) {
+  (void)t;
+  rows_sparse(params, q, 0, G);
+  return 0;
+}
+
+static int nfb_jacobian_dot_sparse(double t, const double *q, const double *v, double *Gdot,
+                                   void *params) {
+  (void)t, (void)q;
+  rows_sparse(params, v, 1, Gdot);
+  return 0;
+}
+
+static int patterns(mech_nfourbar *p) {
+  size_t N = p->N, n = n_q(p), n_c = 2 * N + 1, m_nz = 3 * n - 4, g_nz = 2 * (N + 1) + 4 * N;
+  size_t *a = malloc((n + 1 + m_nz + n_c + 1 + g_nz) * sizeof *a), e = 0;
+  size_t *m_start = a, *m_col = m_start + n + 1, *g_start = m_col + m_nz,
+         *g_col = g_start + n_c + 1;
+  if (!a) return -1;
+  for (size_t i = 0; i <= N; i++)
+    for (size_t k = 0; k < 2; k++) {
+      m_start[2 * i + k] = e;
+      if (i > 0) m_col[e++] = 2 * (i - 1) + k;
+      m_col[e++] = 2 * i + k;
+      if (i < N) m_col[e++] = 2 * (i + 1) + k;
+    }
+  m_start[n] = e, e = 0;
+  for (size_t i = 0; i <= N; i++) g_start[i] = e, g_col[e++] = 2 * i, g_col[e++] = 2 * i + 1;
+  for (size_t i = 1; i <= N; i++) {
+    g_start[N + i] = e;
+    for (size_t c = 2 * i - 2; c < 2 * i + 2; c++) g_col[e++] = c;
+  }
+  g_start[n_c] = e;
+  p->arrays = a;
+  p->mass_pattern = (sdae_pattern){m_nz, m_start, m_col};
+  p->jacobian_pattern = (sdae_pattern){g_nz, g_start, g_col};
+  return 0;
+}
+
+void mech_nfourbar_free(mech_nfourbar *p) {
+  free(p->arrays);
+  p->arrays = NULL;
+}
+
+int mech_nfourbar_system(sdae_mbs *sys, mech_nfourbar *p) {
+  p->arrays = NULL;
+  if (p->sparse && patterns(p) != 0) return -1;
   *sys = (sdae_mbs){.n_q = n_q(p),
                     .n_c = 2 * p->N + 1,
                     .mass = nfb_mass,
@@ -126,6 +202,12 @@ void mech_nfourbar_system(sdae_mbs *sys, mech_nfourbar *p) {
                     .mass_dot_v = nfb_mass_dot_v,
                     .jacobian_dot = nfb_jacobian_dot,
                     .constraint_t_dot = nfb_zero_qv};
+  if (p->sparse) {
+    sys->mass = nfb_mass_sparse, sys->jacobian = nfb_jacobian_sparse;
+    sys->jacobian_dot = nfb_jacobian_dot_sparse;
+    sys->mass_pattern = &p->mass_pattern, sys->jacobian_pattern = &p->jacobian_pattern;
+  }
+  return 0;
 }
 
 void mech_nfourbar_start(const mech_nfourbar *p, double *q, double *v) {

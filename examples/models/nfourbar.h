@@ -19,11 +19,20 @@
 typedef struct mech_nfourbar {
   size_t N;
   double m, ga;
+  /* sparse: M and G given by their patterns (the sparse back-end), their arrays allocated by
+   * mech_nfourbar_system (mech_nfourbar_free): M's nonzeros couple each coordinate with the
+   * same one of the neighbouring tips (6 N + 2 of them), a rocker's row of G holds its tip's
+   * two coordinates, a coupler's its two tips' four (6 N + 2) */
+  int sparse;
+  sdae_pattern mass_pattern, jacobian_pattern;
+  size_t *arrays;
 } mech_nfourbar;
 
-/* the benchmark's: N = 40, m = 1, ga = 9.81 */
+/* the benchmark's: N = 40, m = 1, ga = 9.81, dense */
 mech_nfourbar mech_nfourbar_benchmark(void);
-void mech_nfourbar_system(sdae_mbs *sys, mech_nfourbar *p);
+/* 0, or -1 when the patterns' arrays cannot be allocated */
+int mech_nfourbar_system(sdae_mbs *sys, mech_nfourbar *p);
+void mech_nfourbar_free(mech_nfourbar *p);
 /* the benchmark's start: the rockers upright (B_i = (i, 1)), every B_i at (1, 0) m/s */
 void mech_nfourbar_start(const mech_nfourbar *p, double *q, double *v);
 /* B_0 (2 values) at t on the benchmark's motion, from the parallelogram it keeps: every rocker

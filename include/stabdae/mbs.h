@@ -100,15 +100,19 @@ typedef struct sdae_mbs {
  * of the smallest angle between one of them and the span of the others below this. */
 #define SDAE_MBS_CHART_MIN 1e-8
 /* Singular configurations (where rank G drops for an instant along the motion, as a
- * parallelogram's flat position): a step whose start finds the constraints' least sine below
- * this, or falling toward it within the step as it fell over the last step, is a projection
- * step (docs/front-ends.md): rk8 in (q, v) with the acceleration from G's rank-revealing QR,
- * then q and v projected M-orthogonally onto the constraints. Not the first step (there, as
- * before, dependent constraints are SDAE_ERR_RANK and nearly dependent ones stepped in their
- * chart or SDAE_ERR_CHART), not with redundant rows declared (rank), not on the sparse
- * back-end. A projection step that moves q off the constraints by more than
- * SDAE_MBS_PROJECT_DRIFT of the step's own motion cannot be taken accurately: SDAE_ERR_CHART. */
-#define SDAE_MBS_SINGULAR_NEAR 1e-2
+ * parallelogram's flat position): a step whose start finds the constraints' independence (their
+ * least sine: the dense chart's pivoted QR, the sparse back-end's least singular value of its
+ * velocity system's constraint block) below this fraction of the largest found at any step's
+ * start, or falling toward that within the step as it fell over the last step, is a projection
+ * step (docs/front-ends.md): rk8 in (q, v) with the acceleration from the saddle-point system,
+ * its nearly dependent rows set aside, then q and v projected M-orthogonally onto the
+ * constraints. Not the first step (there, as before, dependent constraints are SDAE_ERR_RANK
+ * and nearly dependent ones stepped in their chart or SDAE_ERR_CHART), not with redundant rows
+ * declared (rank); a mechanism whose constraints are nearly dependent all along (a long chain,
+ * two nearly tangent surfaces) stays in its chart. A projection step that moves q off the
+ * constraints by more than SDAE_MBS_PROJECT_DRIFT of the step's own motion cannot be taken
+ * accurately: SDAE_ERR_CHART. */
+#define SDAE_MBS_SINGULAR_NEAR 5e-2
 #define SDAE_MBS_PROJECT_DRIFT 1e-3
 
 /* Newton's least tolerance in the front-end: its mu-dynamics come from fourth-order

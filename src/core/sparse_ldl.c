@@ -76,10 +76,11 @@ static int late(const sdae_sparse_ldl_symbolic *s, sslong i) {
 }
 
 /* whether multiplier row j holds a late coordinate (cls set for the coordinates): a multiplier's
- * row of [M G^T; G 0] holds coordinates alone, its block of K empty */
+ * row of [M G^T; G 0] holds coordinates and at most its diagonal, its block of K empty but for
+ * that */
 static int holds_late(const sdae_sparse_ldl_symbolic *s, const unsigned char *cls, size_t j) {
   for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++)
-    if (cls[s->Ai[e]] == 2) return 1;
+    if ((size_t)s->Ai[e] < s->n_pos && cls[s->Ai[e]] == 2) return 1;
   return 0;
 }
 
@@ -172,7 +173,8 @@ static double pivot_scale(const sdae_sparse_ldl_symbolic *s, const double *value
                           double m_norm) {
   double g = 0.0;
   if ((size_t)i < s->n_pos) return m_norm;
-  for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) g += values[e] * values[e];
+  for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++)
+    if (s->Ai[e] != i) g += values[e] * values[e];
   return m_norm > 0.0 ? g / m_norm : 0.0;
 }
 
@@ -183,14 +185,12 @@ int sdae__sparse_ldl_factor(sdae_sparse_ldl *f, const double *values) {
   /* a zero pivot stops LDL at its step; the steps before it are checked the same way */
   sslong done = ldl_l_numeric(n, s->Ap, s->Ai, (double *)values, s->Lp, s->Parent, f->Lnz, f->Li,
                               f->Lx, f->D, f->Y, f->Pattern, f->Flag, s->P, s->Pinv);
-  f->least = HUGE_VAL;
   for (sslong k = 0; k < n; k++) {
     sslong i = s->P[k];
     int coordinate = (size_t)i < s->n_pos;
     double d = k < done ? (coordinate ? f->D[k] : -f->D[k]) : 0.0, scale;
     scale = pivot_scale(s, values, i, m_norm);
     if (!(d > tol * scale)) return coordinate ? SDAE_ERR_MASS : SDAE_ERR_RANK;
-    if (!coordinate) f->least = fmin(f->least, d / scale);
   }
   return SDAE_OK;
 }
@@ -200,7 +200,6 @@ void sdae__sparse_ldl_copy(sdae_sparse_ldl *dst, const sdae_sparse_ldl *src) {
   memcpy(dst->Li, src->Li, nz * sizeof *dst->Li);
   memcpy(dst->Lx, src->Lx, nz * sizeof *dst->Lx);
   memcpy(dst->D, src->D, n * sizeof *dst->D);
-  dst->least = src->least;
 }
 
 void sdae__sparse_ldl_solve(sdae_sparse_ldl *f, const double *b, double *x) {

@@ -45,7 +45,6 @@ typedef struct sdae_sparse_ldl {
   SuiteSparse_long *Lnz, *Flag, *Pattern, *Li; /* LDL's workspace (n each), L's rows (cap) */
   double *Lx, *D, *Y;                          /* L's values (cap), D, LDL's workspace (n) */
   double *x;                                   /* n: a solve's permuted right-hand side */
-  double least; /* the least of the multipliers' pivots over their scales (below) */
 } sdae_sparse_ldl;
 
 /* the arrays of the analysis of a pattern of n rows (n_pos of them coordinates) and nnz entries,
@@ -56,7 +55,7 @@ void sdae__sparse_ldl_symbolic_carve(sdae_sparse_ldl_symbolic *s, size_t n, size
  * order found), used once: the owner lends it (core/arena.h) */
 size_t sdae__sparse_ldl_work_len(size_t n, size_t nnz);
 /* the order and L's structure of K's pattern, as the owner wrote it in s->Ap and s->Ai
- * (symmetric, its multipliers' block empty as in [M G^T; G 0]; its sizes fit,
+ * (symmetric, its multipliers' block empty as in [M G^T; G 0] or diagonal; its sizes fit,
  * sdae__sparse_ldl_fits, which the owner asks before it carves), and s->lnz; work:
  * sdae__sparse_ldl_work_len entries */
 void sdae__sparse_ldl_analyse(sdae_sparse_ldl_symbolic *s, SuiteSparse_long *work);
@@ -66,9 +65,7 @@ int sdae__sparse_ldl_fits(size_t n, size_t nnz);
 /* a factorization's arrays, L's sym->lnz entries among them (sym analysed, or its lnz set as
  * an analysis of the same pattern counted it) */
 void sdae__sparse_ldl_carve(sdae_sparse_ldl *f, const sdae_sparse_ldl_symbolic *sym, sdae_arena *a);
-/* K's values (in the pattern's order) factored, and f->least the least |pivot| / scale over the
- * multipliers (about sin^2 of the least angle between a constraint's gradient and the others'):
- * SDAE_OK; SDAE_ERR_MASS when a coordinate's
+/* K's values (in the pattern's order) factored: SDAE_OK; SDAE_ERR_MASS when a coordinate's
  * pivot is not positive beyond n eps ||M||_inf (M not positive definite to its rounding),
  * SDAE_ERR_RANK when a multiplier's is not negative beyond n eps ||G_j||^2 / ||M||_inf, that
  * rounding carried to the diagonal of G M^-1 G^T (G not of full rank to rounding) */

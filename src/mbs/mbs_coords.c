@@ -150,15 +150,21 @@ static int energy_map_ok(const sdae_mbs_coords *co) {
   return SDAE_OK;
 }
 
-/* M at q (SDAE_ERR_MASS unless symmetric; at the last step's end it was checked there), mu in
- * the chart factored at q, and q as Phi^-1's first base */
-static int begin(sdae_mbs_coords *co, double t, const double *q, const double *v, double *mu) {
+/* M at q, before the chart is chosen (the sparse back-end measures the constraints'
+ * independence on the velocity's system): SDAE_ERR_MASS unless symmetric; at the last step's
+ * end it was checked there */
+static int start_mass(sdae_mbs_coords *co, double t, const double *q) {
+  const sdae_mbs_linalg *la = co->linalg;
+  int rc;
+  if (co->at_start) return SDAE_OK;
+  if ((rc = la->mass(co->la, t, q)) != SDAE_OK) return rc;
+  return la->mass_symmetric(co->la);
+}
+
+/* mu in the chart factored at q, and q as Phi^-1's first base */
+static void begin(sdae_mbs_coords *co, double t, const double *q, const double *v, double *mu) {
   const sdae_mbs_linalg *la = co->linalg;
   const size_t *ind = co->ind;
-  int rc;
-  if (!co->at_start &&
-      ((rc = la->mass(co->la, t, q)) != SDAE_OK || (rc = la->mass_symmetric(co->la)) != SDAE_OK))
-    return rc;
   la->m_times(co->la, v, co->Mv);
   for (size_t k = 0; k < co->n_f; k++) mu[k] = q[ind[k]];
   la->wt(co->la, co->Mv, mu + co->n_f);
@@ -167,7 +173,6 @@ static int begin(sdae_mbs_coords *co, double t, const double *q, const double *v
   memcpy(co->base_ct, co->ct, co->n_c * sizeof *co->ct);
   co->base_t = t;
   co->base_here = 0;
-  return SDAE_OK;
 }
 
 /* the step's start (t, q, v) taken as Phi^-1(t, 0, mu) (mu its coordinates), once every xi_i
@@ -197,12 +202,12 @@ int sdae__mbs_coords_start(sdae_mbs_coords *co, double t, const double *q, const
   if (rows_changed) co->valid = 0;
   st->rows_switched = rows_changed && had;
   if ((rc = sdae__mbs_coords_xi(co, t, q, v, st->xi)) != SDAE_OK ||
-      (rc = energy_map_ok(co)) != SDAE_OK ||
+      (rc = energy_map_ok(co)) != SDAE_OK || (rc = start_mass(co, t, q)) != SDAE_OK ||
       (rc = co->linalg->choose(co->la, force_best, co->reuse, &st->choice)) != SDAE_OK)
     return rc;
   st->choice.kept |= rows_kept; /* a step that folds is retried in the best rows and chart */
   split(co);
-  if ((rc = begin(co, t, q, v, st->mu)) != SDAE_OK) return rc;
+  begin(co, t, q, v, st->mu);
   sdae__mbs_coords_floors(co, q, v, st->floor);
   if (!at_floors(st->xi, st->floor, 2 * co->n_c)) return SDAE_OK;
   return seed(co, t, q, v, st->mu);

@@ -20,8 +20,9 @@
 typedef struct sdae_mbs_choice {
   int switched; /* the chart was replaced */
   int kept;     /* the current chart was kept over a better one by the hysteresis */
-  /* the constraints' least sine at the stored G (the dense chart's pivoted QR, set even where
-   * it refuses G; HUGE_VAL where the back-end does not measure it) */
+  /* the constraints' independence at the stored G (the dense chart's pivoted QR's least sine,
+   * set even where it refuses G; the sparse back-end's least singular value of D G M^-1/2 on
+   * its velocity system, which its choice factors) */
   double independence;
 } sdae_mbs_choice;
 
@@ -51,8 +52,8 @@ typedef struct sdae_mbs_linalg {
   void (*g_times)(const void *la, const double *x, const double *add, double *out);
   void (*m_times)(const void *la, const double *x, double *out);
   double (*row_size)(const void *la, size_t j);
-  /* the chart at the stored G, kept or chosen anew by the hysteresis (the best one with
-   * force_best); reuse: the factors are at this G already */
+  /* the chart at the stored G (and M, stored first), kept or chosen anew by the hysteresis
+   * (the best one with force_best); reuse: the factors are at this G already */
   int (*choose)(void *la, int force_best, int reuse, sdae_mbs_choice *choice);
   /* the chart's factors at the stored G (SDAE_OK or an error), and G_D's alone (Newton's
    * matrix) */
@@ -68,7 +69,8 @@ typedef struct sdae_mbs_linalg {
   void (*wt)(void *la, const double *y, double *out);
   /* the velocity's system at the stored G and M factored (its factors reused where they hold
    * with reuse), and v (n_q) with G v = g, W^T M v = p; seed: at a step's start whose v is
-   * given, factored with what the momentum rate needs there (v may be overwritten) */
+   * given, factored with what the momentum rate needs there, where the choice has not (v may
+   * be overwritten) */
   int (*velocity_factor)(void *la, int reuse);
   int (*velocity)(void *la, const double *g, const double *p, double *v);
   int (*seed)(void *la, int reuse, const double *g, const double *p, double *v);

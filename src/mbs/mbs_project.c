@@ -18,31 +18,36 @@
 static int motion(double t, const double *y, double *out, void *params);
 
 void sdae__mbs_project_init(sdae_mbs_project *p, sdae_mbs_eval *eval, const sdae_options *o,
-                            int on) {
+                            const sdae_mbs_sparse_layout *sparse, int on) {
   memset(p, 0, sizeof *p);
   p->eval = eval;
   p->n_q = eval->n_q;
   p->n_c = eval->n_c;
   p->on = on;
+  if (sparse) {
+    sdae__mbs_project_sparse_init(&p->sparse, eval, sparse);
+    p->linalg = &sdae__mbs_project_sparse_linalg, p->la = &p->sparse;
+  } else {
+    sdae__mbs_project_dense_init(&p->dense, eval);
+    p->linalg = &sdae__mbs_project_dense_linalg, p->la = &p->dense;
+  }
   p->max_iter = o->newton_max_iter;
   p->map = sdae_map_rk8;
   p->model.n_mu = 2 * p->n_q;
   p->model.q0 = motion;
   p->model.params = p;
-  p->last = -1.0;
+  p->last = p->largest = -1.0;
 }
 
 void sdae__mbs_project_carve(sdae_mbs_project *p, sdae_arena *a) {
   size_t n_q = p->n_q, n_c = p->n_c;
   if (!p->on) return;
-  sdae__mbs_nullspace_carve(&p->ns, n_q, n_c, a);
+  p->linalg->carve(p->la, a);
   p->ctx.model = &p->model;
   p->ctx.work = sdae__take(a, p->map->scratch(&p->model, NULL), 1);
   p->y = sdae__take(a, 2 * n_q, 1);
   p->ys = sdae__take(a, 2 * n_q, 1);
   p->phi = sdae__take(a, 2 * n_q, 1);
-  p->M = sdae__take(a, n_q, n_q);
-  p->G = sdae__take(a, n_c, n_q);
   p->F = sdae__take(a, n_q, 1);
   p->gamma = sdae__take(a, n_c, 1);
   p->c = sdae__take(a, n_c, 1);
@@ -51,13 +56,16 @@ void sdae__mbs_project_carve(sdae_mbs_project *p, sdae_arena *a) {
 }
 
 int sdae__mbs_project_wanted(const sdae_mbs_project *p, int start, double s) {
+  double near = SDAE_MBS_SINGULAR_NEAR * p->largest;
   if (!p->on || !(p->last >= 0.0)) return 0;
   if (start == SDAE_ERR_CHART || start == SDAE_ERR_RANK) return 1;
-  return start == SDAE_OK &&
-         (s < SDAE_MBS_SINGULAR_NEAR || 2.0 * s - p->last < SDAE_MBS_SINGULAR_NEAR);
+  return start == SDAE_OK && (s < near || 2.0 * s - p->last < near);
 }
 
-void sdae__mbs_project_seen(sdae_mbs_project *p, double s) { p->last = s; }
+void sdae__mbs_project_seen(sdae_mbs_project *p, double s) {
+  p->last = s;
+  p->largest = fmax(p->largest, s);
+}
 
 static double inf_norm(const double *x, size_t n) {
   double m = 0.0;
@@ -69,11 +77,8 @@ static double inf_norm(const double *x, size_t n) {
  * of a chart step's xi) */
 static int at_rounding(const sdae_mbs_project *p, const double *q) {
   double nq = fmax(1.0, inf_norm(q, p->n_q));
-  for (size_t j = 0; j < p->n_c; j++) {
-    double row = 0.0;
-    for (size_t i = 0; i < p->n_q; i++) row += fabs(p->G[j * p->n_q + i]);
-    if (!(fabs(p->c[j]) <= 8.0 * DBL_EPSILON * row * nq)) return 0;
-  }
+  for (size_t j = 0; j < p->n_c; j++)
+    if (!(fabs(p->c[j]) <= 8.0 * DBL_EPSILON * p->linalg->row_size(p->la, j) * nq)) return 0;
   return 1;
 }
 
@@ -97,15 +102,13 @@ static int positions(sdae_mbs_project *p, double t, double *q) {
   for (unsigned it = 0;; it++) {
     int rc, done;
     if ((rc = sdae__mbs_constraint(e, t, q, p->c)) != SDAE_OK ||
-        (rc = sdae__mbs_jacobian(e, t, q, p->G)) != SDAE_OK ||
-        (rc = sdae__mbs_mass_symmetric(e, t, q, p->M)) != SDAE_OK ||
-        (rc = sdae__mbs_nullspace_factor(&p->ns, p->G, p->M, POSITION_FLOOR)) != SDAE_OK)
+        (rc = p->linalg->factor(p->la, t, q, POSITION_FLOOR)) != SDAE_OK)
       return rc;
     /* at rounding, one correction more: Gauss-Newton would stop on one side of the root, step
      * after step, and the steps near a singular configuration would sum it */
     done = at_rounding(p, q);
     if (!done && it == p->max_iter) return SDAE_ERR_NEWTON;
-    sdae__mbs_nullspace_solve(&p->ns, NULL, p->c, p->dx);
+    p->linalg->solve(p->la, NULL, p->c, p->dx);
     for (size_t i = 0; i < p->n_q; i++) q[i] += p->dx[i];
     if (!sdae__all_finite(q, p->n_q)) return SDAE_ERR_NONFINITE;
     if (done) return SDAE_OK;
@@ -116,12 +119,8 @@ static int positions(sdae_mbs_project *p, double t, double *q) {
 static int velocities(sdae_mbs_project *p, double t, const double *q, double *v) {
   int rc = sdae__mbs_constraint_t(p->eval, t, q, p->ct);
   if (rc != SDAE_OK) return rc;
-  for (size_t j = 0; j < p->n_c; j++) {
-    double g = p->ct[j];
-    for (size_t i = 0; i < p->n_q; i++) g += p->G[j * p->n_q + i] * v[i];
-    p->c[j] = g;
-  }
-  sdae__mbs_nullspace_solve(&p->ns, NULL, p->c, p->dx);
+  p->linalg->g_times(p->la, v, p->ct, p->c);
+  p->linalg->solve(p->la, NULL, p->c, p->dx);
   for (size_t i = 0; i < p->n_q; i++) v[i] += p->dx[i];
   return sdae__all_finite(v, p->n_q) ? SDAE_OK : SDAE_ERR_NONFINITE;
 }
@@ -139,13 +138,13 @@ static int motion(double t, const double *y, double *out, void *params) {
   memcpy(p->ys, y, 2 * n_q * sizeof *y);
   if ((rc = positions(p, t, q)) != SDAE_OK || (rc = velocities(p, t, q, v)) != SDAE_OK ||
       (rc = sdae__mbs_force(e, t, q, v, p->F)) != SDAE_OK ||
-      (rc = sdae__mbs_along(e, t, q, v, NULL, NULL, p->gamma)) != SDAE_OK ||
-      (rc = sdae__mbs_nullspace_truncate(&p->ns, ACCELERATION_FLOOR)) != SDAE_OK) {
+      (rc = p->linalg->gamma(p->la, t, q, v, p->gamma)) != SDAE_OK ||
+      (rc = p->linalg->refactor(p->la, ACCELERATION_FLOOR)) != SDAE_OK) {
     p->status = rc;
     return -1;
   }
   memcpy(out, v, n_q * sizeof *out);
-  sdae__mbs_nullspace_solve(&p->ns, p->F, p->gamma, out + n_q);
+  p->linalg->solve(p->la, p->F, p->gamma, out + n_q);
   return 0;
 }
 
@@ -183,4 +182,5 @@ int sdae__mbs_project_step(sdae_mbs_project *p, double t, double T, double *q, d
 
 void sdae__mbs_project_state(sdae_mbs_project *p, sdae_bytes *b) {
   sdae__bytes_doubles(b, &p->last, 1);
+  sdae__bytes_doubles(b, &p->largest, 1);
 }

@@ -192,12 +192,82 @@ static int choose_chart(sdae_mbs_sparse *sp, int force_best, int reuse) {
   return SDAE_OK;
 }
 
+/* K at the stored M and G, factored (it does not depend on the chart: reused where the factors
+ * are the point's, and not lent to a query since; a step's first solve follows this, at its
+ * start's choice of the chart or a configuration, so a query between steps is undone here) */
+static int velocity_factor(void *p, int reuse) {
+  sdae_mbs_sparse *sp = p;
+  if (reuse && !sp->lent) return SDAE_OK;
+  sp->lent = 0;
+  sdae__mbs_sparse_kkt_values(&sp->ly, sp->M, sp->G, sp->K);
+  return sdae__sparse_ldl_factor(&sp->kkt, sp->K);
+}
+
+/* ||M||_inf at the stored M */
+static double mass_norm(const sdae_mbs_sparse *sp) {
+  const sdae_pattern *Mp = sp->ly.Mp;
+  double big = 0.0;
+  for (size_t i = 0; i < sp->n_q; i++) {
+    double row = 0.0;
+    for (size_t e = Mp->row_start[i]; e < Mp->row_start[i + 1]; e++) row += fabs(sp->M[e]);
+    big = fmax(big, row);
+  }
+  return big;
+}
+
+static void kkt_solve(sdae_mbs_sparse *sp);
+
+/* The constraints' independence at the stored G and M, the velocity's system factored there:
+ * the least singular value of G_s M^-1/2 (G_s = D G, its rows at unit length) by POWER_STEPS
+ * steps of the power method on D S^-1 D, S = G M^-1 G^T (a solve of the system with the
+ * right-hand side (0, D y) each: its multipliers are -S^-1 D y), times sqrt(||M||_inf) and over
+ * G_s's largest column norm, so that with M = m I it is sigma_min(G_s) on the scale of the dense
+ * back-end's R_last / R_00. Where rank G drops, the few small singular values stand apart from
+ * the others and three steps find their size: on the N-four-bar it follows the dense measure
+ * within a factor 1.9 through a crossing (the rest, M's metric), where the least pivot of the
+ * factorization (the least sine of a row to those before it in its order, sdae_sparse_ldl's
+ * least) was 4.2 times it near the crossing and 2.9 times it far from it. */
+#define POWER_STEPS 3
+static double independence(sdae_mbs_sparse *sp) {
+  size_t n_q = sp->n_q, n_c = sp->n_c;
+  const sdae_pattern *Gp = sp->Gp;
+  double lam = 0.0, column = 0.0, *y = sp->yd, *d = sp->zc, *col = sp->est_x;
+  memset(col, 0, n_q * sizeof *col);
+  for (size_t j = 0; j < n_c; j++) {
+    double g = 0.0;
+    for (size_t e = Gp->row_start[j]; e < Gp->row_start[j + 1]; e++) g += sp->G[e] * sp->G[e];
+    d[j] = 1.0 / sqrt(g); /* not 0: the factorization refuses a zero row (SDAE_ERR_RANK) */
+    for (size_t e = Gp->row_start[j]; e < Gp->row_start[j + 1]; e++)
+      col[Gp->col[e]] += sp->G[e] * sp->G[e] / g;
+    y[j] = 1.0 + 0.5 * sin((double)j); /* a start without the mechanism's symmetries */
+  }
+  for (size_t i = 0; i < n_q; i++) column = fmax(column, col[i]);
+  for (int it = 0; it < POWER_STEPS; it++) {
+    double ny = 0.0, nz = 0.0;
+    memset(sp->rhs, 0, n_q * sizeof *sp->rhs);
+    for (size_t j = 0; j < n_c; j++) sp->rhs[n_q + j] = d[j] * y[j], ny += y[j] * y[j];
+    kkt_solve(sp);
+    for (size_t j = 0; j < n_c; j++) y[j] = -d[j] * sp->sol[n_q + j], nz += y[j] * y[j];
+    if (!(nz > 0.0 && isfinite(nz))) return 0.0;
+    lam = sqrt(nz / ny);
+    for (size_t j = 0; j < n_c; j++) y[j] /= sqrt(nz);
+  }
+  return sqrt(mass_norm(sp) / lam / column);
+}
+
+/* The chart, and the constraints' independence (above) from the velocity's system factored at
+ * the start, which the start's seed then solves with. No sparse factorization reveals rank as
+ * a pivoted QR does; a rank lost to rounding in the chart or in the velocity's system is CHART
+ * or RANK, after which the step is projected as well. */
 static int choose(void *p, int force_best, int reuse, sdae_mbs_choice *choice) {
   sdae_mbs_sparse *sp = p;
   int rc = choose_chart(sp, force_best, reuse);
-  choice->independence = HUGE_VAL; /* no angles in the sparse LU: never projected */
-  if (rc == SDAE_OK) choice->switched = sp->switched, choice->kept = sp->kept;
-  return rc;
+  choice->independence = 0.0;
+  if (rc != SDAE_OK) return rc;
+  choice->switched = sp->switched, choice->kept = sp->kept;
+  if ((rc = velocity_factor(p, reuse)) != SDAE_OK) return rc;
+  choice->independence = independence(sp);
+  return SDAE_OK;
 }
 
 /* G_D's factors at the stored G in the current chart: the chart's and Newton's alike */
@@ -261,32 +331,21 @@ static double row_size(const void *p, size_t j) {
 
 /* ---- the velocity: [M G^T; G 0] [v; nu] = [P^T (0, p); g] ---- */
 
-/* K at the stored M and G, factored (it does not depend on the chart: reused where the factors
- * are the point's, and not lent to a query since; a step's first solve follows this, at its
- * start's seed or a configuration, so a query between steps is undone here) */
-static int velocity_factor(void *p, int reuse) {
-  sdae_mbs_sparse *sp = p;
-  if (reuse && !sp->lent) return SDAE_OK;
-  sp->lent = 0;
-  sdae__mbs_sparse_kkt_values(&sp->ly, sp->M, sp->G, sp->K);
-  return sdae__sparse_ldl_factor(&sp->kkt, sp->K);
-}
-
-/* K x = b by the factors, and where the constraints are nearly dependent (a multiplier's
- * pivot below REFINE of its scale: the least angle between gradients under 0.1 rad) one step of
- * iterative refinement against K itself (the residual b - K x solved for by the same factors).
- * The order of the coordinates before the multipliers solves like the normal equations (G M^-1
- * G^T formed): its error in v grows as eps / sin^2 of that angle, where the dense back-end's
- * G_D^-1 grows as eps / sin, though its residual is at rounding (a test on it would not
- * refine). A particle on two spheres whose gradients are 1e-4 rad apart was 1.4e-6 off after
- * 1 s of rk8 (the dense back-end 4e-12), now 2e-12; 1e-6 apart 5e-3 off, now 6e-6 (the dense
- * 2.6e-10). A rope's pivots are near their scales: no refinement. */
-#define REFINE 1e-2
+/* K x = b by the factors, then one step of iterative refinement against K itself (the residual
+ * b - K x solved for by the same factors). The order of the coordinates before the multipliers
+ * solves like the normal equations (G M^-1 G^T formed): its error in v grows as eps / sin^2 of
+ * the least angle between the constraints' gradients, where the dense back-end's G_D^-1 grows as
+ * eps / sin, though its residual is at rounding (a test on it would not refine). A particle on
+ * two spheres whose gradients are 1e-4 rad apart was 1.4e-6 off after 1 s of rk8 (the dense
+ * back-end 4e-12), refined 2e-12; 1e-6 apart 5e-3 off, refined 6e-6 (the dense 2.6e-10).
+ * Refined only below a least pivot of 1e-2 of its scale, the N-four-bar given its patterns was
+ * 37 times (10 four-bars, rk4, T = 1e-4, 5 s) and 115 times (40, rk8, T = 1e-2) farther from
+ * its reference than on the dense back-end, refined at every solve as close; a rope's pivots
+ * (1 / links of their scales) were refined from 100 links on already. */
 static void kkt_solve(sdae_mbs_sparse *sp) {
   const SuiteSparse_long *start = sp->ly.ksym.Ap, *col = sp->ly.ksym.Ai;
   size_t n = sp->ly.n_k;
   sdae__sparse_ldl_solve(&sp->kkt, sp->rhs, sp->sol);
-  if (!(sp->kkt.least < REFINE)) return;
   for (size_t i = 0; i < n; i++) {
     double acc = sp->rhs[i];
     for (SuiteSparse_long e = start[i]; e < start[i + 1]; e++) acc -= sp->K[e] * sp->sol[col[e]];
@@ -317,10 +376,11 @@ static int velocity(void *p, const double *g, const double *mom, double *v) {
                                                                                : SDAE_ERR_NONFINITE;
 }
 
-/* the momentum rate needs the multipliers nu at the start: solved for (v then the caller's) */
+/* the momentum rate needs the multipliers nu at the start: solved for (v then the caller's)
+ * with the factors the chart's choice made at the start */
 static int seed(void *p, int reuse, const double *g, const double *mom, double *v) {
-  int rc = velocity_factor(p, reuse);
-  return rc == SDAE_OK ? velocity(p, g, mom, v) : rc;
+  (void)reuse;
+  return velocity(p, g, mom, v);
 }
 
 /* W^T (F + (dM/dt) v + (dG/dt)^T nu) at the point */

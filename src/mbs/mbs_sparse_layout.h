@@ -18,6 +18,7 @@ typedef struct sdae_mbs_sparse_layout {
   size_t *m_mirror;            /* nnz(M): where M's entry (j, i) is for its entry (i, j) */
   size_t knz;                  /* K's entries, both triangles */
   size_t *k_of_m, *k_of_g, *k_of_gt;
+  size_t *k_of_d; /* n_c: each multiplier's diagonal entry (zero in K) */
   /* K's pattern (ksym.Ap, ksym.Ai: compressed rows, columns ascending), order and structure */
   sdae_sparse_ldl_symbolic ksym;
 } sdae_mbs_sparse_layout;
@@ -41,5 +42,11 @@ void sdae__mbs_sparse_m_times(const sdae_mbs_sparse_layout *ly, const double *va
 int sdae__mbs_sparse_mass_symmetric(const sdae_mbs_sparse_layout *ly, const double *M);
 void sdae__mbs_sparse_kkt_values(const sdae_mbs_sparse_layout *ly, const double *M, const double *G,
                                  double *K);
+/* K's values with constraint j softened: its diagonal entry -delta_j, delta_j = rho |G_j|^2 /
+ * ||M||_inf (the scale of its multiplier's pivot, sdae__sparse_ldl_factor's), so that no pivot
+ * of the multipliers falls below rho of its scale whatever G's rank (a Tikhonov
+ * regularization of the constraints; delta n_c); ||M||_inf returned */
+double sdae__mbs_sparse_kkt_soften(const sdae_mbs_sparse_layout *ly, const double *M,
+                                   const double *G, double rho, double *K, double *delta);
 
 #endif /* STABDAE_SRC_MBS_MBS_SPARSE_LAYOUT_H */

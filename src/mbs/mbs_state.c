@@ -20,9 +20,9 @@
 static const char magic[8] = {'s', 'd', 'a', 'e', 'm', 'b', 's', '\0'};
 /* the layout of the bytes; a change of any part's fields is a new format */
 #define STATE_FORMAT                                                                               \
-  6u /* 6: the independence last seen, the projected steps counted (5: the rows chosen, the row    \
-      * switches counted; 4: the back-end's chart and matrices, then the point; 3: the counters    \
-      * first) */
+  7u /* 7: the largest independence seen (6: the independence last seen, the projected steps       \
+      * counted; 5: the rows chosen, the row switches counted; 4: the back-end's chart and         \
+      * matrices, then the point; 3: the counters first) */
 
 typedef struct header {
   char magic[8];

@@ -2,7 +2,7 @@
 """The N-four-bar (IFToMM benchmark A02, N = 40) by stabdae and by MuJoCo's RK4, in the same
 run: the benchmark's error against CPU time, and the CPU ratio at matching accuracy.
 
-  python -m benchmarks.nfourbar --nfourbar build/examples/nfourbar [--maps LIST]
+  python -m benchmarks.nfourbar --nfourbar build/examples/nfourbar [--maps LIST] [--sparse]
       [--stabdae-T LIST] [--mujoco-T LIST] [--mujoco-solref LIST] [--reps R] [--tf S]
       [--table FILE]
 
@@ -323,9 +323,12 @@ def read_b0(text: str, count: int) -> list[tuple[float, float]]:
     return out
 
 
-def stabdae_command(path: str, method: str, t_step: float, tf: float) -> list[str]:
+def stabdae_command(
+    path: str, method: str, t_step: float, tf: float, sparse: bool = False
+) -> list[str]:
     return [
         path,
+        *(["--sparse"] if sparse else []),
         "--map",
         method,
         "--T",
@@ -337,14 +340,16 @@ def stabdae_command(path: str, method: str, t_step: float, tf: float) -> list[st
     ]
 
 
-def run_stabdae(path: str, method: str, t_step: float, tf: float) -> tuple[float, str]:
+def run_stabdae(
+    path: str, method: str, t_step: float, tf: float, sparse: bool = False
+) -> tuple[float, str]:
     """One run of nfourbar: (the child's user + system CPU seconds, its CSV); RuntimeError
     naming its status and first line on stderr when it fails."""
     # OpenBLAS's idle threads would spin in the process's CPU time (DESIGN.md)
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     out = subprocess.run(
-        stabdae_command(path, method, t_step, tf),
+        stabdae_command(path, method, t_step, tf, sparse),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -360,20 +365,27 @@ def run_stabdae(path: str, method: str, t_step: float, tf: float) -> tuple[float
 
 
 def time_stabdae(
-    path: str, method: str, t_step: float, tf: float, reps: int, ref: Sequence[tuple[float, float]]
+    path: str,
+    method: str,
+    t_step: float,
+    tf: float,
+    reps: int,
+    ref: Sequence[tuple[float, float]],
+    sparse: bool = False,
 ) -> Result:
-    """nfourbar with method at t_step to tf, reps times: the median CPU time, the largest
-    error of the runs (the same run each time)."""
+    """nfourbar with method at t_step to tf (on the sparse back-end with sparse), reps times:
+    the median CPU time, the largest error of the runs (the same run each time)."""
     steps = round(tf / t_step)
+    setting = STABDAE_SETTING + (", sparse" if sparse else "")
     times, worst = [], 0.0
     try:
         for _ in range(reps):
-            cpu, text = run_stabdae(path, method, t_step, tf)
+            cpu, text = run_stabdae(path, method, t_step, tf, sparse)
             times.append(cpu)
             worst = max(worst, error(read_b0(text, len(ref)), ref))
     except (RuntimeError, ValueError) as e:
-        return Result("stabdae", method, STABDAE_SETTING, t_step, steps, failure=str(e))
-    return Result("stabdae", method, STABDAE_SETTING, t_step, steps, worst, median(times))
+        return Result("stabdae", method, setting, t_step, steps, failure=str(e))
+    return Result("stabdae", method, setting, t_step, steps, worst, median(times))
 
 
 # --- MuJoCo ----------------------------------------------------------------------------------
@@ -615,6 +627,11 @@ def parse_args(argv: Sequence[str]) -> argparse.Namespace:
         help="stabdae's maps, each at every --stabdae-T (default rk8)",
     )
     p.add_argument(
+        "--sparse",
+        action="store_true",
+        help="stabdae's mechanism by the patterns of M and G: its sparse back-end",
+    )
+    p.add_argument(
         "--stabdae-T",
         dest="stabdae_t",
         type=step_list,
@@ -674,7 +691,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     for method in a.maps:
         for t_step in a.stabdae_t:
-            done(time_stabdae(a.nfourbar, method, t_step, a.tf, a.reps, ref))
+            done(time_stabdae(a.nfourbar, method, t_step, a.tf, a.reps, ref, a.sparse))
     mj = load_mujoco() if a.mujoco_t else None
     if a.mujoco_t and mj is None:
         print(

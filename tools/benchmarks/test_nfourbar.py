@@ -255,9 +255,9 @@ class StabdaeTest(unittest.TestCase):
     """build/examples/nfourbar over the first 1.5 s: through the flat positions at t = 0.72 and
     1.24 s."""
 
-    def b0_error(self, method: str, t_step: float) -> float:
+    def b0_error(self, method: str, t_step: float, sparse: bool = False) -> float:
         ref = nfourbar.reference(30)
-        _, text = nfourbar.run_stabdae(EXE, method, t_step, 1.5)
+        _, text = nfourbar.run_stabdae(EXE, method, t_step, 1.5, sparse)
         return nfourbar.error(nfourbar.read_b0(text, 30), ref)
 
     def test_rk8(self) -> None:
@@ -269,6 +269,13 @@ class StabdaeTest(unittest.TestCase):
     def test_rk4_order(self) -> None:
         """rk4's error falls by 2^4 = 16 when T halves (within a factor 1.5 either way)."""
         coarse, fine = self.b0_error("rk4", 5e-3), self.b0_error("rk4", 2.5e-3)
+        self.assertLess(fine, 1e-3)
+        self.assertTrue(16 / 1.5 < coarse / fine < 16 * 1.5, (coarse, fine))
+
+    def test_sparse_rk4_order(self) -> None:
+        """--sparse, the sparse back-end (its steps projected at the crossings too): rk4 at its
+        order as on the dense one."""
+        coarse, fine = self.b0_error("rk4", 5e-3, True), self.b0_error("rk4", 2.5e-3, True)
         self.assertLess(fine, 1e-3)
         self.assertTrue(16 / 1.5 < coarse / fine < 16 * 1.5, (coarse, fine))
 
