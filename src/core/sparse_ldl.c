@@ -80,7 +80,7 @@ static int late(const sdae_sparse_ldl_symbolic *s, sslong i) {
  * that */
 static int holds_late(const sdae_sparse_ldl_symbolic *s, const unsigned char *cls, size_t j) {
   for (sslong e = s->Ap[j]; e < s->Ap[j + 1]; e++)
-    if ((size_t)s->Ai[e] < s->n_pos && cls[s->Ai[e]] == 2) return 1;
+    if (s->Ai[e] != (sslong)j && cls[s->Ai[e]] == 2) return 1; /* the diagonal's class unset */
   return 0;
 }
 
@@ -166,15 +166,15 @@ static double mass_norm(const sdae_sparse_ldl_symbolic *s, const double *values)
 
 /* the scale below which row i's pivot is rounding (n eps times it): a coordinate's, ||M||_inf,
  * the size of M's rounding, whatever that coordinate's own mass (a mass at eps of M's largest
- * is refused: docs/front-ends.md); a multiplier's, ||G_i||^2 / ||M||_inf, the least the
- * diagonal of G M^-1 G^T can be (M's largest eigenvalue at most ||M||_inf), of which its pivot,
+ * is refused: docs/front-ends.md); a multiplier's, ||G_i||^2 / ||M||_inf (its row's diagonal
+ * entry summed with it: zero, or a softening whose square is below |G_i|^2's rounding), the least
+ * the diagonal of G M^-1 G^T can be (M's largest eigenvalue at most ||M||_inf), of which its pivot,
  * the Schur complement's, is the part the earlier constraints leave */
 static double pivot_scale(const sdae_sparse_ldl_symbolic *s, const double *values, sslong i,
                           double m_norm) {
   double g = 0.0;
   if ((size_t)i < s->n_pos) return m_norm;
-  for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++)
-    if (s->Ai[e] != i) g += values[e] * values[e];
+  for (sslong e = s->Ap[i]; e < s->Ap[i + 1]; e++) g += values[e] * values[e];
   return m_norm > 0.0 ? g / m_norm : 0.0;
 }
 
