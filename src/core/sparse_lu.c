@@ -22,7 +22,7 @@ size_t sdae__sparse_lu_reserve(size_t m, size_t nnz) { return SDAE_SPARSE_LU_FIL
 
 void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, size_t l_cap,
                            sdae_arena *a) {
-  size_t cap = sdae__sparse_lu_reserve(m, nnz);
+  size_t cap = sdae__sparse_lu_reserve(m, nnz) + l_cap; /* U's and L's, shared */
   lu->m = m, lu->n = n, lu->cap = cap, lu->l_cap = l_cap;
   lu->order = sdae__take_indices(a, m);
   lu->pivot = sdae__take_indices(a, m);
@@ -34,8 +34,7 @@ void sdae__sparse_lu_carve(sdae_sparse_lu *lu, size_t m, size_t n, size_t nnz, s
   lu->u_step = take_entries(a, cap);
   lu->u_val = sdae__take(a, cap, 1);
   lu->l_start = sdae__take_indices(a, m + 1);
-  lu->l_col = take_entries(a, l_cap);
-  lu->l_val = sdae__take(a, l_cap, 1);
+  lu->l_col = lu->u_col, lu->l_val = lu->u_val; /* none yet */
   lu->x = sdae__take(a, n, 1);
   lu->list = sdae__take_indices(a, n);
   lu->heap = sdae__take_indices(a, m);
@@ -94,7 +93,7 @@ static void touch(sdae_sparse_lu *lu, size_t r, size_t c, size_t *n_list, size_t
  * multipliers into L's row r; *scale the row's largest |value| in A. SDAE_ERR_PATTERN when L
  * is full. */
 static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, size_t r,
-                     size_t *n_list, size_t *l_used, double *scale) {
+                     size_t u_used, size_t *n_list, size_t *l_used, double *scale) {
   size_t n_heap = 0, ar = lu->order[r];
   *n_list = 0, *scale = 0.0;
   lu->l_start[r] = *l_used;
@@ -106,12 +105,13 @@ static int eliminate(sdae_sparse_lu *lu, const sdae_pattern *A, const double *va
   while (n_heap > 0) {
     size_t k = heap_pop(lu, &n_heap), p = lu->pivot[k];
     double l = lu->x[p] / lu->u_val[lu->u_diag[k]];
-    if (*l_used == lu->l_cap) {
+    if (*l_used + u_used == lu->cap) {
       lu->pending[k] = 0;
       while (n_heap > 0) lu->pending[heap_pop(lu, &n_heap)] = 0;
       return SDAE_ERR_PATTERN;
     }
-    lu->l_col[*l_used] = (uint32_t)k, lu->l_val[(*l_used)++] = l;
+    lu->u_col[lu->cap - 1 - *l_used] = (uint32_t)k; /* L from the reserve's back */
+    lu->u_val[lu->cap - 1 - (*l_used)++] = l;
     for (size_t e = lu->u_start[k]; e < lu->u_start[k + 1]; e++) {
       size_t c = lu->u_col[e];
       touch(lu, r, c, n_list, &n_heap);
@@ -145,14 +145,14 @@ static int pick(const sdae_sparse_lu *lu, size_t r, size_t n_list, double scale,
 }
 
 /* U's row r from x, the columns not pivots of earlier rows; x and the marks cleared */
-static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t *u_used) {
+static int store(sdae_sparse_lu *lu, size_t r, size_t n_list, size_t l_used, size_t *u_used) {
   int rc = SDAE_OK;
   lu->u_start[r] = *u_used;
   for (size_t i = 0; i < n_list; i++) {
     size_t c = lu->list[i];
     lu->in_row[c] = 0;
     if (lu->row_of[c] < r || rc != SDAE_OK) continue;
-    if (*u_used == lu->cap) {
+    if (*u_used + l_used == lu->cap) {
       rc = SDAE_ERR_PATTERN;
       continue;
     }
@@ -182,6 +182,20 @@ static void choice_start(sdae_sparse_lu *lu, const sdae_pattern *A) {
   column_counts(lu, A);
 }
 
+/* L's entries, written from the reserve's back, turned to run forward where they lie: l_col
+ * and l_val point at the first */
+static void l_in_order(sdae_sparse_lu *lu, size_t l_used) {
+  uint32_t *col = lu->u_col + lu->cap - l_used;
+  double *val = lu->u_val + lu->cap - l_used;
+  for (size_t i = 0; i < l_used / 2; i++) {
+    size_t j = l_used - 1 - i;
+    uint32_t c = col[i];
+    double v = val[i];
+    col[i] = col[j], val[i] = val[j], col[j] = c, val[j] = v;
+  }
+  lu->l_col = col, lu->l_val = val;
+}
+
 /* the factorization, the order and the pivots chosen (choose) or kept */
 static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *values, int choose) {
   size_t m = lu->m, l_used = 0, u_used = 0;
@@ -192,7 +206,7 @@ static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *value
     size_t n_list, p = lu->pivot[r];
     double scale;
     if (choose) count_out(lu, A, lu->order[r]); /* the counts: the rows to come */
-    rc = eliminate(lu, A, values, r, &n_list, &l_used, &scale);
+    rc = eliminate(lu, A, values, r, u_used, &n_list, &l_used, &scale);
     if (rc == SDAE_OK && choose && (rc = pick(lu, r, n_list, scale, &p)) == SDAE_OK)
       lu->pivot[r] = p, lu->row_of[p] = r;
     /* a kept pivot outside its row (as bytes read may hold) has no value: refused too */
@@ -200,11 +214,12 @@ static int factor(sdae_sparse_lu *lu, const sdae_pattern *A, const double *value
         (!lu->in_row[p] || !(fabs(lu->x[p]) > (double)lu->n * DBL_EPSILON * scale)))
       rc = SDAE_ERR_RANK;
     if (rc == SDAE_OK) {
-      rc = store(lu, r, n_list, &u_used);
+      rc = store(lu, r, n_list, l_used, &u_used);
     } else {
       for (size_t i = 0; i < n_list; i++) lu->in_row[lu->list[i]] = 0;
     }
   }
+  if (rc == SDAE_OK) l_in_order(lu, l_used);
   return rc;
 }
 

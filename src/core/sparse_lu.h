@@ -20,7 +20,9 @@
  * refactorization with the pivots kept fills the same places. Every array is carved when the
  * owner is built: L's reserve is the bound on it in the orders tried (sdae__sparse_lu_l_bound,
  * George and Ng's) where that is below U's (SDAE_SPARSE_LU_FILL), for which no static count
- * is useful; SDAE_ERR_PATTERN when the factors would need more than their reserve. */
+ * is useful. The two reserves are one array, U's entries taken from its front and L's from its
+ * back, so the room an L below its bound leaves serves U; SDAE_ERR_PATTERN when the factors
+ * together would need more. */
 #ifndef STABDAE_SRC_CORE_SPARSE_LU_H
 #define STABDAE_SRC_CORE_SPARSE_LU_H
 
@@ -48,7 +50,7 @@ enum {
 };
 
 typedef struct sdae_sparse_lu {
-  size_t m, n, cap, l_cap; /* the entries U and L hold */
+  size_t m, n, cap, l_cap; /* the entries U and L hold together, and L's share of them */
   /* the order: A's row taken k-th; the pivots: step k's column, and a column's step (or m) */
   size_t *order, *pivot, *row_of;
   /* U's rows (entries u_start[k] .. u_start[k + 1] - 1, the pivot's at u_diag[k]) and L's
@@ -60,7 +62,7 @@ typedef struct sdae_sparse_lu {
   uint32_t *u_col, *u_step; /* 32 bits: n < 2^30 (the sizes above) */
   double *u_val;
   size_t *l_start;
-  uint32_t *l_col;
+  uint32_t *l_col; /* into u_col's and u_val's tail, where the last factorization left L */
   double *l_val;
   /* the elimination's workspace: the row (dense, n), its columns (a list and a mark), the pivot
    * rows to take out (a heap, smallest first, with a mark), the rows to come holding a column */
