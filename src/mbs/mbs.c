@@ -61,7 +61,7 @@ static int wire(sdae_mbs_stepper *s, const sdae_mbs *sys, const sdae_options *o)
     rc = sdae__mbs_coords_init(&s->coords, &s->eval, &sdae__mbs_dense_linalg, &s->dense, o);
   sdae__mbs_model_init(&s->nf, &s->eval, &s->coords);
   sdae__mbs_project_init(&s->project, &s->eval, &s->opt, sparse ? &s->sparse.ly : NULL,
-                         !sdae__mbs_redundant(&s->eval));
+                         sparse ? &s->sparse.lend : NULL, !sdae__mbs_redundant(&s->eval));
   return rc;
 }
 

@@ -18,14 +18,15 @@
 static int motion(double t, const double *y, double *out, void *params);
 
 void sdae__mbs_project_init(sdae_mbs_project *p, sdae_mbs_eval *eval, const sdae_options *o,
-                            const sdae_mbs_sparse_layout *sparse, int on) {
+                            const sdae_mbs_sparse_layout *sparse, const sdae_mbs_sparse_lent *lent,
+                            int on) {
   memset(p, 0, sizeof *p);
   p->eval = eval;
   p->n_q = eval->n_q;
   p->n_c = eval->n_c;
   p->on = on;
   if (sparse) {
-    sdae__mbs_project_sparse_init(&p->sparse, eval, sparse);
+    sdae__mbs_project_sparse_init(&p->sparse, eval, sparse, lent);
     p->linalg = &sdae__mbs_project_sparse_linalg, p->la = &p->sparse;
   } else {
     sdae__mbs_project_dense_init(&p->dense, eval);

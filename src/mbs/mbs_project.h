@@ -43,10 +43,12 @@ typedef struct sdae_mbs_project {
   double last, largest;
 } sdae_mbs_project;
 
-/* wired to the callbacks and the options, over the sparse back-end's layout where the
- * coordinates' are sparse (else NULL: dense); on: may project (else carves nothing) */
+/* wired to the callbacks and the options, over the sparse back-end's layout and what its step
+ * lends where the coordinates' are sparse (else NULL: dense); on: may project (else carves
+ * nothing) */
 void sdae__mbs_project_init(sdae_mbs_project *p, sdae_mbs_eval *eval, const sdae_options *o,
-                            const sdae_mbs_sparse_layout *sparse, int on);
+                            const sdae_mbs_sparse_layout *sparse, const sdae_mbs_sparse_lent *lent,
+                            int on);
 void sdae__mbs_project_carve(sdae_mbs_project *p, sdae_arena *a);
 /* A step from (t, q) whose start found the independence s (start: the start's status; CHART or
  * RANK where no chart holds) is projected: after a step (not the first, where a mechanism with

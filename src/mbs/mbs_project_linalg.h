@@ -31,11 +31,10 @@ typedef struct sdae_mbs_project_dense {
 typedef struct sdae_mbs_project_sparse {
   sdae_mbs_eval *eval;
   const sdae_mbs_sparse_layout *ly; /* the sparse back-end's: K's pattern and analysis */
+  const sdae_mbs_sparse_lent *lent; /* its step's arrays, borrowed (K, the factors, vectors) */
   size_t n_q, n_c, n_k;
-  double *G, *M, *K, *delta; /* nnz(G), nnz(M), K's entries, n_c: the softening's */
-  double *Gd, *ctd;          /* nnz(G), n_c: gamma's parts */
-  sdae_sparse_ldl ldl;
-  double *rhs, *sol, *res, *dx; /* n_k each */
+  double *G, *M, *delta; /* nnz(G), nnz(M), n_c: the softening's */
+  double *Gd, *ctd;      /* nnz(G), n_c: gamma's parts */
 } sdae_mbs_project_sparse;
 
 typedef struct sdae_mbs_project_linalg {
@@ -54,10 +53,12 @@ typedef struct sdae_mbs_project_linalg {
   double (*row_size)(const void *la, size_t j);
 } sdae_mbs_project_linalg;
 
-/* wired to the callbacks (and, sparse, to the back-end's layout, carved before) */
+/* wired to the callbacks (and, sparse, to the back-end's layout and what its step lends, both
+ * carved before) */
 void sdae__mbs_project_dense_init(sdae_mbs_project_dense *d, sdae_mbs_eval *eval);
 void sdae__mbs_project_sparse_init(sdae_mbs_project_sparse *s, sdae_mbs_eval *eval,
-                                   const sdae_mbs_sparse_layout *ly);
+                                   const sdae_mbs_sparse_layout *ly,
+                                   const sdae_mbs_sparse_lent *lent);
 extern const sdae_mbs_project_linalg sdae__mbs_project_dense_linalg;
 extern const sdae_mbs_project_linalg sdae__mbs_project_sparse_linalg;
 

@@ -6,7 +6,11 @@
  * system (iterated Tikhonov, an augmented Lagrangian's iteration: (rho / (s^2 + rho))^3 of a
  * row's part left), so that the rows well above the floor are kept to rounding and those below
  * it set aside, as the dense back-end's QR drops them; no pivot then falls below rho of its
- * scale, whatever the rank of G. */
+ * scale, whatever the rank of G. The step it replaces lends it K's values, the factorization
+ * and the vectors (sdae_mbs_sparse_lent): a projection step is taken between two of its
+ * solves, never inside one, and the step after it factors K afresh (the coordinates reuse
+ * their factors at a chart step's end alone: its start cleared that mark, which the roll-back
+ * before the projection does not restore). */
 #include <float.h>
 #include <math.h>
 #include <string.h>
@@ -16,10 +20,12 @@
 #define REFINEMENTS 2
 
 void sdae__mbs_project_sparse_init(sdae_mbs_project_sparse *s, sdae_mbs_eval *eval,
-                                   const sdae_mbs_sparse_layout *ly) {
+                                   const sdae_mbs_sparse_layout *ly,
+                                   const sdae_mbs_sparse_lent *lent) {
   memset(s, 0, sizeof *s);
   s->eval = eval;
   s->ly = ly;
+  s->lent = lent;
   s->n_q = eval->n_q;
   s->n_c = eval->n_c;
   s->n_k = s->n_q + s->n_c;
@@ -30,24 +36,19 @@ static void carve(void *p, sdae_arena *a) {
   const sdae_mbs *sys = &s->eval->sys;
   s->G = sdae__take(a, sys->jacobian_pattern->nnz, 1);
   s->M = sdae__take(a, sys->mass_pattern->nnz, 1);
-  s->K = sdae__take(a, s->ly->knz, 1);
   s->delta = sdae__take(a, s->n_c, 1);
   s->Gd = sdae__take(a, sys->jacobian_pattern->nnz, 1);
   s->ctd = sdae__take(a, s->n_c, 1);
-  sdae__sparse_ldl_carve(&s->ldl, &s->ly->ksym, a);
-  s->rhs = sdae__take(a, s->n_k, 1);
-  s->sol = sdae__take(a, s->n_k, 1);
-  s->res = sdae__take(a, s->n_k, 1);
-  s->dx = sdae__take(a, s->n_k, 1);
 }
 
 /* rho = floor^2, but above the factorization's rounding test (n eps of a pivot's scale), so
  * that a rank lost to rounding is softened too, not refused */
 static int refactor(void *p, double floor) {
   sdae_mbs_project_sparse *s = p;
+  const sdae_mbs_sparse_lent *w = s->lent;
   double rho = fmax(floor * floor, 4.0 * (double)s->n_k * DBL_EPSILON);
-  sdae__mbs_sparse_kkt_soften(s->ly, s->M, s->G, rho, s->K, s->delta);
-  return sdae__sparse_ldl_factor(&s->ldl, s->K);
+  sdae__mbs_sparse_kkt_soften(s->ly, s->M, s->G, rho, w->K, s->delta);
+  return sdae__sparse_ldl_factor(w->kkt, w->K);
 }
 
 static int factor(void *p, double t, const double *q, double floor) {
@@ -62,28 +63,30 @@ static int factor(void *p, double t, const double *q, double floor) {
 
 /* res = rhs - K sol, K the exact system: the softened one's product with the softening added
  * back on the multipliers */
-static void residual(sdae_mbs_project_sparse *s) {
+static void residual(const sdae_mbs_project_sparse *s) {
+  const sdae_mbs_sparse_lent *w = s->lent;
   const SuiteSparse_long *start = s->ly->ksym.Ap, *col = s->ly->ksym.Ai;
   for (size_t i = 0; i < s->n_k; i++) {
-    double acc = s->rhs[i];
-    for (SuiteSparse_long e = start[i]; e < start[i + 1]; e++) acc -= s->K[e] * s->sol[col[e]];
-    s->res[i] = acc;
+    double acc = w->rhs[i];
+    for (SuiteSparse_long e = start[i]; e < start[i + 1]; e++) acc -= w->K[e] * w->sol[col[e]];
+    w->res[i] = acc;
   }
-  for (size_t j = 0; j < s->n_c; j++) s->res[s->n_q + j] -= s->delta[j] * s->sol[s->n_q + j];
+  for (size_t j = 0; j < s->n_c; j++) w->res[s->n_q + j] -= s->delta[j] * w->sol[s->n_q + j];
 }
 
 static void solve(void *p, const double *F, const double *g, double *x) {
   sdae_mbs_project_sparse *s = p;
+  const sdae_mbs_sparse_lent *w = s->lent;
   size_t n_q = s->n_q;
-  for (size_t i = 0; i < n_q; i++) s->rhs[i] = F ? F[i] : 0.0;
-  for (size_t j = 0; j < s->n_c; j++) s->rhs[n_q + j] = -g[j];
-  sdae__sparse_ldl_solve(&s->ldl, s->rhs, s->sol);
+  for (size_t i = 0; i < n_q; i++) w->rhs[i] = F ? F[i] : 0.0;
+  for (size_t j = 0; j < s->n_c; j++) w->rhs[n_q + j] = -g[j];
+  sdae__sparse_ldl_solve(w->kkt, w->rhs, w->sol);
   for (int it = 0; it < REFINEMENTS; it++) {
     residual(s);
-    sdae__sparse_ldl_solve(&s->ldl, s->res, s->dx);
-    for (size_t i = 0; i < s->n_k; i++) s->sol[i] += s->dx[i];
+    sdae__sparse_ldl_solve(w->kkt, w->res, w->dx);
+    for (size_t i = 0; i < s->n_k; i++) w->sol[i] += w->dx[i];
   }
-  memcpy(x, s->sol, n_q * sizeof *x);
+  memcpy(x, w->sol, n_q * sizeof *x);
 }
 
 static int gamma_at(void *p, double t, const double *q, const double *v, double *gamma) {

@@ -103,8 +103,8 @@ static int carve(void *p, sdae_arena *a) {
   sp->k_res = sdae__take(a, n_k, 1), sp->k_dx = sdae__take(a, n_k, 1);
   sp->zc = sdae__take(a, n_c, 1), sp->yd = sdae__take(a, n_c, 1), sp->res = sdae__take(a, n_c, 1);
   sp->est_x = sdae__take(a, n_q, 1), sp->est_z = sdae__take(a, n_q, 1);
-  const sdae_mbs_sparse_lent lent = {sp->K, sp->rhs, sp->sol, &sp->kkt};
-  sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, &lent, a);
+  sp->lend = (sdae_mbs_sparse_lent){sp->K, sp->rhs, sp->sol, sp->k_res, sp->k_dx, &sp->kkt};
+  sdae__mbs_sparse_query_carve(&sp->query, &sp->ly, &sp->lend, a);
   return rc;
 }
 

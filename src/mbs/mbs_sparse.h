@@ -41,11 +41,13 @@ typedef struct sdae_mbs_sparse {
   size_t *ind;    /* n_f: the current chart's q_I, ascending */
   int switched;   /* the last choice replaced the chart (the first one does not) */
   double measure; /* ||G_D^-1 G_I||_1 (estimated) of the current chart where chosen */
-  /* the saddle-point system's values and factors, lent to lambda's query (sdae_mbs_lambda)
-   * since they were the point's: refactored before they serve again */
+  /* the saddle-point system's values and factors; lent (with rhs, sol, k_res and k_dx, as
+   * lend lists them) to lambda's query (sdae_mbs_lambda) or the projection step since they
+   * were the point's: refactored before they serve again */
   double *K;
   sdae_sparse_ldl kkt;
   int lent;
+  sdae_mbs_sparse_lent lend;
   /* an implicit map's: the factors kept for its Newton (sdae_mbs_linalg's newton_keep) */
   int implicit;
   sdae_sparse_ldl newton;

@@ -23,6 +23,14 @@ typedef struct sdae_mbs_sparse_layout {
   sdae_sparse_ldl_symbolic ksym;
 } sdae_mbs_sparse_layout;
 
+/* what the step lends lambda's query and the projection step (mbs_project_linalg.h), which
+ * run between its solves, never inside one: K's values, a right-hand side, a solution, a
+ * residual and a correction (n_k each), and the saddle-point factorization */
+typedef struct sdae_mbs_sparse_lent {
+  double *K, *rhs, *sol, *res, *dx;
+  sdae_sparse_ldl *kkt;
+} sdae_mbs_sparse_lent;
+
 /* the sizes of the mechanism's patterns; SDAE_ERR_OVERFLOW for a K whose indices the
  * factorization cannot hold */
 int sdae__mbs_sparse_layout_init(sdae_mbs_sparse_layout *ly, sdae_mbs_eval *eval);

@@ -15,13 +15,6 @@
 #include "core/sparse_ldl.h"
 #include "mbs_sparse_layout.h"
 
-/* what the step lends a query: K's values, a right-hand side and a solution (n_k each), and
- * the saddle-point factorization */
-typedef struct sdae_mbs_sparse_lent {
-  double *K, *rhs, *sol;
-  sdae_sparse_ldl *kkt;
-} sdae_mbs_sparse_lent;
-
 typedef struct sdae_mbs_sparse_query {
   const sdae_mbs_sparse_layout *ly; /* the patterns and the saddle-point system's */
   double *c, *ct, *gamma, *xi;      /* n_c, n_c, n_c, 2 n_c */
