@@ -451,7 +451,8 @@ END_TEST
 /* A ladder of 64 four-bar cells, a long row of loops: the leaves first (each loop opened by a
  * row set aside, which eliminates through the rest of the ladder) fills L, and minimum degree
  * (whose elimination tree on a band is a path, every independent column carried through each
- * row above it) fills U, past the reserve (4 nnz(G) + n_c) both; nested dissection's tree, of
+ * row above it) fills U, past the reserve both (4 nnz(G) + n_c for U and as much for L, one
+ * array: minimum degree's U and L take 6691 entries of its 6532); nested dissection's tree, of
  * depth log n_c, fits, and its factors solve as dense algebra does */
 START_TEST(a_long_row_of_loops_fits_by_dissection) {
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
